@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# One-time set-up of a fresh Debian machine (Python >= 3.10, run as root or with sudo for apt):
+#   * creates .venv and installs the suite with its test extras;
+#   * makes sure drjit's LLVM backend works: it needs libLLVM >= 16, and with Debian's default
+#     libLLVM 14/15 drjit aborts the whole process ("LLVM ERROR: Cannot select ... fminimum").
+#     The probe runs in a subprocess; if it fails, libllvm19 is installed through apt.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+PY=${PYTHON:-python3}
+
+if [ ! -x .venv/bin/python ]; then
+    "$PY" -m venv .venv
+fi
+.venv/bin/python -m pip install --quiet --upgrade pip
+.venv/bin/python -m pip install --quiet -e '.[test]'
+
+probe_llvm() {
+    .venv/bin/python - <<'PY' >/dev/null 2>&1
+import drjit as dr
+x = dr.llvm.Float([1.0, 2.0, 3.0])
+assert float(dr.sum(dr.minimum(x, 2.0))) == 5.0
+PY
+}
+
+if probe_llvm; then
+    echo "setup: drjit LLVM backend works"
+else
+    echo "setup: drjit LLVM backend unavailable; installing libllvm19 through apt"
+    SUDO=""
+    if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
+    if command -v apt-get >/dev/null 2>&1; then
+        $SUDO apt-get update -qq
+        DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq libllvm19 >/dev/null
+    fi
+    if probe_llvm; then
+        echo "setup: drjit LLVM backend works (libllvm19)"
+    else
+        echo "setup: WARNING: drjit LLVM backend still unavailable; the suite falls back to scalar_rgb (slow)." >&2
+        echo "       Set DRJIT_LIBLLVM_PATH to a libLLVM >= 16 to use the vectorised backend." >&2
+    fi
+fi

@@ -1,0 +1,151 @@
+"""Choose and initialise the Mitsuba / drjit variant, safely.
+
+Order of preference: ``cuda_ad_rgb`` (a working GPU) → ``llvm_ad_rgb`` (vectorised CPU) →
+``scalar_rgb`` (slow, always works). ``VALIDATE_VARIANT`` overrides the choice.
+
+Each candidate is *probed in a subprocess* before this process touches it: with Debian's default
+libLLVM 14/15, drjit's LLVM backend aborts the whole process (``LLVM ERROR: Cannot select ...
+fminimum``), which no ``try`` can catch. The probe runs a tiny kernel that uses ``minimum`` and
+reports success or the reason. Results are remembered in ``VALIDATE_PROBED_VARIANT`` so child
+processes (and a pytest session) probe once.
+
+All local models are written once against drjit arrays of the chosen variant (:data:`Float`), so
+the same code runs on CUDA, LLVM and (slowly) scalar dynamic arrays.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from dataclasses import dataclass
+from typing import Any
+
+from .errors import ValidateError
+
+CANDIDATES = ("cuda_ad_rgb", "llvm_ad_rgb", "scalar_rgb")
+
+_PROBE = r"""
+import sys
+import mitsuba as mi
+import drjit as dr
+mi.set_variant(sys.argv[1])
+if sys.argv[1].startswith('scalar'):
+    x = dr.scalar.ArrayXf([1.0, 2.0, 3.0])
+else:
+    x = mi.Float([1.0, 2.0, 3.0])
+s = dr.sum(dr.minimum(x, 2.0))
+s = float(s[0]) if dr.is_array_v(s) else float(s)
+assert abs(s - 5.0) < 1e-6, s
+e = mi.load_dict({'type': 'constant'})
+print('ok')
+"""
+
+HINTS = {
+    "llvm_ad_rgb": "drjit's LLVM backend needs libLLVM >= 16: `apt-get install libllvm19` "
+                   "(or set DRJIT_LIBLLVM_PATH)",
+    "cuda_ad_rgb": "no working CUDA GPU/driver",
+}
+
+
+@dataclass(frozen=True)
+class Backend:
+    variant: str
+    reason: str  # why this variant was chosen
+
+    @property
+    def is_vectorized(self) -> bool:
+        return not self.variant.startswith("scalar")
+
+    @property
+    def device(self) -> str:
+        return {"cuda": "GPU (CUDA)", "llvm": "CPU (LLVM, vectorised)"}.get(
+            self.variant.split("_")[0], "CPU (scalar, slow)")
+
+    def describe(self) -> str:
+        return f"{self.variant} — {self.device}; {self.reason}"
+
+
+def probe_variant(variant: str, timeout: float = 180.0) -> tuple[bool, str]:
+    """Run a tiny Mitsuba/drjit program with ``variant`` in a subprocess. Returns (ok, message)."""
+    try:
+        proc = subprocess.run([sys.executable, "-c", _PROBE, variant], capture_output=True, text=True,
+                              timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return False, f"probe of {variant} timed out after {timeout:.0f} s"
+    if proc.returncode == 0 and proc.stdout.strip().endswith("ok"):
+        return True, "probe passed"
+    lines = [ln for ln in (proc.stderr or proc.stdout).strip().splitlines() if ln.strip()]
+    last = lines[-1] if lines else f"exit status {proc.returncode}"
+    return False, last[:200]
+
+
+def choose_variant() -> Backend:
+    """Pick the variant (see module docstring). Raises :class:`ValidateError` on a bad override."""
+    import mitsuba as mi
+
+    remembered = os.environ.get("VALIDATE_PROBED_VARIANT")
+    override = os.environ.get("VALIDATE_VARIANT")
+    if remembered and (not override or remembered.split("|")[0] == override):
+        name, _, reason = remembered.partition("|")
+        return Backend(name, reason or "probed earlier")
+    if override:
+        if override not in mi.variants():
+            raise ValidateError(f"VALIDATE_VARIANT={override}: unknown variant; available: "
+                                f"{', '.join(v for v in mi.variants() if v.endswith('_rgb'))}")
+        ok, msg = probe_variant(override)
+        if not ok:
+            raise ValidateError(f"VALIDATE_VARIANT={override}: variant does not work here ({msg}); "
+                                f"{HINTS.get(override, '')}")
+        backend = Backend(override, "set by VALIDATE_VARIANT")
+    else:
+        failures = []
+        backend = None
+        for name in CANDIDATES:
+            if name not in mi.variants():
+                failures.append(f"{name}: not compiled in")
+                continue
+            ok, msg = probe_variant(name)
+            if ok:
+                why = "first working of cuda → llvm → scalar"
+                if failures:
+                    why += " (" + "; ".join(failures) + ")"
+                backend = Backend(name, why)
+                break
+            failures.append(f"{name}: {msg} — {HINTS.get(name, '')}")
+        if backend is None:
+            raise ValidateError("no Mitsuba variant works here: " + "; ".join(failures))
+    os.environ["VALIDATE_PROBED_VARIANT"] = f"{backend.variant}|{backend.reason}"
+    return backend
+
+
+_ACTIVE: Backend | None = None
+
+
+def init() -> Backend:
+    """Choose the variant once per process and activate it in Mitsuba."""
+    global _ACTIVE
+    if _ACTIVE is None:
+        import mitsuba as mi
+
+        backend = choose_variant()
+        mi.set_variant(backend.variant)
+        _ACTIVE = backend
+    return _ACTIVE
+
+
+def float_type() -> Any:
+    """The dynamic drjit float array of the active variant (``mi.Float`` or scalar ``ArrayXf``)."""
+    import drjit as dr
+    import mitsuba as mi
+
+    backend = init()
+    return mi.Float if backend.is_vectorized else dr.scalar.ArrayXf
+
+
+def uint_type() -> Any:
+    import drjit as dr
+    import mitsuba as mi
+
+    backend = init()
+    return mi.UInt32 if backend.is_vectorized else dr.scalar.ArrayXu

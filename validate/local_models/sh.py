@@ -1,0 +1,197 @@
+"""Real spherical harmonics and SH irradiance (Ramamoorthi & Hanrahan 2001).
+
+References
+  [1] R. Ramamoorthi, P. Hanrahan, "An Efficient Representation for Irradiance Environment Maps",
+      SIGGRAPH 2001 — eq. 8 (E = Σ Â_l L_lm Y_lm), eq. 12 (the quadratic form, c1…c5).
+  [2] R. Ramamoorthi, P. Hanrahan, "On the relationship between radiance and irradiance",
+      JOSA A 18(10), 2001 — A_l of the clamped cosine, eq. 19.
+  [3] P.-P. Sloan, "Stupid Spherical Harmonics (SH) Tricks", GDC 2008 — the recurrences.
+
+Conventions
+  * Real SH *without* the Condon–Shortley phase, as in [1]: Y_1,−1 = +0.488603·y,
+    Y_10 = 0.488603·z, Y_11 = 0.488603·x, Y_2,−2 = 1.092548·xy, Y_2,−1 = 1.092548·yz,
+    Y_20 = 0.315392(3z² − 1), Y_21 = 1.092548·xz, Y_22 = 0.546274(x² − y²).
+  * The basis is a polynomial in the *world* direction (x, y, z): z is the polar axis of the SH frame
+    even though the world is y-up. Index k = l(l+1) + m; order 2 ("SH9") is
+    L00, L1m1, L10, L11, L2m2, L2m1, L20, L21, L22.
+  * Y_l^m = √2 K_l^m Q_l^m(z) Re/Im((x + iy)^m), with K_l^m = √((2l+1)/(4π) (l−m)!/(l+m)!) and
+    Q_l^m = P_l^m / sin^m θ (no (−1)^m), from Q_m^m = (2m−1)!!, Q_{m+1}^m = (2m+1) z Q_m^m,
+    (l−m) Q_l^m = (2l−1) z Q_{l−1}^m − (l+m−1) Q_{l−2}^m.
+
+The basis uses only +, −, × on its inputs, so the same code evaluates numpy arrays (for plots and
+tests) and drjit arrays of any backend (the model itself).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from ..backend import float_type
+
+# R&H 2001 eq. 12 constants [1].
+C1, C2, C3, C4, C5 = 0.429043, 0.511664, 0.743125, 0.886227, 0.247708
+SH9_NAMES = ("L00", "L1m1", "L10", "L11", "L2m2", "L2m1", "L20", "L21", "L22")
+
+
+def n_coeffs(lmax: int) -> int:
+    return (lmax + 1) ** 2
+
+
+def sh_index(l: int, m: int) -> int:
+    return l * (l + 1) + m
+
+
+def degree_of(k: int) -> int:
+    return int(math.isqrt(k))
+
+
+def _k(l: int, m: int) -> float:
+    return math.sqrt((2 * l + 1) / (4 * math.pi) * math.factorial(l - m) / math.factorial(l + m))
+
+
+def eval_basis(x: Any, y: Any, z: Any, lmax: int) -> list[Any]:
+    """All (lmax+1)² real SH basis functions at unit directions (x, y, z) — any array type."""
+    out: list[Any] = [None] * n_coeffs(lmax)
+    cm, sm = x * 0 + 1.0, x * 0.0  # Re/Im of (x + iy)^m
+    for m in range(lmax + 1):
+        if m > 0:
+            cm, sm = cm * x - sm * y, cm * y + sm * x
+        qmm = float(np.prod(np.arange(1, 2 * m, 2))) if m > 0 else 1.0  # (2m−1)!!
+        q_prev2, q_prev = None, x * 0 + qmm
+        for l in range(m, lmax + 1):
+            if l == m:
+                q = q_prev
+            elif l == m + 1:
+                q = z * (2 * m + 1) * qmm
+                q_prev2, q_prev = q_prev, q
+            else:
+                q = (z * (2 * l - 1) * q_prev - (l + m - 1) * q_prev2) * (1.0 / (l - m))
+                q_prev2, q_prev = q_prev, q
+            if m == 0:
+                out[sh_index(l, 0)] = q * _k(l, 0)
+            else:
+                s = math.sqrt(2.0) * _k(l, m)
+                out[sh_index(l, m)] = q * cm * s
+                out[sh_index(l, -m)] = q * sm * s
+    return out
+
+
+def eval_basis_numpy(d: np.ndarray, lmax: int) -> np.ndarray:
+    """Basis at directions d (..., 3) as a numpy array (..., (lmax+1)²)."""
+    d = np.asarray(d, dtype=np.float64)
+    return np.stack(eval_basis(d[..., 0], d[..., 1], d[..., 2], lmax), axis=-1)
+
+
+def clamped_cosine_al(l: int) -> float:
+    """A_l of the clamped cosine max(cos θ, 0) [2, eq. 19]: A0 = π, A1 = 2π/3, odd l > 1: 0,
+    even l: 2π (−1)^(l/2−1) / ((l+2)(l−1)) · l! / (2^l ((l/2)!)²)."""
+    if l == 0:
+        return math.pi
+    if l == 1:
+        return 2 * math.pi / 3
+    if l % 2:
+        return 0.0
+    h = l // 2
+    return (2 * math.pi * (-1) ** (h - 1) / ((l + 2) * (l - 1))
+            * math.factorial(l) / (2 ** l * math.factorial(h) ** 2))
+
+
+def _to_float(a: np.ndarray) -> Any:
+    return float_type()(np.ascontiguousarray(a, dtype=np.float32))
+
+
+def project_samples(directions: np.ndarray, weights: np.ndarray, radiance: np.ndarray, lmax: int) -> np.ndarray:
+    """L_lm = Σ_k L(ω_k) Y_lm(ω_k) w_k over samples (directions (N,3), weights (N,), radiance (N,3))."""
+    import drjit as dr
+
+    x, y, z = (_to_float(directions[:, i]) for i in range(3))
+    wl = [_to_float(radiance[:, c] * weights) for c in range(3)]
+    basis = eval_basis(x, y, z, lmax)
+    n = directions.shape[0]
+    coeffs = np.zeros((len(basis), 3))
+    for c in range(3):
+        if _is_jit(x):  # one kernel: all basis products side by side, reduced block by block
+            coeffs[:, c] = np.array(dr.block_sum(dr.concat([yk * wl[c] for yk in basis]), n))
+        else:
+            coeffs[:, c] = [float(dr.sum(yk * wl[c])) for yk in basis]
+    return coeffs
+
+
+def _is_jit(a: Any) -> bool:
+    import drjit as dr
+
+    return bool(dr.is_jit_v(a))
+
+
+def project_environment(radiance: np.ndarray, lmax: int = 2) -> np.ndarray:
+    """SH coefficients ((lmax+1)², 3) of a lat-long map in Mitsuba's convention, with each texel
+    weighted by its exact cell solid angle (:func:`validate.scenes.latlong.texel_solid_angles`)."""
+    from ..scenes import latlong
+
+    h, w = radiance.shape[:2]
+    d = latlong.texel_directions(h, w).reshape(-1, 3)
+    dw = latlong.texel_solid_angles(h, w).reshape(-1)
+    return project_samples(d, dw, radiance.reshape(-1, 3).astype(np.float64), lmax)
+
+
+def render_irradiance(coeffs: np.ndarray, normals: np.ndarray, lmax: int | None = None) -> np.ndarray:
+    """E(n) = Σ_l A_l Σ_m L_lm Y_lm(n) [1, eq. 8] at normals (N, 3); returns (N, 3)."""
+    import drjit as dr
+
+    if lmax is None:
+        lmax = degree_of(coeffs.shape[0] - 1)
+    x, y, z = (_to_float(normals[:, i]) for i in range(3))
+    basis = eval_basis(x, y, z, lmax)
+    out = []
+    for c in range(3):
+        acc = x * 0.0
+        for k, yk in enumerate(basis):
+            a = clamped_cosine_al(degree_of(k))
+            if a != 0.0 and coeffs[k, c] != 0.0:
+                acc = acc + yk * float(a * coeffs[k, c])
+        if _is_jit(acc):
+            dr.eval(acc)
+        out.append(np.array(acc, dtype=np.float64))
+    return np.stack(out, axis=-1)
+
+
+def render_irradiance_rh2001(coeffs9: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """R&H's quadratic form [1, eq. 12]:
+    E(n) = c1 L22 (x² − y²) + c3 L20 z² + c4 L00 − c5 L20
+           + 2 c1 (L2m2 xy + L21 xz + L2m1 yz) + 2 c2 (L11 x + L1m1 y + L10 z)."""
+    x, y, z = (_to_float(normals[:, i]) for i in range(3))
+    out = []
+    for c in range(3):
+        L00, L1m1, L10, L11, L2m2, L2m1, L20, L21, L22 = (float(v) for v in coeffs9[:9, c])
+        e = (C1 * L22 * (x * x - y * y) + C3 * L20 * z * z + (C4 * L00 - C5 * L20)
+             + 2 * C1 * (L2m2 * x * y + L21 * x * z + L2m1 * y * z)
+             + 2 * C2 * (L11 * x + L1m1 * y + L10 * z))
+        out.append(np.array(e, dtype=np.float64))
+    return np.stack(out, axis=-1)
+
+
+def angular_map_samples_rh2001(angular: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Directions, solid angles and radiance of an angular map in R&H's ``prefilter`` convention:
+    pixel (row i, column j) of a w×w map has u = (j − w/2)/(w/2), v = (w/2 − i)/(w/2),
+    r = √(u² + v²) ≤ 1, θ = πr, φ = atan2(v, u), direction (sin θ cos φ, sin θ sin φ, cos θ)
+    (+z towards the image centre), dω = (2π/w)² sinc θ, with sinc θ = sin θ / θ."""
+    w = angular.shape[0]
+    i, j = np.meshgrid(np.arange(w, dtype=np.float64), np.arange(w, dtype=np.float64), indexing="ij")
+    u = (j - w / 2) / (w / 2)
+    v = (w / 2 - i) / (w / 2)
+    r = np.sqrt(u * u + v * v)
+    inside = r <= 1.0
+    theta = np.pi * r[inside]
+    phi = np.arctan2(v[inside], u[inside])
+    d = np.stack([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)], axis=-1)
+    dw = (2 * np.pi / w) ** 2 * np.sinc(theta / np.pi)  # np.sinc(x) = sin(πx)/(πx)
+    return d, dw, angular[inside].astype(np.float64)
+
+
+def project_angular_rh2001(angular: np.ndarray, lmax: int = 2) -> np.ndarray:
+    """SH coefficients of an angular map in R&H's prefilter convention (comparable with their table)."""
+    d, dw, rad = angular_map_samples_rh2001(angular)
+    return project_samples(d, dw, rad, lmax)

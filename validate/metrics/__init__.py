@@ -1,0 +1,1 @@
+"""Error metrics. Every function returns values *and* the parameters/definitions used."""

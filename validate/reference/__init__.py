@@ -1,0 +1,1 @@
+"""Ground truth: Mitsuba renders and quadratures of Mitsuba's own radiance, cached, with uncertainty."""

@@ -1,0 +1,71 @@
+"""On-disk cache of reference results, keyed by a content hash.
+
+The key hashes everything the result depends on: the input bytes (an environment's radiance
+digest), the parameters, the Mitsuba / drjit versions, the chosen variant and
+:data:`REFERENCE_VERSION` (bump it when reference code changes). Entries are ``.npz`` files written
+atomically (temp file + rename), so an interrupted run never leaves a corrupt entry; an unreadable
+entry is recomputed.
+
+Location: ``$VALIDATE_CACHE`` if set, else ``$XDG_CACHE_HOME/validate`` (``~/.cache/validate``).
+``VALIDATE_CACHE=off`` disables it.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from ..atomic import atomic_path
+
+REFERENCE_VERSION = 3
+
+
+def cache_dir() -> Path | None:
+    env = os.environ.get("VALIDATE_CACHE")
+    if env == "off":
+        return None
+    if env:
+        return Path(env)
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "validate"
+
+
+def key_of(parts: dict) -> str:
+    import drjit as dr
+    import mitsuba as mi
+
+    from ..backend import init
+
+    full = dict(parts, _versions=[mi.__version__, dr.__version__, init().variant, REFERENCE_VERSION])
+    blob = json.dumps(full, sort_keys=True, default=str).encode()
+    return hashlib.sha256(blob).hexdigest()[:40]
+
+
+def array_digest(a: np.ndarray) -> str:
+    a = np.ascontiguousarray(a)
+    return hashlib.sha256(a.tobytes() + str(a.shape).encode() + str(a.dtype).encode()).hexdigest()[:24]
+
+
+def cached(kind: str, parts: dict, compute: Callable[[], dict[str, np.ndarray]]) -> dict[str, np.ndarray]:
+    """Return the cached arrays for (kind, parts), computing and storing them on a miss."""
+    root = cache_dir()
+    if root is None:
+        return compute()
+    path = root / kind / f"{key_of(parts)}.npz"
+    if path.exists():
+        try:
+            with np.load(path) as z:
+                return {k: z[k] for k in z.files}
+        except Exception:  # a damaged entry: recompute and replace it
+            pass
+    result = compute()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with atomic_path(path, suffix=".npz") as tmp:
+        with open(tmp, "wb") as fh:
+            np.savez(fh, **result)
+    return result

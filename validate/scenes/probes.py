@@ -1,0 +1,100 @@
+"""The probes directory: every .exr/.hdr/.pfm in it becomes an environment.
+
+``--probes DIR`` (or ``VALIDATE_PROBES``) adds every probe found in DIR; a file there that fails
+validation is skipped with a one-line reason (listed in the report and printed), so one bad file
+does not hide the others. ``--probe FILE`` names a file explicitly: there a bad file is an error.
+
+``probe_aliases.csv`` (``../shared/reference``) maps R&H table rows to Debevec file names; only an
+angular map whose file stem *exactly* equals a ``debevec_file`` (e.g. ``grace_probe``) is "one of
+the paper's probes". Copies in other layouts or captures (``grace_probe_latlong``, ``ict_grace_*``)
+are not.
+"""
+
+from __future__ import annotations
+
+import csv
+import os
+from collections.abc import Callable
+from pathlib import Path
+
+from ..errors import ValidateError
+from .environment import Environment
+from .loaders import EXTENSIONS, load_environment
+
+
+def default_probes_dir() -> Path | None:
+    env = os.environ.get("VALIDATE_PROBES")
+    return Path(env) if env else None
+
+
+def reference_dir() -> Path:
+    """Published figures: ``$VALIDATE_REFERENCE`` or ``../shared/reference`` beside the checkout."""
+    env = os.environ.get("VALIDATE_REFERENCE")
+    if env:
+        return Path(env)
+    return Path(__file__).resolve().parents[3] / "shared" / "reference"
+
+
+def probe_files(directory: Path) -> list[Path]:
+    if not directory.exists():
+        raise ValidateError(f"{directory}: probes directory does not exist")
+    if not directory.is_dir():
+        raise ValidateError(f"{directory}: --probes needs a directory")
+    return sorted(p for p in directory.iterdir() if p.is_file() and p.suffix.lower() in EXTENSIONS)
+
+
+def load_probes(directory: Path | None, files: list[Path], layout: str, clamp_negative: bool,
+                log: Callable[[str], None] = print) -> tuple[list[Environment], list[tuple[str, str]]]:
+    envs: list[Environment] = []
+    skipped: list[tuple[str, str]] = []
+    names: set[str] = set()
+    if directory is not None:
+        for p in probe_files(directory):
+            try:
+                env = load_environment(p, "auto", clamp_negative)
+            except ValidateError as exc:
+                skipped.append((p.name, str(exc)))
+                log(f"skipped: {exc}")
+                continue
+            envs.append(env)
+            names.add(env.name)
+    for p in files:
+        env = load_environment(p, layout, clamp_negative)
+        if env.name in names:
+            raise ValidateError(f"{p}: a probe named {env.name!r} is already loaded")
+        envs.append(env)
+        names.add(env.name)
+    return envs, skipped
+
+
+def read_aliases(path: Path | None = None) -> dict[str, tuple[str, str]]:
+    """debevec_file stem → (table probe key, display name)."""
+    path = path or reference_dir() / "probe_aliases.csv"
+    out: dict[str, tuple[str, str]] = {}
+    if not path.exists():
+        return out
+    with open(path, newline="") as fh:
+        for row in csv.DictReader(fh):
+            if row.get("debevec_file"):
+                out[row["debevec_file"].strip()] = (row["probe"].strip(), row["name_in_table"].strip())
+    return out
+
+
+def read_published_sh9(path: Path | None = None) -> dict[str, dict[str, list[float]]]:
+    """probe key → {coefficient name → [r, g, b]} from ``sh9_coefficients.csv``."""
+    path = path or reference_dir() / "sh9_coefficients.csv"
+    out: dict[str, dict[str, list[float]]] = {}
+    if not path.exists():
+        return out
+    with open(path, newline="") as fh:
+        for row in csv.DictReader(fh):
+            out.setdefault(row["probe"], {})[row["coefficient"]] = [float(row[c]) for c in "rgb"]
+    return out
+
+
+def published_row(env: Environment) -> str | None:
+    """The table key of one of the paper's probes (angular map, exact Debevec stem), else None."""
+    if env.layout != "angular" or env.angular is None or env.source is None:
+        return None
+    hit = read_aliases().get(env.source.stem)
+    return hit[0] if hit else None
