@@ -134,8 +134,9 @@ class Context:
             from ..scenes import probes, procedural
 
             envs = list(procedural.builtin_environments(self.quick))
+            only = set(probes.read_aliases()) if self.quick else None  # quick: the paper's probes only
             found, skipped = probes.load_probes(self.probes_dir, self.probe_files, self.layout,
-                                                self.clamp_negative, log=self.log)
+                                                self.clamp_negative, log=self.log, only_stems=only)
             self._env_cache["envs"] = (envs + found, skipped)
         return self._env_cache["envs"]
 

@@ -29,7 +29,7 @@ RELATIVE_FLOOR = 1e-3  # relative error is reported where Y(E) ≥ 1e-3 · max Y
 
 # R&H 2001 directional-light worst case for SH9 (order 2) irradiance, relative to Φ.
 WORST_CASE_MAX = 3.0 / 32.0
-WORST_CASE_MEAN = 0.0307  # ½∫_{-1}^{1} |3/32 + x/2 + 15x²/32 − max(0, x)| dx, = 0.030703…
+WORST_CASE_MEAN = 0.0307  # ½∫_{-1}^{1} |3/32 + x/2 + 15x²/32 − max(0, x)| dx, = 0.030674…
 
 
 @dataclass

@@ -4,25 +4,25 @@
 
 L is whatever Mitsuba's emitter returns (``emitter.eval``), never the local models' code.
 
-Method (a cell quadrature with radiance-weighted nodes):
-  1. Split the sphere into H_c × 2H_c cells, uniform in θ and φ.
-  2. In every cell evaluate ``emitter.eval`` on s × s sub-samples stratified uniformly in (cos θ, φ),
-     so each has weight Ω_cell / s². s is chosen so the sub-sample grid is at least twice as fine as
-     the environment's texel grid (no texel, e.g. the sun, falls between samples).
-  3. Per cell keep Φ_c = ∫_cell L dω (RGB) and the luminance-weighted centroid direction
-     ω_c = normalize(Σ Y(L_k) ω_k) (the geometric centroid where the cell is black). With the node at
-     the centroid the first-order error in the kernel's variation across the cell cancels.
-  4. Cells holding more than 10⁻³ of the total luminance flux (a sun, a small disc) are not
-     collapsed: their s² sub-samples are kept as nodes, so a source smaller than a cell still sees
-     the max(0, ·) kink of the kernel at sub-sample resolution (at most 2¹⁶ extra nodes).
-  5. E(n) = Σ_c Φ_c max(0, n·ω_c)  (a dense product, chunked, float32 BLAS).
+Method
+  1. Radiance nodes. Mitsuba's envmap radiance is bilinear in (φ, θ) between its texel samples
+     (θ_i = iπ/(H−1), φ_j = 2π(j+½)/W; see :mod:`validate.scenes.latlong`). Every interval
+     [θ_i, θ_{i+1}] × [φ_j, φ_{j+1}] gets a g × g Gauss–Legendre product rule, weights
+     w = Δθ w_a sin θ_a · Δφ w_b, and ``emitter.eval`` is called at every node. On each patch the
+     integrand is (bilinear) × sin θ, so ∫L dω is integrated essentially exactly (a sun confined to
+     one texel keeps its energy and its position).
+  2. Kernel cells. The nodes are binned into H_c × 2H_c cells uniform in θ and φ. Per cell keep
+     Φ_c = Σ L w (RGB) and the luminance-weighted centroid ω_c = normalize(Σ Y(L) w ω) (the geometric
+     centroid where the cell is black): with the node at the centroid the kernel's first-order
+     variation across the cell cancels.
+  3. Cells holding more than 10⁻³ of the total luminance flux (a sun, a small disc) are not
+     collapsed: their radiance nodes are kept individually (at most 2¹⁶ of them), so a source smaller
+     than a cell still sees the max(0, ·) kink of the kernel at node resolution.
+  4. E(n) = Σ_c Φ_c max(0, n·ω_c)  (a dense product, chunked, float32 BLAS).
 
-The sub-sample count per cell side s is fixed by the coarse grid, so the 2H_c run has twice the
-sub-sample density too, and the difference measures every discretisation the rule makes.
-
-Convergence is *shown*, not assumed: the quadrature is run at H_c and 2H_c; the 2H_c result is the
-reference and |E_2H − E_H| is reported per normal as its uncertainty (conservative: the 2H_c error
-is about a quarter of it for a second-order rule).
+Convergence is *shown*, not assumed: the quadrature runs at (H_c, g) and at (2H_c, g + 1); the
+second is the reference and |E_fine − E_coarse| is reported per normal as its uncertainty
+(conservative: both the kernel cells and the radiance nodes are refined).
 """
 
 from __future__ import annotations
@@ -36,7 +36,9 @@ from ..scenes.environment import Environment
 from .cache import array_digest, cached
 from .mitsuba_eval import eval_emitter
 
-DEFAULT_CELLS = 128  # H_c of the coarse grid; the reference uses 2·H_c
+DEFAULT_CELLS = 64  # H_c of the coarse grid (the reference uses 2·H_c): converges to < 2e-4 of peak here
+REFINE_FRACTION = 1e-3
+MAX_REFINED_NODES = 1 << 16
 
 
 @dataclass
@@ -49,64 +51,73 @@ class ReferenceIrradiance:
 
     @property
     def convergence(self) -> float:
-        """max_n |E_2H − E_H| / max_n E over normals and channels (the 'double the resolution' change)."""
+        """max_n |E_fine − E_coarse| / max_n E over normals and channels (the doubling change)."""
         peak = self.irradiance.max(axis=0)
         return float(np.max(self.uncertainty.max(axis=0) / np.maximum(peak, 1e-30)))
 
 
-REFINE_FRACTION = 1e-3
-MAX_REFINED_NODES = 1 << 16
+def gauss_order(env: Environment, cells: int) -> int:
+    """Gauss points per texel interval: ≥ 2, and enough that nodes are ≥ 2× as dense as cells."""
+    return max(2, int(np.ceil(2.0 * cells / (env.height - 1))))
 
 
-def subsamples_for(env: Environment, cells: int) -> int:
-    """Sub-samples per cell side so the sub-sample grid is ≥ 2× as fine as the texel grid."""
-    from ..backend import init
-
-    if not init().is_vectorized:
-        return 1
-    return max(2, int(np.ceil(2.0 * env.height / cells)))
-
-
-def cell_nodes(env: Environment, cells: int, s: int) -> tuple[np.ndarray, np.ndarray]:
-    """(Φ_c (M, 3), ω_c (M, 3)) of the cell quadrature at H_c = ``cells`` rows (steps 1–4)."""
+def radiance_nodes(env: Environment, g: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Directions (M, 3), solid-angle weights (M,) and Mitsuba radiance (M, 3) of step 1."""
     import mitsuba as mi
 
-    hc, wc = cells, 2 * cells
-    th_edges = np.linspace(0.0, np.pi, hc + 1)
-    c0, c1 = np.cos(th_edges[:-1]), np.cos(th_edges[1:])
-    a = (np.arange(s) + 0.5) / s
-    cos_t = (c0[:, None] + (c1 - c0)[:, None] * a[None, :]).reshape(-1)  # (hc·s,)
-    phi = ((np.arange(wc)[:, None] + a[None, :]) * (2 * np.pi / wc)).reshape(-1)  # (wc·s,)
-    sin_t = np.sqrt(np.clip(1 - cos_t**2, 0, 1))
-    d = np.stack(np.broadcast_arrays(np.sin(phi)[None, :] * sin_t[:, None], cos_t[:, None],
-                                     -np.cos(phi)[None, :] * sin_t[:, None]), axis=-1)
+    h, w = env.height, env.width
+    x, wx = np.polynomial.legendre.leggauss(g)
+    x, wx = (x + 1) / 2, wx / 2  # on [0, 1]
+    dth, dph = np.pi / (h - 1), 2 * np.pi / w
+    th = (latlong.row_theta(h)[:-1, None] + dth * x[None, :]).reshape(-1)
+    wth = (dth * wx[None, :] * np.ones((h - 1, 1))).reshape(-1) * np.sin(th)
+    ph = (latlong.col_phi(w)[:, None] + dph * x[None, :]).reshape(-1)
+    wph = np.full(ph.shape, 0.0) + np.tile(dph * wx, w)
+    d = latlong.spherical_to_direction(th[:, None], ph[None, :]).reshape(-1, 3)
+    weights = (wth[:, None] * wph[None, :]).reshape(-1)
     emitter = mi.load_dict(env.mitsuba_emitter())
-    rad = eval_emitter(emitter, d.reshape(-1, 3)).reshape(hc, s, wc, s, 3)
-    w = ((2 * np.pi / wc) * (c0 - c1) / (s * s))[:, None, None, None]  # sub-sample solid angle
-    flux = (rad.sum(axis=(1, 3)) * w[:, 0, :, :]).reshape(-1, 3)  # w: (hc, 1, 1, 1)
-    y = latlong.luminance(rad) * w[:, :, :, 0][..., None]
-    d5 = d.reshape(hc, s, wc, s, 3)
-    cen = np.einsum("iajb,iajbk->ijk", y, d5).reshape(-1, 3)
-    geo = np.einsum("iajbk->ijk", d5).reshape(-1, 3)
-    weak = y.sum(axis=(1, 3)).reshape(-1) <= 0
+    return d, weights, eval_emitter(emitter, d)
+
+
+def cell_nodes(env: Environment, cells: int, g: int) -> tuple[np.ndarray, np.ndarray]:
+    """(Φ_c (M, 3), ω_c (M, 3)) of the quadrature with H_c = ``cells`` and g Gauss points (steps 1–3)."""
+    d, w, rad = radiance_nodes(env, g)
+    hc, wc = cells, 2 * cells
+    theta, phi = latlong.direction_to_spherical(d)
+    row = np.minimum((theta / np.pi * hc).astype(np.int64), hc - 1)
+    col = np.minimum((phi / (2 * np.pi) * wc).astype(np.int64), wc - 1)
+    cell = row * wc + col
+    n_cells = hc * wc
+    lw = rad * w[:, None]
+    flux = np.stack([np.bincount(cell, lw[:, c], n_cells) for c in range(3)], axis=-1)
+    y = latlong.luminance(lw)
+    cen = np.stack([np.bincount(cell, y * d[:, k], n_cells) for k in range(3)], axis=-1)
+    geo = np.stack([np.bincount(cell, w * d[:, k], n_cells) for k in range(3)], axis=-1)
+    cell_y = np.bincount(cell, y, n_cells)
+    weak = cell_y <= 0
     cen[weak] = geo[weak]
-    cen /= np.linalg.norm(cen, axis=-1, keepdims=True)
-    # step 4: keep the sub-samples of cells with concentrated flux
-    cell_y = y.sum(axis=(1, 3)).reshape(-1)
+    occupied = np.bincount(cell, None, n_cells) > 0
+    norm = np.linalg.norm(cen, axis=-1, keepdims=True)
+    cen = np.divide(cen, norm, out=np.zeros_like(cen), where=norm > 0)
+
+    # step 3: keep the radiance nodes of cells with concentrated flux
     total = cell_y.sum()
-    order = np.argsort(cell_y)[::-1][: max(1, MAX_REFINED_NODES // (s * s))]
-    hot = order[cell_y[order] > REFINE_FRACTION * total] if total > 0 else order[:0]
-    if hot.size and s > 1:
-        ci, cj = np.divmod(hot, wc)
-        sub_rad = rad[ci, :, cj, :, :]  # (K, s, s, 3)
-        sub_w = w[ci, 0, 0, 0][:, None, None, None]
-        sub_flux = (sub_rad * sub_w).reshape(-1, 3)
-        sub_dir = d5[ci, :, cj, :, :].reshape(-1, 3)
-        keep = np.ones(flux.shape[0], dtype=bool)
-        keep[hot] = False
-        flux = np.concatenate([flux[keep], sub_flux])
-        cen = np.concatenate([cen[keep], sub_dir])
-    return flux, cen
+    keep = occupied.copy()
+    extra_flux, extra_dir = [], []
+    if total > 0:
+        counts = np.bincount(cell, None, n_cells)
+        budget = MAX_REFINED_NODES
+        for c_idx in np.argsort(cell_y)[::-1]:
+            if cell_y[c_idx] <= REFINE_FRACTION * total or counts[c_idx] > budget:
+                break
+            budget -= counts[c_idx]
+            keep[c_idx] = False
+            sel = cell == c_idx
+            extra_flux.append(lw[sel])
+            extra_dir.append(d[sel])
+    flux_out = np.concatenate([flux[keep]] + extra_flux)
+    dir_out = np.concatenate([cen[keep]] + extra_dir)
+    return flux_out, dir_out
 
 
 def irradiance_at(flux: np.ndarray, nodes: np.ndarray, normals: np.ndarray, chunk: int = 2048) -> np.ndarray:
@@ -122,15 +133,16 @@ def irradiance_at(flux: np.ndarray, nodes: np.ndarray, normals: np.ndarray, chun
 
 
 def reference_irradiance(env: Environment, normals: np.ndarray, cells: int = DEFAULT_CELLS) -> ReferenceIrradiance:
-    """Reference E at ``normals`` (N, 3): the 2·cells quadrature, with |E_2H − E_H| as uncertainty."""
+    """Reference E at ``normals`` (N, 3): the (2·cells, g+1) quadrature, with |E_fine − E_coarse|
+    as its uncertainty."""
     normals = np.ascontiguousarray(normals, dtype=np.float64)
 
     def compute() -> dict[str, np.ndarray]:
-        s = subsamples_for(env, cells)
-        coarse = irradiance_at(*cell_nodes(env, cells, s), normals)
-        fine = irradiance_at(*cell_nodes(env, 2 * cells, s), normals)
+        g = gauss_order(env, cells)
+        coarse = irradiance_at(*cell_nodes(env, cells, g), normals)
+        fine = irradiance_at(*cell_nodes(env, 2 * cells, g + 1), normals)
         return {"fine": fine, "coarse": coarse}
 
-    parts = {"env": env.digest, "normals": array_digest(normals), "cells": cells}
+    parts = {"env": env.digest, "normals": array_digest(normals), "cells": cells, "method": "gauss-cells"}
     r = cached("irradiance", parts, compute)
     return ReferenceIrradiance(r["fine"], np.abs(r["fine"] - r["coarse"]), cells)

@@ -44,12 +44,18 @@ def probe_files(directory: Path) -> list[Path]:
 
 
 def load_probes(directory: Path | None, files: list[Path], layout: str, clamp_negative: bool,
-                log: Callable[[str], None] = print) -> tuple[list[Environment], list[tuple[str, str]]]:
+                log: Callable[[str], None] = print, only_stems: set[str] | None = None
+                ) -> tuple[list[Environment], list[tuple[str, str]]]:
+    """Load the probes of ``directory`` (bad ones skipped with a reason) and ``files`` (bad = error).
+    ``only_stems`` restricts the directory scan (quick mode: the paper's probes only)."""
     envs: list[Environment] = []
     skipped: list[tuple[str, str]] = []
     names: set[str] = set()
     if directory is not None:
         for p in probe_files(directory):
+            if only_stems is not None and p.stem not in only_stems:
+                skipped.append((p.name, "not run in --quick mode (only the paper's probes are)"))
+                continue
             try:
                 env = load_environment(p, "auto", clamp_negative)
             except ValidateError as exc:

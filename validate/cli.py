@@ -1,0 +1,225 @@
+"""Command line: ``python -m validate {list, run NAME, all, bench}``.
+
+Outputs go to ``--out`` (default ``reports/``): ``index.html``, ``results.json``, ``figures/``.
+Work is staged in a temporary folder inside ``--out`` and moved into place only when every
+experiment succeeded, so a failure leaves the previous report untouched. ``run NAME`` updates that
+experiment's entry in an existing ``results.json`` and re-renders the page; other entries are kept.
+
+Exit status: 0 success; 1 a claim failed and ``--strict`` was given; 2 bad input (one-line error).
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as _dt
+import importlib
+import importlib.util
+import os
+import shutil
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from .errors import ValidateError
+
+EPILOG = """examples:
+  python -m validate list
+  python -m validate all --probes ../shared/probes     # full report in reports/index.html
+  python -m validate all --quick                       # < 1 min, built-in environments only
+  python -m validate run sh9 --probe my_probe.exr      # one experiment, one extra probe
+  python -m validate run sh9 --plugin my_model.py      # compare your own approximation
+
+environment variables:
+  VALIDATE_PROBES   default for --probes
+  VALIDATE_VARIANT  force a Mitsuba variant (cuda_ad_rgb, llvm_ad_rgb, scalar_rgb)
+  VALIDATE_CACHE    reference cache folder (default ~/.cache/validate; 'off' disables)
+"""
+
+
+def _parser() -> argparse.ArgumentParser:
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--out", type=Path, default=Path("reports"), metavar="DIR",
+                        help="output folder for index.html, results.json, figures/ (default: reports)")
+    common.add_argument("--probes", type=Path, default=None, metavar="DIR",
+                        help="add every .exr/.hdr/.pfm light probe in DIR (default: $VALIDATE_PROBES)")
+    common.add_argument("--probe", type=Path, action="append", default=[], metavar="FILE",
+                        help="add one probe file (repeatable); a bad file is an error")
+    common.add_argument("--layout", choices=["auto", "latlong", "angular", "cross"], default="auto",
+                        help="layout of --probe files (default: detect from aspect 2:1, 1:1, 3:4)")
+    common.add_argument("--clamp-negative", action="store_true",
+                        help="clamp negative texels to 0 instead of rejecting the file")
+    common.add_argument("--quick", action="store_true", help="coarser settings: the whole `all` in < 1 min")
+    common.add_argument("--strict", action="store_true", help="exit with status 1 when any claim fails")
+    common.add_argument("--plugin", action="append", default=[], metavar="FILE|MODULE",
+                        help="import a Python file or module that registers approximations (repeatable)")
+    common.add_argument("--no-progress", action="store_true", help="no progress bars")
+
+    p = argparse.ArgumentParser(prog="python -m validate", epilog=EPILOG,
+                                formatter_class=argparse.RawDescriptionHelpFormatter,
+                                description="Measure real-time lighting approximations against Mitsuba 3 "
+                                            "ground truth and write an HTML report.")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND")
+    sub.add_parser("list", help="list experiments, built-in environments and registered models")
+    r = sub.add_parser("run", parents=[common], help="run one experiment and update the report")
+    r.add_argument("name", help="experiment name (see `list`)")
+    sub.add_parser("all", parents=[common], help="run every experiment and write the report")
+    b = sub.add_parser("bench", help="benchmarks: drjit local models vs numpy, reference cost")
+    b.add_argument("--out", type=Path, default=Path("reports"), metavar="DIR")
+    return p
+
+
+def load_plugin(spec: str) -> None:
+    path = Path(spec)
+    try:
+        if path.suffix == ".py":
+            if not path.is_file():
+                raise ValidateError(f"{spec}: plugin file not found")
+            mod_spec = importlib.util.spec_from_file_location(f"validate_plugin_{path.stem}", path)
+            assert mod_spec and mod_spec.loader
+            module = importlib.util.module_from_spec(mod_spec)
+            mod_spec.loader.exec_module(module)
+        else:
+            importlib.import_module(spec)
+    except ValidateError:
+        raise
+    except Exception as exc:
+        raise ValidateError(f"{spec}: plugin failed to load ({type(exc).__name__}: {exc})") from None
+
+
+def _cmd_list() -> int:
+    from .experiments import discover
+    from .local_models import IRRADIANCE_MODELS
+    from .scenes.procedural import BUILTIN_NAMES
+
+    print("experiments:")
+    for name, e in discover().items():
+        print(f"  {name:12s} {e.title}")
+    print("built-in environments:")
+    for name in BUILTIN_NAMES:
+        print(f"  {name}")
+    print("irradiance models:")
+    for name, m in IRRADIANCE_MODELS.items():
+        print(f"  {name:12s} {m.description}")
+    return 0
+
+
+def _versions() -> dict:
+    import drjit as dr
+    import mitsuba as mi
+    import numpy as np
+
+    return {"mitsuba": mi.__version__, "drjit": dr.__version__, "numpy": np.__version__,
+            "python": sys.version.split()[0]}
+
+
+def _print_claims(results: dict) -> int:
+    failed = 0
+    print()
+    print(f"{'claim':44s} {'measured ± unc':>26s} {'threshold':>12s}  result")
+    for exp in results["experiments"].values():
+        for c in exp.get("claims", []):
+            pct = c.get("unit") == "%"
+            f = (lambda v: f"{100 * v:.3g} %") if pct else (lambda v: f"{v:.4g}")
+            ok = "pass" if c["passed"] else "FAIL"
+            failed += not c["passed"]
+            print(f"{c['id'][:44]:44s} {f(c['measured']) + ' ± ' + f(c['uncertainty']):>26s} "
+                  f"{c['comparison'] + ' ' + f(c['threshold']):>12s}  {ok}")
+    return failed
+
+
+def _run(args: argparse.Namespace, names: list[str] | None) -> int:
+    from . import backend
+    from .atomic import refuse_input_overwrite
+    from .experiments import Context, discover
+    from .report.html import load_results, write_report, write_results_json
+    from .scenes.probes import default_probes_dir
+
+    t0 = time.perf_counter()
+    be = backend.init()
+    print(f"backend: {be.describe()}")
+    for spec in args.plugin:
+        load_plugin(spec)
+    exps = discover()
+    todo = list(exps) if names is None else names
+    for n in todo:
+        if n not in exps:
+            raise ValidateError(f"unknown experiment {n!r}; available: {', '.join(exps)}")
+    probes_dir = args.probes or default_probes_dir()
+    out: Path = args.out
+    inputs = list(args.probe) + ([probes_dir] if probes_dir else [])
+    refuse_input_overwrite(out, inputs)
+    previous = load_results(out) if names is not None else {}
+
+    out.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=".staging-", dir=out))
+    try:
+        ctx = Context(out_dir=staging, quick=args.quick, probes_dir=probes_dir, probe_files=list(args.probe),
+                      layout=args.layout, clamp_negative=args.clamp_negative,
+                      show_progress=not args.no_progress and sys.stderr.isatty())
+        envs, skipped = ctx.environments()  # validate every input before any work
+        print(f"environments: {len(envs)} ({len(skipped)} skipped)")
+        done = {}
+        for n in todo:
+            print(f"running {n} ...", flush=True)
+            res = exps[n].run(ctx)
+            done[n] = res.to_json()
+            print(f"  {n}: {res.wall_time_s:.1f} s, {sum(c.passed for c in res.claims)}/{len(res.claims)} "
+                  "claims pass")
+        experiments = dict(previous.get("experiments", {}))
+        experiments.update(done)
+        experiments = {k: experiments[k] for k in list(exps) + [k for k in experiments if k not in exps]
+                       if k in experiments}
+        results = {"meta": {"backend": be.describe(), "variant": be.variant, "versions": _versions(),
+                            "generated": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+                            "command": "python -m validate " + " ".join(sys.argv[1:]), "quick": args.quick,
+                            "wall_time_s": round(time.perf_counter() - t0, 2),
+                            "skipped_inputs": [list(s) for s in skipped]},
+                   "experiments": experiments}
+        # move figures into place, then the JSON and the page (each atomically)
+        for n in done:
+            src, dst = staging / "figures" / n, out / "figures" / n
+            if src.exists():
+                old = None
+                if dst.exists():
+                    old = dst.with_name(f".old-{n}-{os.getpid()}")
+                    dst.rename(old)
+                dst.parent.mkdir(parents=True, exist_ok=True)
+                src.rename(dst)
+                if old is not None:
+                    shutil.rmtree(old, ignore_errors=True)
+        write_results_json(out, results)
+        page = write_report(out, results)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+    failed = _print_claims(results)
+    print(f"\nwrote {page} and {out / 'results.json'} in {time.perf_counter() - t0:.1f} s")
+    if failed:
+        print(f"{failed} claim(s) failed" + ("" if args.strict else " (use --strict to exit non-zero)"))
+    return 1 if failed and args.strict else 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = _parser()
+    args = parser.parse_args(argv)
+    try:
+        if args.command is None:
+            parser.print_help()
+            return 0
+        if args.command == "list":
+            return _cmd_list()
+        if args.command == "run":
+            return _run(args, [args.name])
+        if args.command == "all":
+            return _run(args, None)
+        if args.command == "bench":
+            from .bench import run_bench
+
+            return run_bench(args.out)
+    except ValidateError as exc:
+        print(f"validate: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("validate: interrupted; nothing was written", file=sys.stderr)
+        return 130
+    return 0
