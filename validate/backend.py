@@ -112,7 +112,7 @@ def choose_variant() -> Backend:
                     why += " (" + "; ".join(failures) + ")"
                 backend = Backend(name, why)
                 break
-            failures.append(f"{name}: {msg} — {HINTS.get(name, '')}")
+            failures.append(f"{name}: {HINTS.get(name, msg[:80])}")
         if backend is None:
             raise ValidateError("no Mitsuba variant works here: " + "; ".join(failures))
     os.environ["VALIDATE_PROBED_VARIANT"] = f"{backend.variant}|{backend.reason}"

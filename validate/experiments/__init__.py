@@ -6,8 +6,7 @@ from __future__ import annotations
 import importlib
 import pkgutil
 
-from .base import EXPERIMENTS, Claim, Context, Experiment, ExperimentResult, Figure, Section, Table, \
-    register_experiment
+from .base import EXPERIMENTS, Claim, Context, Experiment, ExperimentResult, Figure, Section, Table, register_experiment
 
 __all__ = ["EXPERIMENTS", "Claim", "Context", "Experiment", "ExperimentResult", "Figure", "Section", "Table",
            "register_experiment", "discover", "run_experiment"]

@@ -78,15 +78,17 @@ def sh_errors(alpha: float, cos_t: np.ndarray) -> dict:
     return out
 
 
-def alpha_crossing(cos_t: np.ndarray, alphas: np.ndarray, errs: np.ndarray, level: float) -> float | None:
-    """The largest α where the order-2 error crosses ``level`` (error ≥ level below it), by Brent's method."""
+def alpha_crossing(cos_t: np.ndarray, alphas: np.ndarray, errs: np.ndarray, level: float,
+                   key: int | str = 2) -> float | None:
+    """The largest α at which ``sh_errors(α)[key]`` falls through ``level`` (≥ level just below it), by
+    Brent's method between the bracketing grid points; None if the grid shows no such crossing."""
     above = errs >= level
     idx = [i for i in range(len(alphas) - 1) if above[i] and not above[i + 1]]
     if not idx:
         return None
     i = idx[-1]
-    g = lambda a: sh_errors(math.radians(a), cos_t)[2] - level  # noqa: E731
-    return float(brentq(g, alphas[i], alphas[i + 1], xtol=1e-3))
+    return float(brentq(lambda a: sh_errors(math.radians(a), cos_t)[key] - level, alphas[i], alphas[i + 1],
+                        xtol=1e-3))
 
 
 def seed_check(s: dict) -> dict:
@@ -151,12 +153,10 @@ def run(ctx: Context) -> ExperimentResult:
 
     # 1. the reference: Mitsuba vs the closed form
     a20 = math.radians(ALPHA20)
-    meters = [area_lights.sphere_light(1.0, 2.0), area_lights.sphere_light(1.0, 1.0 / math.sin(a20)),
-              area_lights.disc_light(1.0, 2.0)]
-    meters = [area_lights.MeterScene(m.name, {**m.scene, "receiver": {
-        **m.scene["receiver"], "sensor": {**m.scene["receiver"]["sensor"], "film": area_lights._film(s["meter_film"])}}},
-        m.position, m.receiver_radius, m.light_direction, m.sin2_sigma, m.radiance, {**m.key, "film": s["meter_film"]})
-        for m in meters]
+    film = s["meter_film"]
+    meters = [area_lights.sphere_light(1.0, 2.0, film_size=film),
+              area_lights.sphere_light(1.0, 1.0 / math.sin(a20), film_size=film),
+              area_lights.disc_light(1.0, 2.0, film_size=film)]
     checks = [meter_check(m, s, seed) for m in ctx.progress(meters, "arealights: Mitsuba")]
     cap_quad = cap_quadrature_check(cos_t)
 
@@ -166,7 +166,7 @@ def run(ctx: Context) -> ExperimentResult:
     by_order = {n: np.array([e[n] for e in errs]) for n in ORDERS}
     peak2 = np.array([e["peak2"] for e in errs])
     a_star = alpha_crossing(cos_t, alphas, by_order[2], SH_THRESHOLD)
-    a_star_peak = alpha_crossing_peak(cos_t, alphas, peak2, SH_THRESHOLD)
+    a_star_peak = alpha_crossing(cos_t, alphas, peak2, SH_THRESHOLD, key="peak2")
     e20 = sh_errors(a20, cos_t)
     seedc = seed_check(s)
     elev = elevation_sweep(s)
@@ -180,8 +180,9 @@ def run(ctx: Context) -> ExperimentResult:
         e = disc_sh.disc_irradiance_sh_rotated(a20, meters[1].light_direction, n20, n)
         dev = np.abs(e - np.asarray(m20["mean"]))
         k = int(np.argmax(dev))
+        # max_n |E_N − E_true| ≤ max_n |E_N − m_n| + max_n z*·s_n (each |m_n − E_true| < z*·s_n under H₀)
         sh_vs_meter[n] = {"max_over_flux": float(dev[k] / flux(a20)),
-                          "uncertainty": float(crit20 * np.asarray(m20["stderr"])[k] / flux(a20)),
+                          "uncertainty": float(crit20 * np.max(m20["stderr"]) / flux(a20)),
                           "theta_deg": float(m20["theta_deg"][k])}
 
     # 3. point lights and the disc-for-sphere substitution vs d/r
@@ -202,16 +203,6 @@ def run(ctx: Context) -> ExperimentResult:
                  "OpenGL point-light shortcuts, and the exact horizon-clipped cap irradiance, judged by Mitsuba's "
                  "irradiance meter on sphere and disc emitters (after the closed form is shown to agree with it)."),
         claims=claims, findings=findings, sections=sections, data=data, settings=s)
-
-
-def alpha_crossing_peak(cos_t: np.ndarray, alphas: np.ndarray, errs: np.ndarray, level: float) -> float | None:
-    above = errs >= level
-    idx = [i for i in range(len(alphas) - 1) if above[i] and not above[i + 1]]
-    if not idx:
-        return None
-    i = idx[-1]
-    g = lambda a: sh_errors(math.radians(a), cos_t)["peak2"] - level  # noqa: E731
-    return float(brentq(g, alphas[i], alphas[i + 1], xtol=1e-3))
 
 
 def elevation_sweep(s: dict) -> dict:
@@ -236,21 +227,22 @@ def point_sweep(s: dict, cos_t: np.ndarray) -> dict:
     ratios = np.geomspace(1.1, 100.0, s["distance_ratios"])
     series: dict[str, list[float]] = {k: [] for k in (
         "inverse_square_sphere", "inverse_square_disc", "inverse_square_disc_normal_incidence",
-        "opengl_r2_sphere", "opengl_r2_disc", "sphere_as_disc_tan", "sphere_as_disc_sin")}
+        "opengl_r2_sphere", "opengl_r2_disc", "sphere_as_disc_tan")}
     for q in ratios:
         s2_sph, s2_disc = sphere_cap.sin2_sigma_sphere(1.0, q), sphere_cap.sin2_sigma_disc(1.0, q)
         e_sph = sphere_cap.cap_irradiance(cos_t, s2_sph)
         e_disc = sphere_cap.cap_irradiance(cos_t, s2_disc)
-        inv = point_light.inverse_square(point_light.sphere_intensity(1.0), q, cos_t)  # = disc_intensity(1)
-        gl = point_light.attenuated_irradiance(point_light.disc_intensity(1.0), q, cos_t, constant=1.0)
+        # I = π r² L for both lights (sphere: power / 4π; disc: on-axis intensity), r = 1
+        inv = point_light.inverse_square(point_light.sphere_intensity(1.0), q, cos_t)
+        gl = point_light.attenuated_irradiance(point_light.disc_intensity(1.0), q, cos_t, constant=1.0)  # a = r²
         series["inverse_square_sphere"].append(float(np.max(np.abs(inv - e_sph)) / e_sph[0]))
         series["inverse_square_disc"].append(float(np.max(np.abs(inv - e_disc)) / e_disc[0]))
         series["inverse_square_disc_normal_incidence"].append(float(abs(inv[0] - e_disc[0]) / e_disc[0]))
         series["opengl_r2_sphere"].append(float(np.max(np.abs(gl - e_sph)) / e_sph[0]))
         series["opengl_r2_disc"].append(float(np.max(np.abs(gl - e_disc)) / e_disc[0]))
-        # a sphere replaced by a disc of half-angle α: sin α = r/d (its true silhouette) vs tan α = r/d
+        # a sphere replaced by a disc of half-angle α with tan α = r/d (a disc of the same radius) instead of
+        # its true silhouette sin α = r/d (which is the identical cap, error 0)
         series["sphere_as_disc_tan"].append(float(np.max(np.abs(e_disc - e_sph)) / e_sph[0]))
-        series["sphere_as_disc_sin"].append(0.0)  # identical cap: the substitution is exact
     out: dict = {"d_over_r": ratios.tolist(), **series}
 
     def crossing(name: str, fn) -> float | None:
@@ -302,7 +294,7 @@ def _claims(checks: list[dict], seedc: dict, cap_quad: float, e20: dict, sh_vs_m
                         "sphere light with sin α = r/d = sin 20°: SH order-2 error against Mitsuba below the "
                         "directional worst case", "max over meter normals |E_2 − E_Mitsuba| / Φ", WORST_CASE_MAX,
                         m["max_over_flux"], m["uncertainty"], unit="%",
-                        source="R&H 2001: 3/32 Φ; uncertainty = critical z × standard error at the worst normal"))
+                        source="R&H 2001: 3/32 Φ; uncertainty = critical z × largest standard error"))
     return claims
 
 
@@ -316,12 +308,14 @@ def _findings(checks: list[dict], a_star: float | None, a_star_peak: float | Non
                  f"(max |z| = {c['unclipped_test']['max_abs_z']:.1f}). The published horizon-clipped formula needs no "
                  "correction, only the clamp to 0 for a cap entirely below the horizon.")
     if a_star is not None:
-        f.append(f"SH order 2 exceeds 5 % max error for disc half-angles below α = {a_star:.1f}° (error "
-                 f"max_θ |E_2 − E| / Φ, Φ = 2π(1 − cos α) the light's flux; {_pct(by_order[2][0])} at α = "
-                 f"{alphas[0]:g}°, → 3/32 = 9.375 % as α → 0). Relative to the peak irradiance π sin²α the "
-                 f"crossing is at α = {a_star_peak:.1f}°." if a_star_peak is not None else "")
+        text = (f"SH order 2 exceeds 5 % max error for disc half-angles below α = {a_star:.1f}° (error "
+                f"max_θ |E_2 − E| / Φ, Φ = 2π(1 − cos α) the light's flux; {_pct(by_order[2][0])} at α = "
+                f"{alphas[0]:g}°, tending to 3/32 = 9.375 % as α → 0).")
+        if a_star_peak is not None:
+            text += f" Relative to the peak irradiance π sin²α the crossing is at α = {a_star_peak:.1f}°."
+        f.append(text)
     else:
-        f.append("SH order 2 never crosses 5 % of the flux on the α grid.")
+        f.append("SH order 2 never falls through 5 % of the flux on the α grid.")
     f.append(f"At α = 20° (the seed's example) the order-2 error is {_pct(e20[2])} of Φ, order 4 {_pct(e20[4])}, "
              f"order 8 {_pct(e20[8])}; against Mitsuba's sphere light with sin α = r/d the order-2 error is "
              f"{_pct(sh_vs_meter[2]['max_over_flux'])} ± {_pct(sh_vs_meter[2]['uncertainty'])} of Φ (worst at θ = "
@@ -332,19 +326,22 @@ def _findings(checks: list[dict], a_star: float | None, a_star_peak: float | Non
              f"seed's {', '.join(f'{v:g}' for v in seedc['alpha20_seed'])}).")
     q = pts["crossing_inverse_square_sphere"]
     qd = pts["crossing_inverse_square_disc_normal_incidence"]
-    f.append(f"Inverse-square point light for a sphere light (I = π r² L, the sphere's power / 4π): exact wherever "
-             f"the sphere is wholly above the horizon, so its error is all near the horizon; its worst-normal error "
-             f"relative to the normal-incidence irradiance exceeds 1 % for d/r < {q:.1f}" if q else
-             "Inverse-square point light: no 1 % crossing on the d/r grid")
-    f[-1] += (f". For a disc light facing the receiver it overestimates even at normal incidence, by r²/d², which "
-              f"exceeds 1 % for d/r < {qd:.2f}; OpenGL's attenuation 1/(a + b d + c d²) with (a, b, c) = (r², 0, 1) "
-              "makes that case exact (on the axis, above the horizon)." if qd else ".")
+    if q is not None:
+        f.append("Inverse-square point light for a sphere light (I = π r² L, the sphere's power / 4π): exact wherever "
+                 "the sphere is wholly above the horizon, so all its error is near the horizon; its worst-normal "
+                 f"error relative to the normal-incidence irradiance exceeds 1 % for d/r < {q:.1f}.")
+    if qd is not None:
+        f.append("For a disc light facing the receiver, inverse square overestimates even at normal incidence, by "
+                 f"r²/d², which exceeds 1 % for d/r < {qd:.2f}; OpenGL's attenuation 1/(a + b d + c d²) with "
+                 "(a, b, c) = (r², 0, 1) makes that case exact (on the axis, above the horizon).")
+    tan_err = {q: 1.0 / (1.0 + q * q) for q in (2.0, 10.0)}  # r²/(r² + d²), the θ = 0 error (the largest)
     f.append("Disc-for-sphere substitution: a sphere of radius r at distance d subtends exactly the cap with "
-             "sin α = r/d, so the substitution is exact (Mitsuba's sphere agrees with the cap formula above); using "
-             f"tan α = r/d instead (a disc of the same radius) underestimates by r²/(r² + d²): "
-             f"{_pct(np.interp(2.0, pts['d_over_r'], pts['sphere_as_disc_tan']))} at d/r = 2, "
-             f"{_pct(np.interp(10.0, pts['d_over_r'], pts['sphere_as_disc_tan']))} at d/r = 10.")
-    return [x for x in f if x]
+             "sin α = r/d, so the substitution is exact (Mitsuba's sphere agrees with the cap formula above) and "
+             "only the SH truncation of that disc remains; using tan α = r/d instead (a disc of the same radius) "
+             f"underestimates by r²/(r² + d²): {_pct(tan_err[2.0])} at d/r = 2, {_pct(tan_err[10.0])} at d/r = 10 "
+             f"(largest over normals on the sweep: {_pct(max(pts['sphere_as_disc_tan']))} at d/r = "
+             f"{pts['d_over_r'][0]:g}).")
+    return f
 
 
 def _sections(ctx: Context, s: dict, checks: list[dict], alphas: np.ndarray, by_order: dict, peak2: np.ndarray,

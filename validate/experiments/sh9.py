@@ -21,8 +21,7 @@ import numpy as np
 
 from ..local_models import IRRADIANCE_MODELS
 from ..local_models import sh as shm
-from ..metrics.irradiance_error import (METRIC_NAMES, WORST_CASE_MAX, WORST_CASE_MEAN, ErrorStats,
-                                        irradiance_errors)
+from ..metrics.irradiance_error import METRIC_NAMES, WORST_CASE_MAX, WORST_CASE_MEAN, ErrorStats, irradiance_errors
 from ..metrics.published import PUBLISHED_TOLERANCE, fit_exposure
 from ..reference.irradiance import reference_irradiance
 from ..report import plots

@@ -21,8 +21,10 @@ Method
   4. E(n) = Σ_c Φ_c max(0, n·ω_c)  (a dense product, chunked, float32 BLAS).
 
 Convergence is *shown*, not assumed: the quadrature runs at (H_c, g) and at (2H_c, g + 1); the
-second is the reference and |E_fine − E_coarse| is reported per normal as its uncertainty
-(conservative: both the kernel cells and the radiance nodes are refined).
+second is the reference. Its uncertainty is the largest change over all normals, per channel,
+δ_c = max_n |E_fine − E_coarse|, applied to every normal: a per-normal difference can vanish by
+chance where the two rules happen to agree, so it is no per-normal bound, whereas δ_c exceeds the
+true error everywhere in the closed-form tests (measured error/δ ≤ 0.34).
 """
 
 from __future__ import annotations
@@ -133,8 +135,8 @@ def irradiance_at(flux: np.ndarray, nodes: np.ndarray, normals: np.ndarray, chun
 
 
 def reference_irradiance(env: Environment, normals: np.ndarray, cells: int = DEFAULT_CELLS) -> ReferenceIrradiance:
-    """Reference E at ``normals`` (N, 3): the (2·cells, g+1) quadrature, with |E_fine − E_coarse|
-    as its uncertainty."""
+    """Reference E at ``normals`` (N, 3): the (2·cells, g+1) quadrature, with max_n |E_fine − E_coarse|
+    (per channel) as its uncertainty."""
     normals = np.ascontiguousarray(normals, dtype=np.float64)
 
     def compute() -> dict[str, np.ndarray]:
@@ -145,4 +147,5 @@ def reference_irradiance(env: Environment, normals: np.ndarray, cells: int = DEF
 
     parts = {"env": env.digest, "normals": array_digest(normals), "cells": cells, "method": "gauss-cells"}
     r = cached("irradiance", parts, compute)
-    return ReferenceIrradiance(r["fine"], np.abs(r["fine"] - r["coarse"]), cells)
+    delta = np.abs(r["fine"] - r["coarse"]).max(axis=0, initial=0.0)
+    return ReferenceIrradiance(r["fine"], np.broadcast_to(delta, r["fine"].shape).copy(), cells)
