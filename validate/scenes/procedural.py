@@ -132,9 +132,10 @@ def sunsky(elevation_deg: float, height: int = 512, supersample: int = 4) -> Env
     if not backend.is_vectorized:  # the scalar fallback evaluates one direction at a time
         height, supersample = min(height, 64), 1
     w = direction_from_elevation(elevation_deg, 45.0)
-    local = [float(w[0]), float(-w[2]), float(w[1])]  # world (x, y, z) = rotate_x(−90°) · local
+    # the sky's zenith follows to_world (z → +y); sun_direction is taken in world space (measured:
+    # the baked sun lands on this vector, tests/test_procedural.py)
     emitter = mi.load_dict({
-        "type": "sunsky", "sun_direction": local, "turbidity": 3.0,
+        "type": "sunsky", "sun_direction": [float(v) for v in w], "turbidity": 3.0,
         "to_world": mi.ScalarTransform4f().rotate([1, 0, 0], -90),
     })
     rad = _cell_average(height, 2 * height, lambda d: eval_emitter(emitter, d), supersample)
