@@ -42,7 +42,7 @@ SH_THRESHOLD = 0.05  # the issue's "5 % max error" for SH order 2
 POINT_THRESHOLD = 0.01  # the issue's "off by more than 1 %" for the inverse-square point light
 SEED_TOLERANCE = 1e-4  # the issue: the seed's disc SH formulas equal a numerical projection to < 1e-4
 CAP_QUADRATURE_TOLERANCE = 1e-5  # float32 closed form vs float64 quadrature, relative to π sin²σ;
-#                                   measured 6e-7 for sin²σ ≥ 0.1 (module docstring of sphere_cap)
+#                                   measured 8.8e-7 over sin²σ ∈ {0.01 … 0.9} (float32 rounding, 11× margin)
 ALPHA = ai.DEFAULT_ALPHA
 ALPHA20 = 20.0  # the seed's worked example
 
@@ -52,7 +52,7 @@ def _settings(quick: bool) -> dict:
               [1, 2, 3, 4, 5, 6, 7.5, 10, 12.5, 15, 17.5, 20, 22.5, 25, 27.5, 30, 35, 40, 45, 50, 55, 60])
     return {"alphas_deg": alphas, "theta_step_deg": 0.25 if quick else 0.05,
             "elevation_step_deg": 5.0 if quick else 1.0, "distance_ratios": 24 if quick else 80,
-            "meter_thetas_deg": [0, 30, 60, 70, 80, 90, 100, 110, 120, 150] if quick else
+            "meter_thetas_deg": [0, 30, 60, 75, 90, 105, 120, 180] if quick else
             [0, 15, 30, 45, 55, 60, 65, 70, 75, 80, 85, 90, 95, 100, 105, 110, 115, 120, 125, 135, 150, 180],
             "meter_passes": 8 if quick else 16, "meter_spp": 16 if quick else 32,
             "meter_film": area_lights.FILM_SIZE, "projection_nodes": 48}
@@ -74,7 +74,8 @@ def sh_errors(alpha: float, cos_t: np.ndarray) -> dict:
     for n in ORDERS:
         e = disc_sh.disc_irradiance_sh(alpha, cos_t, n)
         out[n] = float(np.max(np.abs(e - exact)) / flux(alpha))
-    out["peak2"] = float(np.max(np.abs(disc_sh.disc_irradiance_sh(alpha, cos_t, 2) - exact)) / (math.pi * math.sin(alpha) ** 2))
+    e2 = disc_sh.disc_irradiance_sh(alpha, cos_t, 2)
+    out["peak2"] = float(np.max(np.abs(e2 - exact)) / (math.pi * math.sin(alpha) ** 2))
     return out
 
 
@@ -121,7 +122,7 @@ def cap_quadrature_check(cos_t: np.ndarray) -> float:
     worst = 0.0
     for s2 in (0.01, 0.1, 0.25, 0.5, 0.9):
         e = sphere_cap.cap_irradiance(cos_t, s2)
-        q = sphere_cap.cap_irradiance_quadrature(cos_t, s2)
+        q = sphere_cap.cap_irradiance_quadrature(cos_t, s2, nodes=64)  # converged to ~1e-11 (vs 256 nodes)
         worst = max(worst, float(np.max(np.abs(e - q)) / (math.pi * s2)))
     return worst
 
@@ -157,7 +158,8 @@ def run(ctx: Context) -> ExperimentResult:
     meters = [area_lights.sphere_light(1.0, 2.0, film_size=film),
               area_lights.sphere_light(1.0, 1.0 / math.sin(a20), film_size=film),
               area_lights.disc_light(1.0, 2.0, film_size=film)]
-    checks = [meter_check(m, s, seed) for m in ctx.progress(meters, "arealights: Mitsuba")]
+    checks = [meter_check(m, s, (seed + i) % 2048)  # independent streams per scene
+              for i, m in enumerate(ctx.progress(meters, "arealights: Mitsuba"))]
     cap_quad = cap_quadrature_check(cos_t)
 
     # 2. SH of a disc: error vs α, vs elevation
@@ -167,6 +169,7 @@ def run(ctx: Context) -> ExperimentResult:
     peak2 = np.array([e["peak2"] for e in errs])
     a_star = alpha_crossing(cos_t, alphas, by_order[2], SH_THRESHOLD)
     a_star_peak = alpha_crossing(cos_t, alphas, peak2, SH_THRESHOLD, key="peak2")
+    a_star4 = alpha_crossing(cos_t, alphas, by_order[4], SH_THRESHOLD, key=4)
     e20 = sh_errors(a20, cos_t)
     seedc = seed_check(s)
     elev = elevation_sweep(s)
@@ -189,12 +192,13 @@ def run(ctx: Context) -> ExperimentResult:
     pts = point_sweep(s, cos_t)
 
     claims = _claims(checks, seedc, cap_quad, e20, sh_vs_meter)
-    findings = _findings(checks, a_star, a_star_peak, by_order, alphas, e20, pts, sh_vs_meter, seedc)
+    findings = _findings(checks, (a_star, a_star_peak, a_star4), by_order, alphas, e20, pts, sh_vs_meter, seedc)
     sections = _sections(ctx, s, checks, alphas, by_order, peak2, elev, pts, seedc, sh_vs_meter)
     data = {"reference_checks": checks, "cap_vs_quadrature": cap_quad,
             "sh_vs_alpha": {"alpha_deg": alphas.tolist(), **{f"order{n}": by_order[n].tolist() for n in ORDERS},
                             "order2_peak_normalised": peak2.tolist(), "alpha_order2_exceeds_5pct_flux": a_star,
-                            "alpha_order2_exceeds_5pct_peak": a_star_peak, "alpha20": {str(k): v for k, v in e20.items()}},
+                            "alpha_order2_exceeds_5pct_peak": a_star_peak, "alpha_order4_exceeds_5pct_flux": a_star4,
+                            "alpha20": {str(k): v for k, v in e20.items()}},
             "sh_vs_elevation": elev, "seed_formulas": seedc,
             "sh_vs_mitsuba_alpha20": {str(k): v for k, v in sh_vs_meter.items()}, "point_lights": pts}
     return ExperimentResult(
@@ -206,18 +210,23 @@ def run(ctx: Context) -> ExperimentResult:
 
 
 def elevation_sweep(s: dict) -> dict:
-    """Receiver facing up, a disc (α = 5°, 20°) at elevation e above its horizon: |E_N − E| / Φ per order,
-    SH through the rotated (engine) path: zonal → Y_lm(d) → Σ Â_l L_lm Y_lm(up)."""
+    """A receiver facing up and a disc (α = 5°, 20°) at elevation e above its horizon: |E_N − E| / Φ per order.
+
+    SH through the engine path (zonal → rotated with Y_lm(d) → Σ Â_l L_lm Y_lm(n)). E depends on d·n only,
+    so the light is rotated once, to d = up, and the normals carry the elevation: n(e) at elevation e
+    (azimuth 30°) gives d·n = sin e, the same as a light at elevation e over an upward normal — one kernel
+    instead of one per elevation (the rotated and zonal paths are tested equal for arbitrary d).
+    """
     elev = np.arange(-30.0, 90.0 + 1e-9, s["elevation_step_deg"])
-    up = np.array([[0.0, 1.0, 0.0]])
+    up = np.array([0.0, 1.0, 0.0])
+    normals = np.stack([procedural.direction_from_elevation(x, 30.0) for x in elev])
     out: dict = {"elevation_deg": elev.tolist()}
     for a_deg in (5.0, ALPHA20):
         a = math.radians(a_deg)
-        exact = sphere_cap.cap_irradiance(np.sin(np.radians(elev)), math.sin(a) ** 2)
+        exact = sphere_cap.cap_irradiance(normals @ up, math.sin(a) ** 2)
         out[f"alpha{a_deg:g}"] = {"exact": exact.tolist()}
         for n in ORDERS:
-            e = np.array([disc_sh.disc_irradiance_sh_rotated(a, procedural.direction_from_elevation(x, 30.0), up, n)[0]
-                          for x in elev])
+            e = disc_sh.disc_irradiance_sh_rotated(a, up, normals, n)
             out[f"alpha{a_deg:g}"][f"order{n}"] = (np.abs(e - exact) / flux(a)).tolist()
     return out
 
@@ -255,7 +264,8 @@ def point_sweep(s: dict, cos_t: np.ndarray) -> dict:
 
     def inv_sphere(q: float) -> float:
         e = sphere_cap.cap_irradiance(cos_t, sphere_cap.sin2_sigma_sphere(1.0, q))
-        return float(np.max(np.abs(point_light.inverse_square(math.pi, q, cos_t) - e)) / e[0])
+        inv = point_light.inverse_square(point_light.sphere_intensity(1.0), q, cos_t)
+        return float(np.max(np.abs(inv - e)) / e[0])
 
     def inv_disc_axis(q: float) -> float:
         e0 = float(sphere_cap.cap_irradiance(np.array([1.0]), sphere_cap.sin2_sigma_disc(1.0, q))[0])
@@ -275,7 +285,7 @@ def _claims(checks: list[dict], seedc: dict, cap_quad: float, e20: dict, sh_vs_m
                     source="issue: < 1e-4; uncertainty = change of the projection when its nodes are doubled"),
               Claim("arealights.cap.quadrature", "closed-form cap irradiance (float32 drjit) = brute-force quadrature",
                     "max |E − E_quad| / (π sin²σ)", CAP_QUADRATURE_TOLERANCE, cap_quad, 0.0, unit="%",
-                    source="float32 rounding: measured 6e-7 (sphere_cap docstring); 1e-5 leaves a 16× margin")]
+                    source="float32 rounding: measured 8.8e-7 over sin²σ = 0.01…0.9; 1e-5 leaves an 11× margin")]
     for c in checks:
         t = c["closed_test"]
         claims.append(Claim(f"arealights.cap.mitsuba.{c['name']}",
@@ -298,9 +308,14 @@ def _claims(checks: list[dict], seedc: dict, cap_quad: float, e20: dict, sh_vs_m
     return claims
 
 
-def _findings(checks: list[dict], a_star: float | None, a_star_peak: float | None, by_order: dict, alphas: np.ndarray,
+def _findings(checks: list[dict], crossings: tuple[float | None, ...], by_order: dict, alphas: np.ndarray,
               e20: dict, pts: dict, sh_vs_meter: dict, seedc: dict) -> list[str]:
+    a_star, a_star_peak, a_star4 = crossings
     f = []
+    bad = [c["name"] for c in checks if not c["closed_test"]["consistent"]]
+    if bad:
+        f.append(f"WARNING: Mitsuba and the closed-form cap disagree on {', '.join(bad)}: the reference is not "
+                 "validated, so the judgements below that rest on it are void until this is resolved.")
     for c in checks:
         f.append(f"{c['name']}: Mitsuba's irradiance meter ({c['samples_per_normal']:,} samples per normal) agrees "
                  f"with the closed-form cap irradiance (max |z| = {c['closed_test']['max_abs_z']:.2f} < "
@@ -313,14 +328,18 @@ def _findings(checks: list[dict], a_star: float | None, a_star_peak: float | Non
                 f"{alphas[0]:g}°, tending to 3/32 = 9.375 % as α → 0).")
         if a_star_peak is not None:
             text += f" Relative to the peak irradiance π sin²α the crossing is at α = {a_star_peak:.1f}°."
+        if a_star4 is not None:
+            text += f" Order 4 exceeds 5 % of Φ only below α = {a_star4:.1f}°."
+        worst8 = float(np.max(by_order[8]))
+        text += (f" Order 8 {'stays below' if worst8 < SH_THRESHOLD else 'reaches'} it on the whole α grid "
+                 f"(at most {_pct(worst8)}, at α = {alphas[int(np.argmax(by_order[8]))]:g}°).")
         f.append(text)
     else:
         f.append("SH order 2 never falls through 5 % of the flux on the α grid.")
     f.append(f"At α = 20° (the seed's example) the order-2 error is {_pct(e20[2])} of Φ, order 4 {_pct(e20[4])}, "
              f"order 8 {_pct(e20[8])}; against Mitsuba's sphere light with sin α = r/d the order-2 error is "
              f"{_pct(sh_vs_meter[2]['max_over_flux'])} ± {_pct(sh_vs_meter[2]['uncertainty'])} of Φ (worst at θ = "
-             f"{sh_vs_meter[2]['theta_deg']:g}°). Orders 4 and 8 at α = {alphas[0]:g}°: {_pct(by_order[4][0])}, "
-             f"{_pct(by_order[8][0])}.")
+             f"{sh_vs_meter[2]['theta_deg']:g}°).")
     f.append(f"The seed's disc SH formulas match a numerical projection to {seedc['max_deviation']:.1e} "
              f"(α = 20° irradiance polynomial: {', '.join(f'{v:.7g}' for v in seedc['alpha20_polynomial'])} vs the "
              f"seed's {', '.join(f'{v:g}' for v in seedc['alpha20_seed'])}).")
@@ -351,8 +370,9 @@ def _sections(ctx: Context, s: dict, checks: list[dict], alphas: np.ndarray, by_
     for c in checks:
         th = np.asarray(c["theta_deg"])
         p, r = ctx.figure_path(NAME, f"meter_{c['name']}.png")
-        plots.save_line_plot(p, th, {"Mitsuba meter": np.asarray(c["mean"]), "closed-form cap": np.asarray(c["closed_form"]),
-                                     "unclipped (point light)": np.asarray(c["unclipped"])},
+        plots.save_line_plot(p, th, {"closed-form cap": np.asarray(c["closed_form"]),
+                                     "unclipped (point light)": np.asarray(c["unclipped"]),
+                                     "Mitsuba meter": np.asarray(c["mean"])},
                              xlabel="angle θ between normal and light (degrees)", ylabel="E / L",
                              title=f"{c['name']}: Mitsuba vs closed form")
         figs_ref.append(Figure(r, f"{c['name']} (σ = {c['sigma_deg']:.1f}°)", 380))

@@ -38,7 +38,8 @@ ALPHA = ai.DEFAULT_ALPHA
 def _settings(quick: bool) -> dict:
     return {"beta_step_deg": 10.0 if quick else 2.5, "azimuths": 8 if quick else 24,
             "cells": 64 if quick else 128,
-            "meter_betas_deg": [0, 30, 45, 60, 90, 120, 135, 150, 180] if quick else list(range(0, 181, 15)) + [45, 135],
+            "meter_betas_deg": ([0, 30, 45, 60, 90, 120, 135, 150, 180] if quick
+                                else list(range(0, 181, 15)) + [45, 135]),
             "meter_passes": 8 if quick else 16, "meter_spp": 16 if quick else 32, "meter_film": area_lights.FILM_SIZE}
 
 
@@ -221,7 +222,7 @@ def _sections(ctx: Context, s: dict, weights: dict, tt: dict, sky: dict) -> list
     rows = [[f"{beta:g}", f"{mean:.5f} ± {se:.5f}", f"{m['tests']['exact']['predicted'][i]:.5f}",
              f"{m['tests']['exact']['z'][i]:+.2f}", f"{m['tests']['red_book']['predicted'][i]:.5f}",
              f"{m['tests']['red_book']['z'][i]:+.1f}"]
-            for i, (beta, mean, se) in enumerate(zip(m["beta_deg"], m["mean"], m["stderr"]))]
+            for i, (beta, mean, se) in enumerate(zip(m["beta_deg"], m["mean"], m["stderr"], strict=True))]
     meter_table = Table(["β (°)", "Mitsuba E (red) ± s.e.", "exact π·C", "z", "Red Book π·C", "z"], rows,
                         f"Irradiance meter: {m['passes']} passes × {m['film']}² pixels × {m['spp']} spp per tilt; "
                         f"critical |z| = {m['tests']['exact']['critical_z']:.2f} (Šidák, α = {ALPHA:g}).")

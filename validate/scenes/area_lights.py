@@ -95,7 +95,8 @@ def sphere_light(radius: float, distance: float, radiance: float = 1.0, film_siz
     pos = np.array([0.0, 0.0, float(distance)])
     eps = RECEIVER_FRACTION * distance
     scene = {"type": "scene", "integrator": dict(INTEGRATOR),
-             "light": {"type": "sphere", "center": [0.0, 0.0, 0.0], "radius": float(radius), "emitter": _area(radiance)},
+             "light": {"type": "sphere", "center": [0.0, 0.0, 0.0], "radius": float(radius),
+                       "emitter": _area(radiance)},
              "receiver": _receiver(pos, -pos, eps, film_size)}
     return MeterScene(f"sphere_r{radius:g}_d{distance:g}", scene, pos, eps, np.array([0.0, 0.0, -1.0]),
                       radius * radius / (distance * distance), float(radiance),
