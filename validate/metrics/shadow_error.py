@@ -50,7 +50,12 @@ class RegionError:
     pixels: int
 
     def to_json(self) -> dict[str, Any]:
-        return asdict(self)
+        return {k: _finite_or_none(v) for k, v in asdict(self).items()}
+
+
+def _finite_or_none(v: Any) -> Any:
+    """NaN (an empty region, FLIP not computed) becomes None, so results.json stays strict JSON."""
+    return None if isinstance(v, float) and not np.isfinite(v) else v
 
 
 @dataclass
@@ -64,8 +69,8 @@ class ShadowErrors:
 
     def to_json(self) -> dict[str, Any]:
         return {"total": self.total.to_json(), "regions": {k: v.to_json() for k, v in self.regions.items()},
-                "false_shadow": self.false_shadow, "false_light": self.false_light, "flip": self.flip,
-                "normaliser": self.normaliser}
+                "false_shadow": _finite_or_none(self.false_shadow), "false_light": _finite_or_none(self.false_light),
+                "flip": _finite_or_none(self.flip), "normaliser": self.normaliser}
 
 
 def region_masks(visibility: np.ndarray) -> dict[str, np.ndarray]:

@@ -3,19 +3,21 @@
 Conventions: y is up, units are metres, every surface is Lambertian (``diffuse``). The scene is
 direct lighting only: the one emitter is a one-sided ``disk`` shape with an ``area`` emitter of
 uniform radiance L_e, centred at ``light.centre`` at height h, facing ``light.target``. There is no
-environment, so a point that sees none of the disc is exactly black in the reference.
+environment (the issue's optional dim environment is left out on purpose): a point that sees none of
+the disc is exactly black in the reference, so any light in the umbra is a shadow-map leak.
 
 Occluders (chosen so every shadow-mapping failure has somewhere to show):
 
-* a floating sphere (radius 0.45, bottom 0.65 m above the ground): a detached shadow whose
+* a floating sphere (radius 0.45, bottom 0.55 m above the ground): a detached shadow whose
   penumbra widens with the gap, and a curved terminator where slope-scaled bias matters;
 * a box (0.8 m cube turned 30° about y) standing on the ground: contact shadows, where too much
   bias detaches the shadow from the caster ("peter-panning");
 * a thin pole (radius 4 cm, 1.6 m tall, a ``cylinder`` closed by a ``disk`` cap, since the camera
   would otherwise see the black back faces inside it): a shadow a few shadow-map texels wide that
   low resolutions lose;
-* steps (three 0.35 m treads rising 0.25 m each towards the light, a triangle mesh): the object
-  shadows itself, and its treads meet the light at grazing angles (shadow acne).
+* steps (three 0.35 m treads rising 0.25 m each towards the light, a triangle mesh): each riser
+  shadows part of the tread below it, and the risers face away from the light (a terminator between
+  lit and back-facing faces one texel apart in the shadow map).
 
 Light power: the radiance is set from the radius so that the irradiance on the light's axis at the
 target stays ``target_irradiance`` for every radius, E_axis = π L_e r² / (r² + d²) (the exact
@@ -33,9 +35,9 @@ import numpy as np
 
 from ..errors import ValidateError
 
-LIGHT_CENTRE = (1.6, 4.0, 1.6)  # height h = 4 m, offset so shadows fall to the camera's left
+LIGHT_CENTRE = (1.6, 4.0, 1.6)  # height h = 4 m, in front and to the right: shadows fall back and left
 LIGHT_TARGET = (0.0, 0.0, 0.0)
-LIGHT_RADII = (0.02, 0.1, 0.25, 0.5, 1.0)  # near-point (r/d = 0.004) … large (r/d = 0.2)
+LIGHT_RADII = (0.02, 0.1, 0.25, 0.5, 1.0)  # near-point (r/d = 0.0043) … large (r/d = 0.22), d = 4.6 m
 NEAR_POINT_RADIUS = LIGHT_RADII[0]
 TARGET_IRRADIANCE = 3.0  # W/m² on the light axis at the target, for every radius
 
