@@ -182,7 +182,9 @@ def pathtrace_crosscheck(env: Environment, ctx: Context) -> tuple[list[Claim], d
     p3, r3 = ctx.figure_path("sh9", f"{env.name}_pathtrace_z.png")
     plots.save_image(p1, cc.render, exposure=exposure)
     plots.save_image(p2, cc.quadrature, exposure=exposure)
-    plots.save_heatmap(p3, np.nanmax(np.abs(cc.z_image), axis=-1), title=f"{env.name}: |z| per pixel (worst channel)",
+    absz = np.abs(cc.z_image)
+    worst = np.where(np.isnan(absz).all(axis=-1), np.nan, np.nan_to_num(absz, nan=0.0).max(axis=-1))
+    plots.save_heatmap(p3, worst, title=f"{env.name}: |z| per pixel (worst channel)",
                        label="|z|", vmax=cc.critical_z)
     figs = [Figure(r1, f"{env.name}: path-traced Lambertian sphere (mean of 8 passes)", 160),
             Figure(r2, "quadrature E/π over each pixel's footprint (same exposure)", 160),
