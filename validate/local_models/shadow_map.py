@@ -13,7 +13,8 @@ sin²σ = r²/(r² + d²) (so that π sin²σ is the projected solid angle of a 
     I = (cos θ acos y − x sin θ √(1 − y²)) sin²σ + atan(sin θ √(1 − y²) / x)   otherwise (clipped),
         with x = √(1/sin²σ − 1) = d/r, y = −x cos θ / sin θ, and I = 0 below cos θ = −sin σ,
 
-the "illuminanceSphereOrDisk" form of [1] §4.7 (the horizon-clipped spherical cap of [2]), with the
+the "illuminanceSphereOrDisk" form of [1] §4.7 (the horizon-clipped spherical cap of [2]; I is
+:func:`validate.local_models.sphere_cap.cap_irradiance_dr` with one sin²σ per point), with the
 disc's foreshortening max(0, n_L·(−l)) as the extra factor. It is exact on the disc's axis with n
 facing the disc, E = π L_e r²/(r² + d²), and has the right point-light limit E = L_e πr² cos θ cos θ_L
 / d²; elsewhere it is an approximation whose error grows like (r/d)² (measured against
@@ -77,6 +78,7 @@ import numpy as np
 from ..backend import float_type, init, uint_type
 from ..errors import ValidateError
 from ..scenes.shadow_scenes import DiscLight
+from .sphere_cap import cap_irradiance_dr
 
 DEPTH_BITS = 24
 DEPTH_LSB = 2.0**-DEPTH_BITS  # r of glPolygonOffset for a D24 buffer
@@ -143,12 +145,9 @@ class ShadowMap:
 
 
 def light_frame(light: DiscLight) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(forward, right, up): forward = n_L, right and up complete an orthonormal frame."""
-    f = light.normal
-    helper = np.array([0.0, 1.0, 0.0]) if abs(f[1]) < 0.9 else np.array([1.0, 0.0, 0.0])
-    r = np.cross(helper, f)
-    r /= np.linalg.norm(r)
-    return f, r, np.cross(f, r)
+    """(forward, right, up): forward = n_L, (right, up) = ``light.frame()``, the disc's own plane axes."""
+    right, up = light.frame()
+    return light.normal, right, up
 
 
 def fit_light_view(light: DiscLight, receivers: np.ndarray) -> LightView:
@@ -282,8 +281,9 @@ def _plane_window_depth(sm: ShadowMap, rc: _Receivers, xw: Any, yw: Any) -> Any:
     return dr.clip(v.depth_scale * (1 - v.near / z), 0.0, 1.0)
 
 
-def _test(sm: ShadowMap, i: Any, j: Any, ref_w: Any, offset: PolygonOffset) -> Any:
-    """1.0 where texel (i, j) passes the depth test (lit), outside the map → lit."""
+def _fetch(sm: ShadowMap, i: Any, j: Any, offset: PolygonOffset) -> tuple[Any, Any, Any]:
+    """(inside, D, D + o) of texel (i, j): the stored window depth D and the occluder depth offset by
+    o = factor·DZ + units·2⁻²⁴ (``PolygonOffset``); outside the map D = 0 and ``inside`` is False."""
     import drjit as dr
 
     F = float_type()
@@ -293,7 +293,16 @@ def _test(sm: ShadowMap, i: Any, j: Any, ref_w: Any, offset: PolygonOffset) -> A
     idx = U(dr.clip(j, 0, res - 1)) * res + U(dr.clip(i, 0, res - 1))
     d = dr.gather(F, sm.depth, idx, inside)
     dz = dr.gather(F, sm.slope, idx, inside)
-    lit = ref_w <= d + offset.factor * dz + offset.units * DEPTH_LSB
+    return inside, d, d + offset.factor * dz + offset.units * DEPTH_LSB
+
+
+def _test(sm: ShadowMap, i: Any, j: Any, ref_w: Any, offset: PolygonOffset) -> Any:
+    """1.0 where texel (i, j) passes the depth test (lit), outside the map → lit."""
+    import drjit as dr
+
+    F = float_type()
+    inside, _, occluder = _fetch(sm, i, j, offset)
+    lit = ref_w <= occluder
     return dr.select(inside & ~lit, F(0.0), F(1.0))
 
 
@@ -400,13 +409,8 @@ def visibility_pcss(sm: ShadowMap, position: np.ndarray, normal: np.ndarray, lig
     xw, yw = rc.x + ox * w_s, rc.y + oy * w_s
     i, j = dr.floor(xw), dr.floor(yw)
     ref = _plane_window_depth(sm, rc, i + 0.5, j + 0.5) if receiver_plane else rc.z_w
-    res = sm.resolution
-    inside = (i >= 0) & (i < res) & (j >= 0) & (j < res)
-    U = uint_type()
-    idx = U(dr.clip(j, 0, res - 1)) * res + U(dr.clip(i, 0, res - 1))
-    d = dr.gather(F, sm.depth, idx, inside)
-    dz = dr.gather(F, sm.slope, idx, inside)
-    blocker = inside & (d + offset.factor * dz + offset.units * DEPTH_LSB < ref)
+    inside, d, occluder = _fetch(sm, i, j, offset)
+    blocker = inside & (occluder < ref)
     z_lin = v.near / (1 - d / v.depth_scale)
     count = dr.block_sum(dr.select(blocker, F(1.0), F(0.0)), search_taps)
     z_b = dr.block_sum(dr.select(blocker, z_lin, F(0.0)), search_taps) / dr.maximum(count, 1.0)
@@ -426,9 +430,8 @@ def visibility_pcss(sm: ShadowMap, position: np.ndarray, normal: np.ndarray, lig
 # ---------------------------------------------------------------------------------------------- shading
 
 def disc_irradiance(light: DiscLight, position: np.ndarray, normal: np.ndarray) -> np.ndarray:
-    """Unoccluded irradiance E (N,) of the disc at points with normals (N, 3): the [1] form (module doc)."""
-    import drjit as dr
-
+    """Unoccluded irradiance E (N,) of the disc at points with normals (N, 3): the [1] form (module doc),
+    I(cos θ, sin²σ) from :func:`~validate.local_models.sphere_cap.cap_irradiance_dr`."""
     F = float_type()
     p = np.asarray(position, dtype=np.float64).reshape(-1, 3)
     nrm = np.asarray(normal, dtype=np.float64).reshape(-1, 3)
@@ -439,15 +442,7 @@ def disc_irradiance(light: DiscLight, position: np.ndarray, normal: np.ndarray) 
     cos_l = F(np.clip(-(lv @ light.normal), 0, 1).astype(np.float32))
     r2 = light.radius**2
     sin2s = F((r2 / (r2 + d2)).astype(np.float32))
-    sin_t = dr.safe_sqrt(1 - cos_t * cos_t)
-    above = cos_t * cos_t > sin2s
-    x = dr.safe_sqrt(1 / sin2s - 1)
-    y = -x * cos_t / dr.maximum(sin_t, 1e-12)
-    y = dr.clip(y, -1.0, 1.0)
-    sin_t_sqrt_y = sin_t * dr.safe_sqrt(1 - y * y)
-    clipped = (cos_t * dr.safe_acos(y) - x * sin_t_sqrt_y) * sin2s + dr.atan2(sin_t_sqrt_y, x)
-    illum = dr.select(above, np.pi * sin2s * dr.maximum(cos_t, 0.0), clipped)
-    return _to_numpy(light.radiance * dr.maximum(illum, 0.0) * cos_l)
+    return _to_numpy(light.radiance * cap_irradiance_dr(cos_t, sin2s) * cos_l)
 
 
 def disc_irradiance_quadrature(light: DiscLight, position: np.ndarray, normal: np.ndarray, side: int = 96

@@ -44,6 +44,8 @@ import numpy as np
 from ..backend import float_type
 from ..errors import ValidateError
 
+X_FLOOR = 1e-30  # cot σ floor in the atan term: float32-normal, far below any x > 0 (cap_irradiance_dr)
+
 
 def sin2_sigma_sphere(radius: float, distance: float) -> float:
     """sin²σ = r²/d² of a sphere of radius r at centre distance d > r."""
@@ -68,18 +70,24 @@ def _check(cos_theta: np.ndarray, sin2_sigma: float) -> np.ndarray:
     return np.clip(c, -1.0, 1.0)
 
 
-def cap_irradiance_dr(cos_theta: Any, sin2_sigma: float) -> Any:
-    """E/L of the cap on drjit arrays (the formula of the module docstring [1, 2], branch-free)."""
+def cap_irradiance_dr(cos_theta: Any, sin2_sigma: Any) -> Any:
+    """E/L of the cap on drjit arrays (the formula of the module docstring [1, 2], branch-free).
+
+    ``sin2_sigma`` is one float for every point or a drjit array with one sin²σ per point (a disc light
+    seen from many receivers, :func:`validate.local_models.shadow_map.disc_irradiance`); it must lie in
+    (0, 1], unchecked. x = cot σ is floored at 10⁻³⁰ inside atan(sin θ √(1 − y²) / x) only, so a
+    sin²σ that rounds to 1 in float32 (x = 0) gives atan2's limit (π/2, or 0 at sin θ = 0), not NaN;
+    every x > 0 is unchanged by the floor."""
     import drjit as dr
 
     c = cos_theta
     s = dr.sqrt(dr.maximum(1.0 - c * c, 0.0))
     above = c * c > sin2_sigma
     e_full = dr.pi * sin2_sigma * dr.maximum(c, 0.0)
-    x = float(np.sqrt(1.0 / sin2_sigma - 1.0))
+    x = dr.sqrt(dr.maximum(1.0 / sin2_sigma - 1.0, 0.0))  # cot σ
     y = dr.clip(-x * c / dr.maximum(s, 1e-12), -1.0, 1.0)
     sq = s * dr.sqrt(dr.maximum(1.0 - y * y, 0.0))
-    e_clip = (c * dr.acos(y) - x * sq) * sin2_sigma + dr.atan(sq / x)
+    e_clip = (c * dr.acos(y) - x * sq) * sin2_sigma + dr.atan(sq / dr.maximum(x, X_FLOOR))
     return dr.select(above, e_full, dr.maximum(e_clip, 0.0))
 
 

@@ -37,6 +37,7 @@ import numpy as np
 
 from ..errors import ValidateError
 from ..scenes.latlong import luminance
+from .stats import two_sided_t_critical
 
 REGIONS = ("lit", "penumbra", "umbra")
 FLOAT_TOLERANCE = 1e-6  # relative to L_norm: below this a difference is float rounding, not error
@@ -170,13 +171,11 @@ class PixelTest:
 def outside_band_test(reference: np.ndarray, uncertainty: np.ndarray, approx: np.ndarray, passes: int,
                       include: np.ndarray, normaliser: float, alpha: float = 1e-3) -> PixelTest:
     """Fraction of ``include``d pixels where |Y(a) − Y(r)| > t_{1−α/2, P−1} · Y(σ) (and above float rounding)."""
-    from scipy import stats
-
     if passes < 2:
         raise ValidateError(f"outside_band_test: passes={passes}; need ≥ 2 for a standard error")
     if not (0 < alpha < 1):
         raise ValidateError(f"outside_band_test: alpha={alpha} must be in (0, 1)")
-    t_bound = float(stats.t.ppf(1 - alpha / 2, passes - 1))
+    t_bound = two_sided_t_critical(alpha, passes - 1)
     dy = np.abs(luminance(np.asarray(approx)) - luminance(np.asarray(reference)))
     sy = luminance(np.asarray(uncertainty))
     exceed = (dy > t_bound * sy) & (dy > FLOAT_TOLERANCE * normaliser)

@@ -20,8 +20,9 @@ Agreement with a prediction q_i (:func:`compare`): t_i = (m_i − q_i)/s_i, Stud
 under H₀ (pass means ≈ normal by the CLT), converted to a standard-normal quantile
 z_i = sign(t_i) Φ⁻¹(F_t(|t_i|)) so every value has the same null distribution. The prediction is
 consistent when max_i |z_i| < z*, the Šidák-corrected two-sided critical value for M tests at
-family-wise level α (default 1 %): z* = Φ⁻¹(1 − α₁/2), α₁ = 1 − (1 − α)^{1/M} [2]. Only the first
-channel is tested: lights are grey and the three channels share every path.
+family-wise level α (default 1 %): z* = Φ⁻¹(1 − α₁/2), α₁ = 1 − (1 − α)^{1/M} [2]
+(:mod:`validate.metrics.stats`). Only the first channel is tested: lights are grey and the three
+channels share every path.
 
 Cached with :func:`validate.reference.cache.cached` (key: the scene description, the normals, the
 sampling settings, Mitsuba/drjit versions and variant).
@@ -41,6 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ValidateError
+from ..metrics.stats import mean_and_stderr, sidak_critical, t_to_z
 from ..scenes.area_lights import MeterScene, receiver_to_world
 from .cache import array_digest, cached
 
@@ -102,31 +104,13 @@ def measure_irradiance(meter: MeterScene, normals: np.ndarray, spp: int = 32, pa
     parts = {"scene": meter.key, "normals": array_digest(normals), "spp": spp, "passes": passes, "seed": seed,
              "meter": "irradiancemeter/path1/independent/v1"}
     values = cached("area_irradiance", parts, compute)["values"][..., 0]
-    mean = values.mean(axis=1)
-    stderr = values.std(axis=1, ddof=1) / np.sqrt(passes)
+    mean, stderr = mean_and_stderr(values, axis=1)
     return MeterIrradiance(mean, stderr, passes, spp, film, seed)
 
 
 def resolution(meas: MeterIrradiance, radiance_max: float) -> float:
     """One sample's contribution to the estimate: π L_max / (samples per normal)."""
     return float(np.pi * radiance_max / meas.samples)
-
-
-def sidak_critical(m: int, alpha: float = DEFAULT_ALPHA) -> float:
-    """z* = Φ⁻¹(1 − α₁/2), α₁ = 1 − (1 − α)^{1/m}: two-sided, family-wise level α over m tests [2]."""
-    from scipy.stats import norm
-
-    a1 = 1.0 - (1.0 - alpha) ** (1.0 / max(m, 1))
-    return float(norm.isf(a1 / 2.0))
-
-
-def t_to_z(t: np.ndarray, dof: int) -> np.ndarray:
-    """The standard-normal quantile with the same tail probability as Student t (dof)."""
-    from scipy.stats import norm
-    from scipy.stats import t as student
-
-    t = np.asarray(t, dtype=np.float64)
-    return np.sign(t) * norm.isf(student.sf(np.abs(t), dof))
 
 
 @dataclass

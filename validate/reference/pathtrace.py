@@ -58,6 +58,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ValidateError
+from ..metrics.stats import mean_and_stderr, mean_z_bound, sidak_critical, sidak_p_value, t_to_z
 from ..scenes.environment import Environment
 from ..scenes.procedural import direction_from_elevation
 from .cache import cached
@@ -231,8 +232,7 @@ def render_lambertian_sphere(env: Environment, resolution: int = 48, spp: int = 
     images = cached("sphere_render", parts, compute)["passes"]
     if not np.all(np.isfinite(images)) or images.min() < 0:
         raise ValidateError(f"{env.name}: sphere render has NaN/Inf or negative pixels")
-    mean = images.mean(axis=0)
-    stderr = images.std(axis=0, ddof=1) / np.sqrt(passes)
+    mean, stderr = mean_and_stderr(images, axis=0)
     c = (np.arange(resolution) + 0.5) / resolution
     normals, inside = film_to_normals(c[None, :], c[:, None], view)
     normals[~inside] = np.nan
@@ -264,13 +264,6 @@ def quadrature_sphere(env: Environment, render: SphereRender,
     return radiance, uncertainty
 
 
-def t_to_z(t: np.ndarray, dof: int) -> np.ndarray:
-    """Standard-normal quantile with the same tail probability as Student t with ``dof`` dof."""
-    from scipy import stats
-
-    return np.sign(t) * stats.norm.isf(stats.t.sf(np.abs(t), dof))
-
-
 def compare(render: SphereRender, expected: np.ndarray, uncertainty: np.ndarray,
             alpha: float = 0.01) -> CrossCheck:
     """Test the render against expected pixel radiance (H, W, 3) ± uncertainty (module docstring)."""
@@ -291,13 +284,12 @@ def compare(render: SphereRender, expected: np.ndarray, uncertainty: np.ndarray,
     t = np.divide(diff, sigma, out=np.where(diff == 0, 0.0, np.sign(diff) * np.inf), where=sigma > 0)
     z = t_to_z(t, render.passes - 1)
     tests = z.size
-    alpha_1 = 1.0 - (1.0 - alpha) ** (1.0 / tests)  # Šidák
-    z_crit = float(stats.norm.isf(alpha_1 / 2.0))
+    z_crit = sidak_critical(tests, alpha)
     channel_means = z.mean(axis=0)
-    bias_limit = BIAS_SIGMAS / np.sqrt(n)
+    bias_limit = mean_z_bound(n, BIAS_SIGMAS)
     chi2_c = (z**2).sum(axis=0)
     p_min = float(stats.chi2.sf(chi2_c, n).min())
-    p_value = 1.0 - (1.0 - p_min) ** 3  # Šidák over the three channel χ² tests
+    p_value = sidak_p_value(p_min, 3)  # Šidák over the three channel χ² tests
     beyond = np.abs(z) > z_crit
     rel = np.abs(diff) / np.maximum(np.abs(q), 1e-30)
     z_image = np.full(render.mean.shape, np.nan)

@@ -35,6 +35,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ValidateError
+from ..metrics.stats import mean_and_stderr
 from ..scenes.shadow_scenes import ShadowScene
 from .cache import cached
 
@@ -118,8 +119,7 @@ def render_direct(scene: Any, width: int, height: int, spp: int, passes: int, se
         sampler.seed(seed + 7919 * p, width * height * spp)
         spec, _, _ = integrator.sample(scene, sampler, rays)
         images.append(np.array(spec).T.reshape(height, width, spp, 3).mean(axis=2, dtype=np.float64))
-    stack = np.stack(images)
-    return stack.mean(axis=0), stack.std(axis=0, ddof=1) / np.sqrt(passes)
+    return mean_and_stderr(np.stack(images), axis=0)
 
 
 def concentric_disc(u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
