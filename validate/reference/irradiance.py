@@ -16,7 +16,7 @@ Method
      centroid where the cell is black): with the node at the centroid the kernel's first-order
      variation across the cell cancels.
   3. Cells holding more than 10⁻³ of the total luminance flux (a sun, a small disc) are not
-     collapsed: their radiance nodes are kept individually (at most 2¹⁶ of them), so a source smaller
+     collapsed: their radiance nodes are kept individually (at most 2¹⁴ of them), so a source smaller
      than a cell still sees the max(0, ·) kink of the kernel at node resolution.
   4. E(n) = Σ_c Φ_c max(0, n·ω_c)  (a dense product, chunked, float32 BLAS).
 
@@ -40,7 +40,7 @@ from .mitsuba_eval import eval_emitter
 
 DEFAULT_CELLS = 64  # H_c of the coarse grid (the reference uses 2·H_c): converges to < 2e-4 of peak here
 REFINE_FRACTION = 1e-3
-MAX_REFINED_NODES = 1 << 16
+MAX_REFINED_NODES = 1 << 14  # enough for a sun or a small disc (a few cells); bounds the cost
 
 
 @dataclass
