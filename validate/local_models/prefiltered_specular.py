@@ -1,0 +1,160 @@
+"""Phong-prefiltered specular maps and the seed's mixing shader.
+
+A specular map of Phong exponent s stores, per direction r, the environment filtered by the
+*normalised Phong lobe* around r [1, 2, 3]:
+
+    P_s(r) = ∫_{S²} L(ω) K_s(r·ω) dω,        K_s(c) = (s + 1)/(2π) · max(0, c)^s,   ∫ K_s dω = 1,
+
+and shading looks it up at the reflection vector r = 2(n·v)n − v. It is built by brute-force
+convolution of the lat-long texels (:func:`validate.local_models.irradiance_map.convolve_zonal`, the
+ratio estimator Σ K Φ / Σ K Ω) on a cube map whose resolution follows the lobe.
+
+What it leaves out, against the *normalised modified-Phong BRDF* [4, 5]
+f_r(v, ω) = (s + 2)/(2π) · max(0, r·ω)^s (the Mitsuba BSDF of :mod:`validate.reference.ibl_render`),
+whose reflected radiance is L_o(v) = ∫_{H(n)} L(ω) f_r cos θ_ω dω:
+
+* the cosine cos θ_ω inside the lobe and the horizon (ω below the surface);
+* at *normal incidence* (v = n, so r = n and cos θ_ω = r·ω) the two are the same function:
+  (s + 2)/(2π) cos^{s+1} = K_{s+1}. So a map of exponent s + 1 (:func:`map_exponent_for_brdf`) is
+  exact there but for its discretisation; a map of the BRDF's own exponent s — the usual practice —
+  is a slightly wider lobe (see the ``ibl`` experiment for the measured cost).
+
+Documented error at (near-)normal incidence, θ_v ≤ :data:`NORMAL_INCIDENCE_DEG`, relative, for the
+map of exponent s + 1 built with the default rules (:data:`PHONG_NORMAL_INCIDENCE_ERROR` = 2 %):
+
+* bilinear interpolation: the rule N ≥ 2·:data:`TEXELS_PER_LOBE`/σ_s (σ_s = 1/√s, the lobe's angular
+  standard deviation: cos^s α ≈ exp(−sα²/2)) makes the largest texel (2/N rad, at a face centre)
+  h ≤ σ/4; for a lobe-filtered point source |f''| ≤ f_peak/σ², so |error| ≤ h²|f''|/8 ≤ 1/128 = 0.8 %;
+* node merging with blocks β ≤ σ/4: ≈ β²/(24σ²) ≤ 0.3 %;
+* off-normal view (cos θ_ω ≠ r·ω once v ≠ n): ≤ 1 − cos 5° = 0.4 % for narrow lobes; for broad lobes
+  (s ≲ 10) the difference is first order in θ_v times the lighting's gradient across the lobe
+  (measured ≤ 1.0 % for s = 1 under a 4° disc 400× its sky);
+* total ≤ 1.5 %, rounded up to 2 %.
+
+References
+  [1] G. Miller, C. R. Hoffman, "Illumination and Reflection Maps", SIGGRAPH 1984 course notes.
+  [2] J. Kautz, M. McCool, "Approximation of Glossy Reflection with Prefiltered Environment Maps",
+      Graphics Interface 2000 (Phong-lobe prefiltering and its error at grazing angles).
+  [3] P. Debevec et al., HDRShop, "Specular convolution" (Phong exponent) — the maps of the seed shader.
+  [4] E. Lafortune, Y. Willems, "Using the modified Phong reflectance model for physically based
+      rendering", Tech. Rep. CW197, KU Leuven, 1994 (normalisation (s + 2)/2π).
+  [5] R. R. Lewis, "Making shaders more physically plausible", Computer Graphics Forum 13(2), 1994.
+  [6] R. J. Rost, "OpenGL Shading Language", 2nd ed., Addison-Wesley 2006, ch. 12 (the diffuse +
+      specular cube-map shader with BaseColor, DiffusePercent, SpecularPercent).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import ValidateError
+from .irradiance_map import DEFAULT_BLOCK_DEG, CubeMap, EnvironmentNodes, Kernel, convolve_zonal, environment_nodes
+
+EXPONENT_RANGE = (0.5, 10000.0)
+TEXELS_PER_LOBE = 4  # largest texel ≤ σ/4 (module docstring)
+MIN_FACE, MAX_FACE = 8, 256
+SUPPORT_EPS = 1e-7  # K_s < 1e-7 · K_s(1) is dropped: cos^s α < 1e-7
+NORMAL_INCIDENCE_DEG = 5.0  # "normal incidence": view within 5° of the normal
+PHONG_NORMAL_INCIDENCE_ERROR = 0.02  # documented relative error at θ_v ≤ 5° (module docstring)
+
+
+def _check_exponent(s: float) -> float:
+    lo, hi = EXPONENT_RANGE
+    if not (isinstance(s, (int, float)) and lo <= s <= hi):
+        raise ValidateError(f"Phong exponent {s!r}: expected a number in [{lo:g}, {hi:g}]")
+    return float(s)
+
+
+def phong_kernel(s: float) -> Kernel:
+    """K_s(c) = (s + 1)/(2π) max(0, c)^s, the normalised Phong lobe (∫ K_s dω = 1)."""
+    s = _check_exponent(s)
+    norm = (s + 1.0) / (2.0 * math.pi)
+
+    def kernel(c: np.ndarray) -> np.ndarray:  # in the input's precision (float32 in the dense path)
+        c = np.asarray(c)
+        return norm * np.power(np.maximum(c, 0), c.dtype.type(s))
+
+    return kernel
+
+
+def phong_lobe_width(s: float) -> float:
+    """σ_s = 1/√s rad: cos^s α ≈ exp(−sα²/2) near the peak."""
+    return 1.0 / math.sqrt(_check_exponent(s))
+
+
+def phong_support_cos(s: float) -> float:
+    """cos α below which cos^s α < :data:`SUPPORT_EPS` (−1: the whole hemisphere matters)."""
+    c = SUPPORT_EPS ** (1.0 / _check_exponent(s))
+    return c if c > 0.5 else -1.0
+
+
+def face_size_for_width(sigma: float) -> int:
+    """Smallest power-of-two face N with 2/N ≤ σ/:data:`TEXELS_PER_LOBE`, clamped to [8, 256]."""
+    need = 2.0 * TEXELS_PER_LOBE / sigma
+    n = MIN_FACE
+    while n < need and n < MAX_FACE:
+        n *= 2
+    return n
+
+
+def block_deg_for_width(sigma: float) -> float:
+    """Node block size: at most σ/4, at most the cosine-kernel default (4°)."""
+    return min(DEFAULT_BLOCK_DEG, math.degrees(sigma) / 4.0)
+
+
+def phong_face_size(s: float) -> int:
+    """Cube face size for exponent s (module docstring): 8, 32, 128, 256 for s = 1, 10, 100, 1000."""
+    return face_size_for_width(phong_lobe_width(s))
+
+
+def map_exponent_for_brdf(s: float) -> float:
+    """Exponent of the map that equals the modified-Phong BRDF (exponent s) at normal incidence: s + 1."""
+    return _check_exponent(s) + 1.0
+
+
+def prefilter_phong_cube(radiance: np.ndarray, s: float, face_size: int | None = None,
+                         needed: np.ndarray | None = None, nodes: EnvironmentNodes | None = None) -> CubeMap:
+    """Phong-prefiltered cube map P_s at texel directions (only the lookup footprint of ``needed``
+    reflection vectors, if given)."""
+    sigma = phong_lobe_width(s)
+    n = face_size if face_size is not None else phong_face_size(s)
+    if nodes is None:
+        nodes = environment_nodes(radiance, block_deg_for_width(sigma))
+    kernel, support = phong_kernel(s), phong_support_cos(s)
+    return CubeMap.build(lambda d: convolve_zonal(nodes, d, kernel, 1.0, support), n, needed)
+
+
+def reflect(normals: np.ndarray, views: np.ndarray) -> np.ndarray:
+    """Reflection vectors r = 2(n·v)n − v of unit views v (towards the eye) about unit normals n."""
+    n = np.asarray(normals, dtype=np.float64)
+    v = np.asarray(views, dtype=np.float64)
+    return 2.0 * np.sum(n * v, axis=-1, keepdims=True) * n - v
+
+
+def shade_phong_map(specular_map: CubeMap, normals: np.ndarray, views: np.ndarray) -> np.ndarray:
+    """L_o ≈ P_s(r): the prefiltered map looked up at the reflection vector (bilinear, drjit)."""
+    return specular_map.lookup(reflect(normals, views))
+
+
+def mix_shader(base_color: np.ndarray | float, diffuse_percent: float, specular_percent: float,
+               diffuse: np.ndarray, specular: np.ndarray) -> np.ndarray:
+    """The seed's fragment shader [6], with diffuse = the diffuse map at n (E/π of a white Lambertian
+    surface), specular = the specular map at r:
+
+        color = mix(BaseColor, diffuse · BaseColor, DiffusePercent)
+        color = mix(color, specular + color, SpecularPercent)
+              = BaseColor (1 − DiffusePercent) + DiffusePercent · BaseColor · diffuse
+                + SpecularPercent · specular          (mix(a, b, t) = a(1 − t) + b t).
+
+    The first term is unlit; with DiffusePercent = 1 the shader is the physical blend
+    (1 − w) ρ E/π + w P_s of Mitsuba's ``blendbsdf`` (weight w, diffuse ρ, Phong) when
+    BaseColor = (1 − w) ρ and SpecularPercent = w.
+    """
+    if not (0.0 <= diffuse_percent <= 1.0 and 0.0 <= specular_percent <= 1.0):
+        raise ValidateError(f"mix_shader: DiffusePercent={diffuse_percent}, SpecularPercent={specular_percent}: "
+                            "expected both in [0, 1]")
+    base = np.asarray(base_color, dtype=np.float64)
+    color = base * (1.0 - diffuse_percent) + np.asarray(diffuse) * base * diffuse_percent
+    return color * (1.0 - specular_percent) + (np.asarray(specular) + color) * specular_percent
