@@ -120,11 +120,11 @@ def _print_claims(results: dict) -> int:
     for exp in results["experiments"].values():
         for c in exp.get("claims", []):
             pct = c.get("unit") == "%"
-            f = (lambda v: f"{100 * v:.3g} %") if pct else (lambda v: f"{v:.4g}")
+            f = (lambda v, d=3: f"{100 * v:.{d}g} %") if pct else (lambda v, d=4: f"{v:.{d}g}")
             ok = "pass" if c["passed"] else "FAIL"
             failed += not c["passed"]
             print(f"{c['id'][:44]:44s} {f(c['measured']) + ' ± ' + f(c['uncertainty']):>26s} "
-                  f"{c['comparison'] + ' ' + f(c['threshold']):>12s}  {ok}")
+                  f"{c['comparison'] + ' ' + f(c['threshold'], 4):>12s}  {ok}")
     return failed
 
 

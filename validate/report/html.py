@@ -39,6 +39,7 @@ PAGE_TITLE = "validate — real-time lighting vs physics"
 TEMPLATE = "index.html.j2"
 MEASURED_DIGITS = 3  # significant digits of measured values and thresholds
 UNCERTAINTY_DIGITS = 2  # significant digits of uncertainties
+THRESHOLD_DIGITS = 4  # thresholds are exact figures (3/32 = 9.375 %), shown without rounding them up
 _TEMPLATES = Path(__file__).parent / "templates"
 
 
@@ -105,7 +106,9 @@ def fmt_measured(claim: Mapping[str, Any]) -> str:
 
 def fmt_threshold(claim: Mapping[str, Any]) -> str:
     """Comparison and threshold in the claim's unit: "< 1 %", "> 0"."""
-    return f"{claim.get('comparison') or '<'} {fmt_value(claim.get('threshold'), claim.get('unit') or '')}"
+    # thresholds are exact published figures (3/32 = 9.375 %): show up to THRESHOLD_DIGITS, not rounded to 3
+    return (f"{claim.get('comparison') or '<'} "
+            f"{fmt_value(claim.get('threshold'), claim.get('unit') or '', THRESHOLD_DIGITS)}")
 
 
 def fmt_cell(value: Any) -> str:
