@@ -72,8 +72,9 @@ def check_texels(arr: np.ndarray, path: Path | str, clamp_negative: bool) -> tup
         raise ValidateError(f"{path}: {n} texel(s) are NaN or Inf")
     neg = arr < 0
     if neg.any():
-        frac = neg.any(axis=-1).mean()
-        msg = f"{frac:.2%} of texels negative (min {arr.min():.4g})"
+        count = int(neg.any(axis=-1).sum())
+        total = arr.shape[0] * arr.shape[1]
+        msg = f"{count} of {total} texels negative ({100 * count / total:.2g} %, min {arr.min():.4g})"
         if not clamp_negative:
             raise ValidateError(f"{path}: {msg}; pass --clamp-negative to clamp them to 0")
         arr = np.maximum(arr, 0.0)
