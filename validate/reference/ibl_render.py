@@ -63,6 +63,7 @@ import numpy as np
 
 from ..backend import init
 from ..errors import ValidateError
+from ..metrics.stats import mean_and_stderr
 from ..scenes.environment import Environment
 from ..scenes.latlong import luminance
 from .cache import cached
@@ -419,10 +420,9 @@ def render(env: Environment, spec: RenderSpec) -> Render:
                                   spec.sampler) for p in range(spec.passes)])
         mean = np.full((o.shape[0], 3), np.nan)
         err = np.full((o.shape[0], 3), np.nan)
-        mean[hit] = passes.mean(axis=0)
-        err[hit] = passes.std(axis=0, ddof=1) / np.sqrt(spec.passes)
+        mean[hit], err[hit] = mean_and_stderr(passes)
         err_y = np.full(o.shape[0], np.nan)
-        err_y[hit] = luminance(passes).std(axis=0, ddof=1) / np.sqrt(spec.passes)
+        err_y[hit] = mean_and_stderr(luminance(passes))[1]
         g["mask"] = hit
         return {"mean": mean, "stderr": err, "stderr_y": err_y, **g}
 
@@ -487,4 +487,5 @@ def bsdf_albedo(bsdf: dict, cos_theta_v: float, samples: int = 1 << 18, seed: in
     sampler.seed(seed, samples)
     _, w = b.sample(mi.BSDFContext(), si, sampler.next_1d(), sampler.next_2d())
     w = np.array(w, dtype=np.float64).reshape(3, -1)[0]
-    return float(w.mean()), float(w.std(ddof=1) / np.sqrt(samples))
+    m, se = mean_and_stderr(w)
+    return float(m), float(se)
