@@ -85,7 +85,7 @@ def test_plugin_model_gets_a_row(tmp_path: Path) -> None:
     from validate.cli import load_plugin
     from validate.experiments import Context
     from validate.experiments.sh9 import _settings, analyse_environment
-    from validate.local_models import IRRADIANCE_MODELS
+    from validate.local_models import irradiance
     from validate.scenes import procedural
 
     load_plugin(str(plugin))
@@ -97,7 +97,7 @@ def test_plugin_model_gets_a_row(tmp_path: Path) -> None:
         assert r["models"]["my_sh2_doubled"]["flux_luminance"]["max"] > 0.2
         assert r["models"]["sh9"]["flux_luminance"]["max"] < 0.01
     finally:
-        IRRADIANCE_MODELS.pop("my_sh2_doubled", None)
+        irradiance.unregister("my_sh2_doubled")
 
 
 def test_quick_run_writes_report_and_keeps_other_experiments(tmp_path: Path) -> None:

@@ -60,7 +60,9 @@ def _parser() -> argparse.ArgumentParser:
                                 description="Measure real-time lighting approximations against Mitsuba 3 "
                                             "ground truth and write an HTML report.")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
-    sub.add_parser("list", help="list experiments, built-in environments and registered models")
+    lp = sub.add_parser("list", help="list experiments, built-in environments and every technique family")
+    lp.add_argument("--plugin", action="append", default=[], metavar="FILE|MODULE",
+                    help="import a plug-in first so that its techniques are listed (repeatable)")
     r = sub.add_parser("run", parents=[common], help="run one experiment and update the report")
     r.add_argument("name", help="experiment name (see `list`)")
     sub.add_parser("all", parents=[common], help="run every experiment and write the report")
@@ -87,20 +89,26 @@ def load_plugin(spec: str) -> None:
         raise ValidateError(f"{spec}: plugin failed to load ({type(exc).__name__}: {exc})") from None
 
 
-def _cmd_list() -> int:
+def _cmd_list(plugins: list[str]) -> int:
     from .experiments import discover
-    from .local_models import IRRADIANCE_MODELS
+    from .local_models import FAMILIES
     from .scenes.procedural import BUILTIN_NAMES
 
+    exps = discover()
+    for spec in plugins:
+        load_plugin(spec)
     print("experiments:")
-    for name, e in discover().items():
+    for name, e in exps.items():
         print(f"  {name:12s} {e.title}")
     print("built-in environments:")
     for name in BUILTIN_NAMES:
         print(f"  {name}")
-    print("irradiance models:")
-    for name, m in IRRADIANCE_MODELS.items():
-        print(f"  {name:12s} {m.description}")
+    for fam in FAMILIES.values():
+        print(f"technique family {fam.name}: {fam.contract}")
+        for t in fam:
+            tag = "" if t.builtin else " [plug-in]"
+            thr = "; thresholds " + ", ".join(f"{k} < {v:g}" for k, v in t.thresholds.items()) if t.thresholds else ""
+            print(f"  {t.name:24s} {t.description}{tag}{thr}")
     return 0
 
 
@@ -207,7 +215,7 @@ def main(argv: list[str] | None = None) -> int:
             parser.print_help()
             return 0
         if args.command == "list":
-            return _cmd_list()
+            return _cmd_list(args.plugin)
         if args.command == "run":
             return _run(args, [args.name])
         if args.command == "all":

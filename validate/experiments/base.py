@@ -21,6 +21,29 @@ T = TypeVar("T")
 
 
 @dataclass
+class Power:
+    """The same claim evaluated under a perturbation of the size a real bug would have.
+
+    ``fails`` must be True for the claim to mean anything: had the technique (or the reference) been
+    wrong by that much, the claim would have caught it.
+    """
+
+    perturbation: str
+    measured: float
+    fails: bool
+    uncertainty: float = 0.0
+
+    def to_json(self) -> dict[str, Any]:
+        return {"perturbation": self.perturbation, "measured": _finite(self.measured),
+                "uncertainty": _finite(self.uncertainty), "fails": bool(self.fails)}
+
+
+def _finite(x: float) -> float | None:
+    x = float(x)
+    return x if x == x and abs(x) != float("inf") else None
+
+
+@dataclass
 class Claim:
     id: str
     description: str
@@ -30,17 +53,31 @@ class Claim:
     uncertainty: float
     comparison: str = "<"  # "<": measured + uncertainty < threshold; ">": measured − uncertainty > threshold
     unit: str = ""  # "%" means values are fractions displayed as percent
-    source: str = ""  # where the threshold comes from
+    source: str = ""  # where the threshold comes from: paper + equation/table, theorem, or a measured margin
+    power: Power | None = None
+
+    def holds(self, measured: float, uncertainty: float) -> bool:
+        """Does the bound clear the threshold for these values? (NaN never holds.)"""
+        if self.comparison == "<":
+            return bool(measured + uncertainty < self.threshold)
+        return bool(measured - uncertainty > self.threshold)
 
     @property
     def passed(self) -> bool:
-        if self.comparison == "<":
-            return bool(self.measured + self.uncertainty < self.threshold)
-        return bool(self.measured - self.uncertainty > self.threshold)
+        return self.holds(self.measured, self.uncertainty)
+
+    def with_power(self, perturbation: str, measured: float, uncertainty: float | None = None) -> Claim:
+        """Attach the power check: the claim re-evaluated on ``measured`` (± ``uncertainty``, default the
+        claim's own) obtained under ``perturbation``; it *fails* when the perturbed bound misses."""
+        unc = self.uncertainty if uncertainty is None else float(uncertainty)
+        self.power = Power(perturbation, float(measured), not self.holds(float(measured), unc), unc)
+        return self
 
     def to_json(self) -> dict[str, Any]:
         d = asdict(self)
+        d["measured"], d["uncertainty"] = _finite(self.measured), _finite(self.uncertainty)
         d["passed"] = self.passed
+        d["power"] = self.power.to_json() if self.power is not None else None
         return d
 
 
@@ -78,6 +115,8 @@ class ExperimentResult:
     data: dict[str, Any] = field(default_factory=dict)
     wall_time_s: float = 0.0
     settings: dict[str, Any] = field(default_factory=dict)
+    # per registered technique: {technique: {"family": ..., "description": ..., "metrics": {...}}}
+    techniques: dict[str, Any] = field(default_factory=dict)
 
     def to_json(self) -> dict[str, Any]:
         out: dict[str, Any] = {
@@ -88,6 +127,7 @@ class ExperimentResult:
             "wall_time_s": self.wall_time_s,
             "settings": self.settings,
             "report": {"sections": [asdict(s) for s in self.sections]},
+            "techniques": self.techniques,
         }
         out.update(self.data)
         return out
@@ -123,6 +163,12 @@ class Context:
 
         yield from tqdm(items, desc=desc, total=total, disable=not self.show_progress, leave=False,
                         dynamic_ncols=True)
+
+    def map(self, fn: Callable[[Any], T], items: Iterable[Any], desc: str) -> list[T]:
+        """``[fn(x) for x in items]`` with a progress bar. Experiments express per-environment work
+        through this one call so that it can run as independent tasks (serial here; see scale-out)."""
+        items = list(items)
+        return [fn(x) for x in self.progress(items, desc, total=len(items))]
 
     def environments(self) -> tuple[list[Any], list[tuple[str, str]]]:
         """Built-in environments plus every probe found (probes dir and explicit files).

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..local_models import IRRADIANCE_MODELS
+from ..local_models import irradiance as irradiance_family
 from ..local_models import sh as shm
 from ..metrics.irradiance_error import METRIC_NAMES, WORST_CASE_MAX, WORST_CASE_MEAN, ErrorStats, irradiance_errors
 from ..metrics.published import PUBLISHED_TOLERANCE, fit_exposure
@@ -102,9 +102,9 @@ def analyse_environment(env: Environment, ctx: Context, settings: dict, publishe
         sweep["max"].append(st.max)
 
     models = {}
-    for name, model in IRRADIANCE_MODELS.items():
-        e = e_sh9_all[:k1] if name == "sh9" else np.asarray(model.fn(env.radiance, n_fib), dtype=np.float64)
-        models[name] = _stats_json(irradiance_errors(e_ref, e, flux, unc))
+    for tech in irradiance_family:
+        e = irradiance_family.call(tech, env.radiance, n_fib)
+        models[tech.name] = _stats_json(irradiance_errors(e_ref, e, flux, unc))
 
     out: dict = {
         "kind": env.kind, "description": env.description, "layout": env.layout,

@@ -1,65 +1,46 @@
-"""Local lighting models (one small drjit module per technique) and the plug-in registry.
+"""Local lighting models: one small drjit module per technique, registered by name in its family.
 
-To compare your own approximation, write one function and register it::
+Families (:mod:`.families`): ``irradiance``, ``specular``, ``arealight``, ``shadow``; later families
+define themselves the same way (:func:`.registry.define_family`). To compare your own technique,
+write one function in one file and register it with its family's decorator::
 
     import numpy as np
-    from validate.local_models import register_irradiance_model
+    from validate.local_models import irradiance
 
-    @register_irradiance_model("my_sh4", description="SH up to l = 4")
+    @irradiance.register("my_sh4", "SH up to l = 4",
+                         thresholds={"flux_luminance.max": 0.05}, source="R&H 2001 §4: max < 5 % of Φ")
     def my_sh4(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
         ...  # radiance: (H, W, 3) lat-long in Mitsuba's convention; normals: (N, 3) unit, y-up
-        return irradiance  # (N, 3)
+        return E  # (N, 3) irradiance
 
-then run ``python -m validate run sh9 --plugin my_module.py`` (or import it before calling
-:func:`validate.experiments.run_experiment`): every registered model gets a row in the report's
-model comparison and an entry in ``results.json`` with no edits elsewhere.
+then ``python -m validate all --plugin my_module.py``: every experiment of the family gives it a row
+in its comparison tables, ``results.json`` entries at ``experiments.<exp>.techniques.my_sh4`` and one
+claim per declared threshold. Built-ins register exactly this way (see the modules listed below).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass
+import importlib
 
-import numpy as np
+from .families import arealight, irradiance, shadow, specular
+from .registry import FAMILIES, Family, Technique, define_family, family, find_technique
 
-IrradianceFn = Callable[[np.ndarray, np.ndarray], np.ndarray]
-
-
-@dataclass(frozen=True)
-class IrradianceModel:
-    name: str
-    fn: IrradianceFn
-    description: str
-    builtin: bool = False
+# modules whose import registers the built-in techniques (each registers its own)
+BUILTIN_MODULES = ("sh", "irradiance_map", "prefiltered_specular", "split_sum", "disc_sh", "sphere_cap",
+                   "point_light", "hemisphere", "shadow_map")
 
 
-IRRADIANCE_MODELS: dict[str, IrradianceModel] = {}
+def register_irradiance_model(name: str, description: str = "", **kwargs):  # noqa: ANN201 (decorator)
+    """Shorthand for ``irradiance.register`` (the original plug-in API)."""
+    return irradiance.register(name, description, **kwargs)
 
 
-def register_irradiance_model(name: str, description: str = "", builtin: bool = False
-                              ) -> Callable[[IrradianceFn], IrradianceFn]:
-    """Decorator: register ``fn(radiance (H,W,3), normals (N,3)) -> irradiance (N,3)``."""
-    def deco(fn: IrradianceFn) -> IrradianceFn:
-        IRRADIANCE_MODELS[name] = IrradianceModel(name, fn, description or (fn.__doc__ or "").strip()
-                                                  .split("\n")[0], builtin)
-        return fn
-    return deco
+def load_builtins() -> None:
+    for mod in BUILTIN_MODULES:
+        importlib.import_module(f"{__name__}.{mod}")
 
 
-def _register_builtins() -> None:
-    from . import sh
+load_builtins()
 
-    @register_irradiance_model("sh9", "SH order 2 (9 coeffs), R&H 2001 quadratic form", builtin=True)
-    def sh9(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
-        return sh.render_irradiance_rh2001(sh.project_environment(radiance, 2), normals)
-
-    @register_irradiance_model("sh1", "SH order 1 (4 coeffs, 'ambient + directional')", builtin=True)
-    def sh1(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
-        return sh.render_irradiance(sh.project_environment(radiance, 1), normals)
-
-    @register_irradiance_model("sh4", "SH order 4 (25 coeffs)", builtin=True)
-    def sh4(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
-        return sh.render_irradiance(sh.project_environment(radiance, 4), normals)
-
-
-_register_builtins()
+__all__ = ["FAMILIES", "Family", "Technique", "arealight", "define_family", "family", "find_technique",
+           "irradiance", "register_irradiance_model", "shadow", "specular"]

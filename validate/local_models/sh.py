@@ -199,3 +199,23 @@ def project_angular_rh2001(angular: np.ndarray, lmax: int = 2) -> np.ndarray:
     """SH coefficients of an angular map in R&H's prefilter convention (comparable with their table)."""
     d, dw, rad = angular_map_samples_rh2001(angular)
     return project_samples(d, dw, rad, lmax)
+
+
+# -- registered techniques (family ``irradiance``) ---------------------------------------------------
+from .families import irradiance as _irradiance  # noqa: E402
+
+
+@_irradiance.register("sh9", "SH order 2 (9 coefficients), R&H 2001 eq. 12 quadratic form")
+def sh9(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """Order-2 SH irradiance, R&H 2001 eq. 12 (the c1…c5 quadratic form) [1]."""
+    return render_irradiance_rh2001(project_environment(radiance, 2), normals)
+
+
+@_irradiance.register("sh1", "SH order 1 (4 coefficients, 'ambient + directional')")
+def sh1(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    return render_irradiance(project_environment(radiance, 1), normals)
+
+
+@_irradiance.register("sh4", "SH order 4 (25 coefficients)")
+def sh4(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    return render_irradiance(project_environment(radiance, 4), normals)
