@@ -55,3 +55,70 @@ def technique_claims(experiment: str, tech: Technique, measured: Mapping[str, Me
             c.with_power(m.perturbation, m.perturbed)
         claims.append(c)
     return claims
+
+
+@dataclass(frozen=True)
+class Stat:
+    """A metric over one environment (or the worst over several): mean and max, each ± uncertainty."""
+
+    mean: float
+    max: float
+    mean_uncertainty: float = 0.0
+    max_uncertainty: float = 0.0
+
+    @classmethod
+    def from_json(cls, d: Mapping[str, Any]) -> Stat:
+        return cls(float(d["mean"]), float(d["max"]), float(d.get("mean_uncertainty", 0.0)),
+                   float(d.get("max_uncertainty", 0.0)))
+
+    @staticmethod
+    def worst(stats: list[Stat]) -> Stat:
+        """Worst case over environments: the largest mean and the largest max, with their uncertainties."""
+        m = max(stats, key=lambda s: s.mean)
+        x = max(stats, key=lambda s: s.max)
+        return Stat(m.mean, x.max, m.mean_uncertainty, x.max_uncertainty)
+
+
+class CheckResult:
+    """What :mod:`validate.testing` returns: per environment and metric a :class:`Stat`.
+
+    ``r.<metric>`` is the worst case over the environments checked (``r.flux_luminance.max``);
+    ``r[env].<metric>`` or ``r.environments[env][metric]`` one environment's value."""
+
+    def __init__(self, technique: str, family: str, environments: Mapping[str, Mapping[str, Stat]]):
+        self.technique, self.family = technique, family
+        self.environments = {k: dict(v) for k, v in environments.items()}
+
+    @property
+    def metrics(self) -> list[str]:
+        names: list[str] = []
+        for v in self.environments.values():
+            names += [k for k in v if k not in names]
+        return names
+
+    def __getattr__(self, metric: str) -> Stat:
+        if metric.startswith("_") or metric in ("technique", "family", "environments"):
+            raise AttributeError(metric)
+        found = [v[metric] for v in self.environments.values() if metric in v]
+        if not found:
+            raise AttributeError(f"no metric {metric!r}; measured: {', '.join(self.metrics)}")
+        return Stat.worst(found)
+
+    def __getitem__(self, env: str) -> _EnvView:
+        return _EnvView(env, self.environments[env])
+
+    def __repr__(self) -> str:
+        rows = [f"{e}.{m}: mean {s.mean:.4g} ± {s.mean_uncertainty:.2g}, max {s.max:.4g} ± {s.max_uncertainty:.2g}"
+                for e, v in self.environments.items() for m, s in v.items()]
+        return f"CheckResult({self.technique!r}, {self.family}:\n  " + "\n  ".join(rows) + ")"
+
+
+class _EnvView:
+    def __init__(self, env: str, metrics: Mapping[str, Stat]):
+        self._env, self._metrics = env, metrics
+
+    def __getattr__(self, metric: str) -> Stat:
+        try:
+            return self._metrics[metric]
+        except KeyError:
+            raise AttributeError(f"{self._env}: no metric {metric!r}; measured: {', '.join(self._metrics)}") from None
