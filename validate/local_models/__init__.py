@@ -15,19 +15,19 @@ write one function in one file and register it with its family's decorator::
 
 then ``python -m validate all --plugin my_module.py``: every experiment of the family gives it a row
 in its comparison tables, ``results.json`` entries at ``experiments.<exp>.techniques.my_sh4`` and one
-claim per declared threshold. Built-ins register exactly this way (see the modules listed below).
+claim per declared threshold. Built-ins register exactly this way: every module of this package is
+imported at start-up and registers its own techniques.
 """
 
 from __future__ import annotations
 
 import importlib
+import pkgutil
 
 from .families import arealight, irradiance, shadow, specular
 from .registry import FAMILIES, Family, Technique, define_family, family, find_technique
 
-# modules whose import registers the built-in techniques (each registers its own)
-BUILTIN_MODULES = ("sh", "irradiance_map", "prefiltered_specular", "split_sum", "disc_sh", "sphere_cap",
-                   "point_light", "hemisphere", "shadow_map")
+_NOT_TECHNIQUES = {"registry", "families"}
 
 
 def register_irradiance_model(name: str, description: str = "", **kwargs):  # noqa: ANN201 (decorator)
@@ -36,8 +36,11 @@ def register_irradiance_model(name: str, description: str = "", **kwargs):  # no
 
 
 def load_builtins() -> None:
-    for mod in BUILTIN_MODULES:
-        importlib.import_module(f"{__name__}.{mod}")
+    """Import every module (and sub-package) of this package: each registers its own built-ins, so a new
+    built-in technique is one new file here and nothing else."""
+    for mod in pkgutil.iter_modules(__path__):
+        if mod.name not in _NOT_TECHNIQUES and not mod.name.startswith("_"):
+            importlib.import_module(f"{__name__}.{mod.name}")
 
 
 load_builtins()
