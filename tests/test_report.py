@@ -259,46 +259,72 @@ def test_corrupt_results_json(tmp_path, text):
     assert str(tmp_path / "results.json") in msg and "\n" not in msg
 
 
+def _claim_rows(page: str) -> dict[str, list[tuple[str, str]]]:
+    rows = re.findall(r"<tr class=\"(ok|bad)\" id=\"claim-[^\"]*\">(.*?)</tr>", page, flags=re.S)
+    by_id: dict[str, list[tuple[str, str]]] = {}
+    for cls, body in rows:
+        cid = re.search(r"<code>([^<]+)</code>", body).group(1)
+        by_id.setdefault(cid, []).append((cls, body))
+    return by_id
+
+
 def test_write_report(tmp_path):
     results = _results(tmp_path)
+    results["experiments"]["zeta_sh9"]["claims"][0]["power"] = {
+        "perturbation": "SH band 1 sign flipped", "measured": 0.04, "uncertainty": 0.0, "fails": True}
     write_results_json(tmp_path, results)
     index = write_report(tmp_path, results)
     assert index == tmp_path / "index.html"
     page = index.read_text(encoding="utf-8")
+    sh9_page = (tmp_path / "exp-zeta_sh9.html").read_text(encoding="utf-8")
+    energy_page = (tmp_path / "exp-alpha_energy.html").read_text(encoding="utf-8")
 
     assert "validate — real-time lighting vs physics" in page
     for claim_id in ("sh9-smooth", "sh9-sun", "energy-flux"):
         assert claim_id in page
     assert "0.86 % ± 0.01 %" in page and "&lt; 1 %" in page and "2.3e-6 ± 1.1e-6" in page
-    rows = re.findall(r"<tr class=\"(ok|bad)\">(.*?)</tr>", page, flags=re.S)
-    by_id: dict[str, list[tuple[str, str]]] = {}
-    for cls, body in rows:
-        cid = re.search(r"<code>([^<]+)</code>", body).group(1)
-        by_id.setdefault(cid, []).append((cls, body))
-    assert len(by_id["sh9-sun"]) == 2  # summary table + the experiment's own table
-    for cls, body in by_id["sh9-sun"]:
-        assert cls == "bad" and "badge fail" in body and ">FAIL<" in body
-    for cls, body in by_id["sh9-smooth"] + by_id["energy-flux"]:
-        assert cls == "ok" and "badge pass" in body
-    assert page.count(">FAIL<") == 2
+    # overview: every claim once; each experiment page: its own claims
+    by_id = _claim_rows(page)
+    assert {k: len(v) for k, v in by_id.items()} == {"sh9-smooth": 1, "sh9-sun": 1, "energy-flux": 1}
+    assert by_id["sh9-sun"][0][0] == "bad" and ">FAIL<" in by_id["sh9-sun"][0][1]
+    assert by_id["sh9-smooth"][0][0] == "ok" and "SH band 1 sign flipped" in by_id["sh9-smooth"][0][1]
+    assert "fails ✓" in by_id["sh9-smooth"][0][1]
+    assert set(_claim_rows(sh9_page)) == {"sh9-smooth", "sh9-sun"}
+    assert set(_claim_rows(energy_page)) == {"energy-flux"}
+    # overview table links every page; pages link back and to each other
+    assert 'href="exp-zeta_sh9.html"' in page and 'href="exp-alpha_energy.html"' in page
+    assert 'href="index.html"' in sh9_page and 'href="exp-alpha_energy.html"' in sh9_page
+    assert page.index('exp-zeta_sh9.html') < page.index('exp-alpha_energy.html')
 
-    # Experiment order is the dict's; text is escaped; meta, findings, skipped inputs and footer are there.
-    assert page.index('id="exp-zeta_sh9"') < page.index('id="exp-alpha_energy"')
-    assert "<script" not in page and "&lt;script&gt;" in page and "&lt;b&gt;" in page
+    # text is escaped; meta, findings, skipped inputs and footer are there.
+    for text in (page, sh9_page):
+        assert "<script" not in text and "<link" not in text and "http://" not in text and "https://" not in text
+    assert "&lt;script&gt;" in sh9_page and "&lt;b&gt;" in sh9_page
     assert "llvm_ad_rgb" in page and "validate run --quick" in page and "quick mode" in page
-    assert "A 0.5° sun rings." in page and "probes/bad.exr" in page and "generated from" in page
-    assert "<link" not in page and "http://" not in page and "https://" not in page
+    assert "A 0.5° sun rings." in sh9_page and "probes/bad.exr" in page and "generated from" in page
 
-    srcs = re.findall(r'<img src="([^"]+)"', page)
+    srcs = re.findall(r'<img src="([^"]+)"', sh9_page)
     assert len(srcs) == 4
     for src in srcs:
         assert not src.startswith(("/", "file:", "http")) and ".." not in src
         assert (tmp_path / unquote(src)).is_file()
-    assert 'width="400"' in page
+    assert 'width="400"' in sh9_page
 
     leftovers = sorted(p.name for p in tmp_path.iterdir())
-    assert leftovers == ["figures", "index.html", "results.json"]  # no temp files
-    assert not any(p.name.startswith(".") for p in tmp_path.rglob("*"))
+    assert leftovers == ["exp-alpha_energy.html", "exp-zeta_sh9.html", "figures", "index.html", "results.json"]
+    assert not any(p.name.startswith(".") for p in tmp_path.rglob("*"))  # no temp files
+
+    # a page of an experiment that is gone is removed on the next render
+    del results["experiments"]["alpha_energy"]
+    write_report(tmp_path, results)
+    assert not (tmp_path / "exp-alpha_energy.html").exists()
+
+
+def test_bench_json_is_shown(tmp_path):
+    (tmp_path / "bench.json").write_text(json.dumps({"generated": "today", "tables": [
+        {"headers": ["map", "time (s)"], "rows": [["1k", 0.5], ["8k", 9.0]], "caption": "SH9 by map size"}]}))
+    page = write_report(tmp_path, _results(tmp_path)).read_text(encoding="utf-8")
+    assert 'id="bench"' in page and "SH9 by map size" in page and "8k" in page
 
 
 def test_report_from_loaded_results_matches(tmp_path):
@@ -311,7 +337,8 @@ def test_missing_figure_and_empty_results(tmp_path):
     results = {"experiments": {"e": {"title": "E", "report": {"sections": [
         {"title": "S", "figures": [{"path": "figures/e/gone.png", "caption": "gone"},
                                    {"path": "/etc/passwd", "caption": "outside"}]}]}}}}
-    page = write_report(tmp_path, results).read_text(encoding="utf-8")
+    write_report(tmp_path, results)
+    page = (tmp_path / "exp-e.html").read_text(encoding="utf-8")
     assert "missing figure" in page and "figures/e/gone.png" in page and "outside the report folder" in page
     assert "<img" not in page
     empty = write_report(tmp_path, {}).read_text(encoding="utf-8")

@@ -1,4 +1,4 @@
-"""results.json ⇄ disk, and the one-page HTML report rendered from it.
+"""results.json ⇄ disk, and the HTML report rendered from it: an overview page and one page per experiment.
 
 The page is a pure function of the results dict — the same dict :func:`write_results_json` stores —
 so re-running one experiment and re-rendering never loses the others. Layout of the dict::
@@ -7,9 +7,13 @@ so re-running one experiment and re-rendering never loses the others. Layout of 
               "skipped_inputs": [[file, reason], ...]},
      "experiments": {NAME: ExperimentResult.to_json(), ...}}   # page order = dict order
 
-The page is a single file (CSS inlined from ``templates/style.css``, no scripts, no external
-resources) whose images are paths relative to the report folder, so the folder can be moved or
-zipped and opened from disk. Templates are rendered by Jinja2 with autoescaping on: every string
+``index.html`` is the overview (every experiment with its pass count, power checks and a link; a
+table of contents; every claim grouped by experiment in collapsible blocks; ``bench.json`` when
+present); ``exp-<name>.html`` holds one experiment (contents, findings, claims with their power
+checks, techniques, sections). Pages are self-contained files (CSS inlined from
+``templates/style.css``, no scripts, no external resources) whose images are paths relative to the
+report folder, so the folder can be moved or zipped and opened from disk. Templates are rendered
+by Jinja2 with autoescaping on: every string
 from the results (paragraphs, captions, findings) is text, never markup.
 
 Number formatting (Jinja filters ``num``, ``pct``, ``measured``, ``threshold``, ``cell``):
@@ -35,6 +39,8 @@ from ..errors import ValidateError
 
 RESULTS_FILE = "results.json"
 REPORT_FILE = "index.html"
+BENCH_FILE = "bench.json"
+EXPERIMENT_TEMPLATE = "experiment.html.j2"
 PAGE_TITLE = "validate — real-time lighting vs physics"
 TEMPLATE = "index.html.j2"
 MEASURED_DIGITS = 3  # significant digits of measured values and thresholds
@@ -203,11 +209,17 @@ def _claim_passed(c: Mapping[str, Any]) -> bool:
     return bool(m + u < t) if (c.get("comparison") or "<") == "<" else bool(m - u > t)
 
 
+def page_name(experiment: str) -> str:
+    """File name of an experiment's page: ``exp-<name>.html``."""
+    return f"{anchor(experiment)}.html"
+
+
 def _claim(c: Mapping[str, Any], experiment: str) -> dict[str, Any]:
     out = {"id": "", "description": "", "metric": "", "threshold": None, "measured": None,
-           "uncertainty": 0.0, "comparison": "<", "unit": "", "source": ""}
+           "uncertainty": 0.0, "comparison": "<", "unit": "", "source": "", "power": None}
     out.update(c)
-    out.update(passed=_claim_passed(c), experiment=experiment, anchor=anchor(experiment))
+    out.update(passed=_claim_passed(c), experiment=experiment, anchor=anchor(experiment),
+               page=page_name(experiment), anchor_id="claim-" + re.sub(r"[^A-Za-z0-9_-]", "-", str(out["id"])))
     return out
 
 
@@ -239,9 +251,10 @@ def _table(t: Mapping[str, Any]) -> dict[str, Any]:
     return {"headers": headers, "rows": rows, "caption": t.get("caption") or "", "numeric": numeric}
 
 
-def _section(s: Mapping[str, Any], out_dir: Path) -> dict[str, Any]:
+def _section(s: Mapping[str, Any], out_dir: Path, experiment: str, index: int) -> dict[str, Any]:
     return {
         "title": s.get("title") or "",
+        "anchor": f"{anchor(experiment)}-s{index + 1}",
         "paragraphs": list(s.get("paragraphs") or []),
         "tables": [_table(t) for t in s.get("tables") or []],
         "gallery": [[_figure(f, out_dir) for f in row] for row in s.get("gallery") or []],
@@ -269,7 +282,11 @@ def _page(out_dir: Path, results: Mapping[str, Any]) -> dict[str, Any]:
             "settings": dict(e.get("settings") or {}),
             "claims": claims,
             "n_passed": sum(c["passed"] for c in claims),
-            "sections": [_section(s, out_dir) for s in (e.get("report") or {}).get("sections") or []],
+            "n_power_fails": sum(bool((c.get("power") or {}).get("fails")) for c in claims),
+            "page": page_name(name),
+            "techniques": _techniques(e.get("techniques")),
+            "sections": [_section(s, out_dir, name, i)
+                         for i, s in enumerate((e.get("report") or {}).get("sections") or [])],
         })
     claims = [c for e in exps for c in e["claims"]]
     wall = meta.get("wall_time_s")
@@ -291,7 +308,30 @@ def _page(out_dir: Path, results: Mapping[str, Any]) -> dict[str, Any]:
         "n_passed": sum(c["passed"] for c in claims),
         "n_failed": sum(not c["passed"] for c in claims),
         "results_file": RESULTS_FILE,
+        "bench": _bench(out_dir),
     }
+
+
+def _techniques(entries: Any) -> list[dict[str, Any]]:
+    if not isinstance(entries, Mapping):
+        return []
+    return [{"name": k, "family": v.get("family", ""), "description": v.get("description", ""),
+             "builtin": bool(v.get("builtin", True)), "module": v.get("module", ""),
+             "thresholds": dict(v.get("thresholds") or {})}
+            for k, v in entries.items() if isinstance(v, Mapping)]
+
+
+def _bench(out_dir: Path) -> dict[str, Any] | None:
+    """``bench.json`` beside the report (written by ``python -m validate bench``): its tables, if any."""
+    path = Path(out_dir) / BENCH_FILE
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    if not isinstance(doc, Mapping):
+        return None
+    tables = [_table(t) for t in doc.get("tables") or [] if isinstance(t, Mapping)]
+    return {"generated": str(doc.get("generated") or ""), "tables": tables} if tables else None
 
 
 @functools.lru_cache(maxsize=1)
@@ -304,12 +344,30 @@ def _environment() -> jinja2.Environment:
     return env
 
 
+def render_pages(out_dir: Path, results: Mapping[str, Any]) -> dict[str, str]:
+    """Every page for ``results``: {file name: HTML} (figure paths resolved against ``out_dir``)."""
+    env = _environment()
+    page = _page(Path(out_dir), results)
+    pages = {REPORT_FILE: env.get_template(TEMPLATE).render(page=page)}
+    for e in page["experiments"]:
+        pages[e["page"]] = env.get_template(EXPERIMENT_TEMPLATE).render(page=page, e=e)
+    return pages
+
+
 def render_report(out_dir: Path, results: Mapping[str, Any]) -> str:
-    """The HTML page for ``results`` (figure paths resolved against ``out_dir``)."""
-    return _environment().get_template(TEMPLATE).render(page=_page(Path(out_dir), results))
+    """The overview page (``index.html``) for ``results``."""
+    return render_pages(out_dir, results)[REPORT_FILE]
 
 
 def write_report(out_dir: Path, results: Mapping[str, Any]) -> Path:
-    """Render the page from ``results`` and write ``out_dir/index.html`` atomically; returns its path."""
+    """Render every page from ``results`` and write them atomically (experiment pages first, the overview
+    last); pages of experiments no longer in the results are removed. Returns the overview's path."""
     out_dir = Path(out_dir)
-    return write_text(out_dir / REPORT_FILE, render_report(out_dir, results))
+    pages = render_pages(out_dir, results)
+    for name, text in pages.items():
+        if name != REPORT_FILE:
+            write_text(out_dir / name, text)
+    for stale in out_dir.glob("exp-*.html"):
+        if stale.name not in pages:
+            stale.unlink(missing_ok=True)
+    return write_text(out_dir / REPORT_FILE, pages[REPORT_FILE])
