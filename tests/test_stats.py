@@ -1,4 +1,4 @@
-"""The shared significance helpers (:mod:`validate.metrics.stats`) against closed forms and simulation.
+"""The shared significance helpers (:mod:`validate.stats`) against closed forms and simulation.
 
 Oracles: Student's t with 1 and 2 dof has a closed-form cdf (Cauchy: ½ + atan(t)/π; ν = 2:
 ½ + t / (2√(2 + t²))), so t → z is checked without scipy's t distribution; Šidák's level is checked
@@ -16,7 +16,7 @@ import pytest
 from scipy.stats import norm
 
 from validate.errors import ValidateError
-from validate.metrics import stats
+from validate import stats
 
 FLOAT64_TOL = 1e-12  # closed forms evaluated in float64
 # t → z vs the closed-form cdfs over |t| ≤ 20: scipy's t tail and the oracle's atan/sqrt differ by a few
