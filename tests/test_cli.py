@@ -31,13 +31,20 @@ def test_help_and_list() -> None:
     assert "sh9" in lst.stdout and "two_tone" in lst.stdout and "sh9 " in lst.stdout
 
 
-@pytest.mark.parametrize("case", ["missing", "corrupt", "nan", "negative", "aspect"])
+@pytest.mark.parametrize("case", ["missing", "corrupt", "nan", "negative", "aspect", "1x1", "2x1", "8x16",
+                                  "huge"])
 def test_bad_probe_is_a_one_line_error_and_nothing_is_written(case: str, tmp_path: Path) -> None:
     import mitsuba as mi
 
     probe = tmp_path / f"bad_{case}.exr"
     if case == "corrupt":
         probe.write_bytes(b"this is not an EXR file")
+    elif case == "huge":  # a header announcing 400000×200000 texels (≈ 900 GiB): refused before reading
+        probe = tmp_path / "bad_huge.pfm"
+        probe.write_bytes(b"PF\n400000 200000\n-1.0\n")
+    elif case[0].isdigit():  # too small to integrate (fewer than 16 texels across 180°)
+        w, h = (int(v) for v in case.split("x"))
+        mi.Bitmap(np.ones((h, w, 3), np.float32)).write(str(probe))
     elif case != "missing":
         img = np.ones((16, 32, 3), np.float32)
         if case == "nan":

@@ -65,24 +65,24 @@ def test_unsupported_extension(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("value", [np.nan, np.inf, -np.inf])
 def test_non_finite_texel(tmp_path: Path, value: float) -> None:
-    arr = np.ones((8, 16, 3), np.float32)
+    arr = np.ones((16, 32, 3), np.float32)
     arr[2, 3, 1] = value
     assert "NaN or Inf" in assert_one_line_error(write(tmp_path / "bad.exr", arr))
 
 
 def test_negative_texels_error_or_clamp(tmp_path: Path) -> None:
-    arr = np.ones((8, 16, 3), np.float32)
+    arr = np.ones((16, 32, 3), np.float32)
     arr[2, 3, 1] = -0.5
     path = write(tmp_path / "neg.exr", arr)
     assert "negative" in assert_one_line_error(path)
     env = loaders.load_environment(path, clamp_negative=True)
     assert env.radiance.min() == 0.0 and env.radiance[2, 3, 1] == 0.0
-    assert np.array_equal(np.delete(env.radiance.reshape(-1), 2 * 48 + 3 * 3 + 1), np.ones(8 * 16 * 3 - 1))
+    assert np.array_equal(np.delete(env.radiance.reshape(-1), 2 * 96 + 3 * 3 + 1), np.ones(16 * 32 * 3 - 1))
     assert len(env.notes) == 1 and "clamped" in env.notes[0] and "\n" not in env.notes[0]
 
 
 def test_all_zero_map(tmp_path: Path) -> None:
-    assert "zero" in assert_one_line_error(write(tmp_path / "black.exr", np.zeros((8, 16, 3))))
+    assert "zero" in assert_one_line_error(write(tmp_path / "black.exr", np.zeros((16, 32, 3))))
 
 
 @pytest.mark.parametrize("shape", [(8, 12), (10, 11), (16, 8)])
@@ -93,16 +93,55 @@ def test_wrong_aspect(tmp_path: Path, shape: tuple[int, int]) -> None:
 
 
 def test_unknown_layout(tmp_path: Path) -> None:
-    path = write(tmp_path / "ll.exr", np.ones((8, 16, 3)))
+    path = write(tmp_path / "ll.exr", np.ones((16, 32, 3)))
     with pytest.raises(ValidateError, match="unknown layout"):
         loaders.load_environment(path, layout="mercator")
+
+
+# Minimum size: 16 texels across 180° in every layout (loaders.MIN_TEXELS_PER_PI; the docstring says why).
+@pytest.mark.parametrize("shape, layout", [
+    ((1, 1), "angular"), ((1, 2), "latlong"), ((2, 4), "latlong"), ((15, 30), "latlong"),
+    ((31, 31), "angular"), ((28, 21), "cross"),
+])
+def test_too_small_to_integrate(tmp_path: Path, shape: tuple[int, int], layout: str) -> None:
+    path = write(tmp_path / "tiny.exr", np.ones(shape + (3,)))
+    msg = assert_one_line_error(path)
+    assert "too small" in msg and f"{shape[1]}×{shape[0]} {layout}" in msg
+
+
+@pytest.mark.parametrize("shape", [(16, 32), (32, 32), (32, 24)])
+def test_smallest_accepted_maps(tmp_path: Path, shape: tuple[int, int]) -> None:
+    env = loaders.load_environment(write(tmp_path / "small.exr", np.full(shape + (3,), 0.25)))
+    assert env.height >= loaders.MIN_TEXELS_PER_PI and np.allclose(env.radiance, 0.25, atol=1e-6)
+
+
+@pytest.mark.parametrize("ext, header", [
+    (".pfm", b"PF\n400000 200000\n-1.0\n"),
+    (".hdr", b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 200000 +X 400000\n"),
+])
+def test_map_too_large_for_memory_is_refused_before_reading(tmp_path: Path, ext: str, header: bytes) -> None:
+    """A header announcing a 400000×200000 map (≈ 900 GiB as float32) is refused from the header
+    alone — the file holds no pixels, so reading would fail differently."""
+    path = tmp_path / f"huge{ext}"
+    path.write_bytes(header)
+    assert loaders.read_header_size(path) == (200000, 400000)
+    msg = assert_one_line_error(path)
+    assert "GiB" in msg and "available" in msg and "400000×200000" in msg
+
+
+def test_header_size_of_written_files(tmp_path: Path) -> None:
+    for ext in (".exr", ".hdr", ".pfm"):
+        assert loaders.read_header_size(write(tmp_path / f"m{ext}", np.ones((16, 32, 3)))) == (16, 32)
+    assert loaders.estimated_peak_bytes(4096, 8192) > 4096 * 8192 * 12
+    with pytest.raises(ValidateError, match="only 0.5 GiB"):
+        loaders.check_memory(Path("x.exr"), 4096, 8192, available=1 << 29)
 
 
 # --- layouts ----------------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("shape, layout, out_shape", [
     ((16, 32), "latlong", (16, 32)),
-    ((16, 16), "angular", (32, 64)),  # angular n → lat-long H = clamp(2^round(log2(n/2)), 32, 512)
+    ((32, 32), "angular", (32, 64)),  # angular n → lat-long H = clamp(2^round(log2(n/2)), 32, 512)
     ((32, 24), "cross", (16, 32)),  # cross face F = 8 → lat-long H = 2F
 ])
 def test_layout_detection(tmp_path: Path, shape, layout: str, out_shape) -> None:
@@ -123,7 +162,7 @@ def test_layout_override_that_does_not_fit(tmp_path: Path, shape, layout: str) -
 
 
 def test_single_channel_image_becomes_grey(tmp_path: Path) -> None:
-    arr = np.linspace(0.1, 1.0, 8 * 16, dtype=np.float32).reshape(8, 16, 1)
+    arr = np.linspace(0.1, 1.0, 16 * 32, dtype=np.float32).reshape(16, 32, 1)
     path = tmp_path / "y.exr"
     mi.Bitmap(arr, mi.Bitmap.PixelFormat.Y).write(str(path))
     env = loaders.load_environment(path)

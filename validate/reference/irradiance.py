@@ -33,6 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import ValidateError
 from ..scenes import latlong
 from ..scenes.environment import Environment
 from .cache import array_digest, cached
@@ -60,6 +61,9 @@ class ReferenceIrradiance:
 
 def gauss_order(env: Environment, cells: int) -> int:
     """Gauss points per texel interval: ≥ 2, and enough that nodes are ≥ 2× as dense as cells."""
+    if env.height < 2 or env.width < 1:
+        raise ValidateError(f"environment {env.name!r}: {env.width}×{env.height} lat-long map is too small "
+                            "to integrate (rows sit at θ_i = iπ/(H−1): H ≥ 2)")
     return max(2, int(np.ceil(2.0 * cells / (env.height - 1))))
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import hashlib
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -38,20 +39,23 @@ class Environment:
     def width(self) -> int:
         return int(self.radiance.shape[1])
 
-    @property
+    @cached_property
     def digest(self) -> str:
-        """Content hash of the radiance (and of the angular source, if any): the cache key."""
+        """Content hash of the radiance (and of the angular source, if any): the cache key. Hashed
+        from the array's own buffer (no copy) and computed once per environment."""
         h = hashlib.sha256()
-        h.update(np.ascontiguousarray(self.radiance, dtype=np.float32).tobytes())
+        h.update(memoryview(np.ascontiguousarray(self.radiance, dtype=np.float32)).cast("B"))
         h.update(str(self.radiance.shape).encode())
         if self.angular is not None:
-            h.update(np.ascontiguousarray(self.angular, dtype=np.float32).tobytes())
+            h.update(memoryview(np.ascontiguousarray(self.angular, dtype=np.float32)).cast("B"))
         return h.hexdigest()[:32]
 
     def total_flux(self) -> np.ndarray:
-        """Φ = ∫ L dω per channel (RGB), by exact texel solid angles."""
-        dw = latlong.texel_solid_angles(self.height, self.width)
-        return np.einsum("hwc,hw->c", self.radiance.astype(np.float64), dw)
+        """Φ = ∫ L dω per channel (RGB), by exact texel solid angles. The solid angle depends on the
+        row only, so Φ = Σ_i Ω_i Σ_j L_ij: row sums (float64) in blocks, no full-size temporaries."""
+        per_row = latlong.row_solid_angles(self.height, self.width)
+        rows = latlong.row_sums(self.radiance)
+        return per_row @ rows
 
     def mitsuba_emitter(self) -> dict:
         """Mitsuba scene-dict entry for this environment (``envmap`` from an in-memory bitmap)."""

@@ -54,11 +54,25 @@ def row_cell_edges(height: int) -> np.ndarray:
     return np.clip(edges, 0.0, np.pi)
 
 
+def row_solid_angles(height: int, width: int) -> np.ndarray:
+    """Exact solid angle of one texel cell of each row, (2π/W)(cos θ_top − cos θ_bottom), shape (H,)."""
+    e = row_cell_edges(height)
+    return (2.0 * np.pi / width) * (np.cos(e[:-1]) - np.cos(e[1:]))
+
+
 def texel_solid_angles(height: int, width: int) -> np.ndarray:
     """Exact solid angle of every texel cell, shape (H, W); sums to 4π."""
-    e = row_cell_edges(height)
-    per_row = (2.0 * np.pi / width) * (np.cos(e[:-1]) - np.cos(e[1:]))
-    return np.repeat(per_row[:, None], width, axis=1)
+    return np.repeat(row_solid_angles(height, width)[:, None], width, axis=1)
+
+
+def row_sums(radiance: np.ndarray, block_bytes: int = 64 << 20) -> np.ndarray:
+    """Σ_j L_ij per row and channel (H, 3) in float64, over row blocks of ~``block_bytes``."""
+    h = radiance.shape[0]
+    out = np.empty((h, radiance.shape[2]), dtype=np.float64)
+    step = max(1, block_bytes // max(1, radiance[0].nbytes * 2))
+    for s in range(0, h, step):
+        out[s:s + step] = radiance[s:s + step].sum(axis=1, dtype=np.float64)
+    return out
 
 
 def bilinear_lookup(radiance: np.ndarray, d: np.ndarray) -> np.ndarray:

@@ -14,7 +14,20 @@ Supported files: OpenEXR (.exr), Radiance RGBE (.hdr, .pic), PFM (.pfm), read wi
 
 Validation (one-line :class:`ValidateError` naming the file): missing or unreadable file, NaN/Inf
 texels, negative texels (unless ``clamp_negative``), an aspect ratio that is none of the above,
-an all-zero map.
+an all-zero map, a map too small to integrate, and a map too large for the memory available.
+
+Minimum size. Every layout must put at least :data:`MIN_TEXELS_PER_PI` = 16 texels across 180°:
+lat-long H ≥ 16 rows (W ≥ 32), angular N ≥ 32 (its radius N/2 spans θ ∈ [0, π]), cross faces F ≥ 8
+(two faces span 180°). Why 16: the suite projects spherical harmonics up to degree l = 8 (the order
+sweep of the ``sh9`` experiment); a degree-l harmonic has l periods around a great circle, so sampling
+it needs more than l texels per π (Nyquist), and the bilinear interpolant Mitsuba reconstructs
+between texels attenuates a mode sampled near Nyquist — 2l = 16 texels per π keeps every band the
+suite measures resolved. Below H = 2 the lat-long convention θ_i = iπ/(H−1) does not even exist
+(a 2×1 map divided by zero); a 1×1 file is an "angular" map of one texel.
+
+Memory. Before a pixel is read, the header's size is compared with the memory available
+(:func:`check_memory`): a map whose estimated peak exceeds it is refused with the one-line error
+instead of being killed by the kernel half-way.
 """
 
 from __future__ import annotations
@@ -29,6 +42,100 @@ from .environment import Environment
 
 EXTENSIONS = (".exr", ".hdr", ".pic", ".pfm")
 LAYOUTS = ("auto", "latlong", "angular", "cross")
+MIN_TEXELS_PER_PI = 16  # 2 × the highest SH degree the suite projects (l = 8); see the module docstring
+# Peak memory of a run per byte of the float32 RGB lat-long map, measured by `validate bench` (child
+# processes, peak RSS of the reference + SH9 of a 4096×8192 and an 8192×16384 map, including the load):
+# see .notes/scale-closing.md. Plus the fixed runtime (Python, Mitsuba, drjit, LLVM) below.
+MAP_MEMORY_MULTIPLE = 4.0
+RUNTIME_BYTES = 1 << 30
+
+
+def read_header_size(path: Path) -> tuple[int, int] | None:
+    """(height, width) from the file header without reading pixels (OpenEXR ``dataWindow``, Radiance
+    ``-Y H +X W`` line, PFM ``W H`` line); None when the header is not understood (the reader then
+    reports the problem)."""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(1 << 16)
+    except OSError:
+        return None
+    if head[:4] == b"v/1\x01":  # OpenEXR: attributes name\0 type\0 size value … until an empty name
+        pos = 8
+        while pos < len(head) and head[pos] != 0:
+            end = head.find(b"\0", pos)
+            tend = head.find(b"\0", end + 1)
+            if end < 0 or tend < 0 or tend + 5 > len(head):
+                return None
+            name = head[pos:end]
+            size = int.from_bytes(head[tend + 1:tend + 5], "little", signed=True)
+            value = head[tend + 5:tend + 5 + size]
+            if name == b"dataWindow" and len(value) == 16:
+                x0, y0, x1, y1 = (int.from_bytes(value[i:i + 4], "little", signed=True) for i in range(0, 16, 4))
+                return y1 - y0 + 1, x1 - x0 + 1
+            pos = tend + 5 + size
+        return None
+    if head[:2] in (b"PF", b"Pf"):
+        parts = head.split(None, 3)
+        if len(parts) >= 3 and parts[1].isdigit() and parts[2].isdigit():
+            return int(parts[2]), int(parts[1])
+        return None
+    if head[:2] == b"#?":  # Radiance: header lines, an empty line, then the resolution line
+        blank = head.find(b"\n\n")
+        if blank >= 0:
+            line = head[blank + 2:].split(b"\n", 1)[0].split()
+            if len(line) == 4 and line[1].isdigit() and line[3].isdigit():
+                rows, cols = int(line[1]), int(line[3])
+                return (rows, cols) if line[0].endswith(b"Y") else (cols, rows)
+    return None
+
+
+def available_memory() -> int | None:
+    """Bytes this process may still allocate: ``MemAvailable`` (/proc/meminfo), lowered by a cgroup
+    v2 ``memory.max`` limit when one is set; None where neither can be read."""
+    avail = None
+    try:
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemAvailable:"):
+                avail = int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    try:
+        limit = Path("/sys/fs/cgroup/memory.max").read_text().strip()
+        used = int(Path("/sys/fs/cgroup/memory.current").read_text().strip())
+        if limit != "max":
+            room = int(limit) - used
+            avail = room if avail is None else min(avail, room)
+    except (OSError, ValueError):
+        pass
+    return avail
+
+
+def estimated_peak_bytes(height: int, width: int) -> int:
+    """Estimated peak memory of validating one map of this size: MAP_MEMORY_MULTIPLE × the float32
+    RGB lat-long map, plus the fixed runtime."""
+    return int(MAP_MEMORY_MULTIPLE * height * width * 12) + RUNTIME_BYTES
+
+
+def check_memory(path: Path, height: int, width: int, available: int | None = None) -> None:
+    """Refuse (one line) a map whose estimated peak memory exceeds what is available."""
+    available = available_memory() if available is None else available
+    need = estimated_peak_bytes(height, width)
+    if available is not None and need > available:
+        gib = 1 << 30
+        raise ValidateError(f"{path}: a {width}×{height} map needs about {need / gib:.1f} GiB "
+                            f"({MAP_MEMORY_MULTIPLE:g}× its {height * width * 12 / gib:.2f} GiB float32 "
+                            f"copy + runtime) but only {available / gib:.1f} GiB is available")
+
+
+def check_min_size(shape: tuple[int, ...], kind: str, path: Path | str) -> None:
+    """Raise when a map of ``kind`` puts fewer than MIN_TEXELS_PER_PI texels across 180°."""
+    h, w = shape[:2]
+    need = {"latlong": (MIN_TEXELS_PER_PI, 2 * MIN_TEXELS_PER_PI),
+            "angular": (2 * MIN_TEXELS_PER_PI, 2 * MIN_TEXELS_PER_PI),
+            "cross": (4 * MIN_TEXELS_PER_PI // 2, 3 * MIN_TEXELS_PER_PI // 2)}[kind]
+    if h < need[0] or w < need[1]:
+        raise ValidateError(f"{path}: {w}×{h} {kind} map is too small to integrate: needs at least "
+                            f"{need[1]}×{need[0]} ({MIN_TEXELS_PER_PI} texels across 180°)")
 
 
 def read_image(path: Path) -> np.ndarray:
@@ -44,14 +151,18 @@ def read_image(path: Path) -> np.ndarray:
         raise ValidateError(f"{path}: not a regular file")
     if path.suffix.lower() not in EXTENSIONS:
         raise ValidateError(f"{path}: unsupported file type {path.suffix!r} (use .exr, .hdr or .pfm)")
+    size = read_header_size(path)
+    if size is not None:
+        check_memory(path, *size)
     try:
         bmp = mi.Bitmap(str(path))
         channels = bmp.channel_count()
+        fmt = mi.Bitmap.PixelFormat.Y if channels == 1 else mi.Bitmap.PixelFormat.RGB
+        conv = bmp.convert(fmt, mi.Struct.Type.Float32, srgb_gamma=False)
+        del bmp  # the file's own pixels are no longer needed
+        arr = np.asarray(conv)  # a view: no third copy of a large map
         if channels == 1:
-            arr = np.array(bmp.convert(mi.Bitmap.PixelFormat.Y, mi.Struct.Type.Float32, srgb_gamma=False))
             arr = np.repeat(arr.reshape(arr.shape[0], arr.shape[1], 1), 3, axis=2)
-        else:
-            arr = np.array(bmp.convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32, srgb_gamma=False))
     except ValidateError:
         raise
     except Exception as exc:  # mitsuba raises RuntimeError with multi-line text
@@ -63,23 +174,42 @@ def read_image(path: Path) -> np.ndarray:
     return arr
 
 
+ROW_BLOCK_BYTES = 64 << 20  # texel checks run over row blocks of ~64 MiB: no full-size temporaries
+
+
+def _row_blocks(arr: np.ndarray) -> range:
+    rows = max(1, ROW_BLOCK_BYTES // max(1, arr[0].nbytes))
+    return range(0, arr.shape[0], rows)
+
+
 def check_texels(arr: np.ndarray, path: Path | str, clamp_negative: bool) -> tuple[np.ndarray, list[str]]:
-    """Reject NaN/Inf; reject (or clamp, and note) negative texels; reject all-zero maps."""
+    """Reject NaN/Inf; reject (or clamp in place, and note) negative texels; reject all-zero maps.
+    Streams over row blocks, so a large map needs no full-size temporary arrays."""
     notes: list[str] = []
-    bad = ~np.isfinite(arr)
-    if bad.any():
-        n = int(bad.any(axis=-1).sum())
-        raise ValidateError(f"{path}: {n} texel(s) are NaN or Inf")
-    neg = arr < 0
-    if neg.any():
-        count = int(neg.any(axis=-1).sum())
+    nonfinite = negative = 0
+    lowest, positive = np.inf, False
+    step = _row_blocks(arr).step
+    for s in _row_blocks(arr):
+        block = arr[s:s + step]
+        nonfinite += int((~np.isfinite(block)).any(axis=-1).sum())
+        neg = (block < 0).any(axis=-1)
+        if neg.any():
+            negative += int(neg.sum())
+            lowest = min(lowest, float(block.min()))
+        positive = positive or bool((block > 0).any())
+    if nonfinite:
+        raise ValidateError(f"{path}: {nonfinite} texel(s) are NaN or Inf")
+    if negative:
         total = arr.shape[0] * arr.shape[1]
-        msg = f"{count} of {total} texels negative ({100 * count / total:.2g} %, min {arr.min():.4g})"
+        msg = f"{negative} of {total} texels negative ({100 * negative / total:.2g} %, min {lowest:.4g})"
         if not clamp_negative:
             raise ValidateError(f"{path}: {msg}; pass --clamp-negative to clamp them to 0")
-        arr = np.maximum(arr, 0.0)
+        if not arr.flags.writeable:
+            arr = arr.copy()
+        for s in _row_blocks(arr):
+            np.maximum(arr[s:s + step], 0.0, out=arr[s:s + step])
         notes.append(f"clamped negative texels to 0: {msg}")
-    if not (arr > 0).any():
+    if not positive:
         raise ValidateError(f"{path}: every texel is zero")
     return arr, notes
 
@@ -198,16 +328,18 @@ def load_environment(path: str | Path, layout: str = "auto", clamp_negative: boo
     if layout not in LAYOUTS:
         raise ValidateError(f"--layout {layout}: unknown layout; choose one of {', '.join(LAYOUTS)}")
     arr = read_image(path)
-    arr, notes = check_texels(arr, path, clamp_negative)
     kind = detect_layout(arr.shape, path) if layout == "auto" else layout
+    arr, notes = check_texels(arr, path, clamp_negative)
     angular = None
     if kind == "latlong":
         if arr.shape[1] != 2 * arr.shape[0]:
             raise ValidateError(f"{path}: --layout latlong needs a 2:1 image, got {arr.shape[1]}×{arr.shape[0]}")
+        check_min_size(arr.shape, "latlong", path)
         radiance = arr
     elif kind == "angular":
         if arr.shape[0] != arr.shape[1]:
             raise ValidateError(f"{path}: --layout angular needs a square image, got {arr.shape[1]}×{arr.shape[0]}")
+        check_min_size(arr.shape, "angular", path)
         angular = arr
         radiance = angular_to_latlong(arr)
         notes.append(f"angular map {arr.shape[1]}×{arr.shape[0]} resampled to lat-long "
@@ -215,6 +347,7 @@ def load_environment(path: str | Path, layout: str = "auto", clamp_negative: boo
     else:
         if 4 * arr.shape[1] != 3 * arr.shape[0]:
             raise ValidateError(f"{path}: --layout cross needs a 3:4 image, got {arr.shape[1]}×{arr.shape[0]}")
+        check_min_size(arr.shape, "cross", path)
         radiance = cross_to_latlong(arr)
         notes.append(f"vertical cross resampled to lat-long {radiance.shape[1]}×{radiance.shape[0]}")
     return Environment(name=name or path.stem, radiance=np.ascontiguousarray(radiance, np.float32),
