@@ -46,10 +46,12 @@ References
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Mapping
 
 import numpy as np
 
 from ..errors import ValidateError
+from .families import specular
 from .irradiance_map import DEFAULT_BLOCK_DEG, CubeMap, EnvironmentNodes, Kernel, convolve_zonal, environment_nodes
 
 EXPONENT_RANGE = (0.5, 10000.0)
@@ -158,3 +160,66 @@ def mix_shader(base_color: np.ndarray | float, diffuse_percent: float, specular_
     base = np.asarray(base_color, dtype=np.float64)
     color = base * (1.0 - diffuse_percent) + np.asarray(diffuse) * base * diffuse_percent
     return color * (1.0 - specular_percent) + (np.asarray(specular) + color) * specular_percent
+
+
+# ---------------------------------------------------------------------------------------------
+# Registered techniques (family ``specular``) and a small map cache
+# ---------------------------------------------------------------------------------------------
+
+MAP_CACHE_SIZE = 24  # prefiltered maps kept per process (sparse cube maps: ≤ 6·256²·3 float32 = 4.7 MB each)
+_MAP_CACHE: dict[tuple, object] = {}
+
+
+def array_digest(a: np.ndarray) -> str:
+    """Content hash of an array (shape, dtype and bytes): the cache key of maps built from it."""
+    import hashlib
+
+    a = np.ascontiguousarray(a)
+    h = hashlib.blake2b(digest_size=16)
+    h.update(f"{a.shape}{a.dtype}".encode())
+    h.update(memoryview(a).cast("B"))
+    return h.hexdigest()
+
+
+def cached(key: tuple, build: Callable[[], object]) -> object:
+    """``build()`` memoised on ``key`` (insertion-ordered, the oldest entry dropped beyond
+    :data:`MAP_CACHE_SIZE`). Keys hold content digests of the inputs, so a changed array is a miss."""
+    if key not in _MAP_CACHE:
+        if len(_MAP_CACHE) >= MAP_CACHE_SIZE:
+            _MAP_CACHE.pop(next(iter(_MAP_CACHE)))
+        _MAP_CACHE[key] = build()
+    return _MAP_CACHE[key]
+
+
+def cached_phong_cube(radiance: np.ndarray, s: float, directions: np.ndarray) -> CubeMap:
+    """:func:`prefilter_phong_cube` of exponent ``s`` (face per :func:`phong_face_size`), sparse on the
+    lookup footprint of ``directions``, memoised on the content of both arrays."""
+    key = ("phong", array_digest(radiance), float(s), array_digest(directions))
+    return cached(key, lambda: prefilter_phong_cube(radiance, s, needed=directions))  # type: ignore[return-value]
+
+
+def _phong_exponent(brdf: Mapping[str, object]) -> tuple[float, float]:
+    if brdf.get("model") != "phong" or "exponent" not in brdf:
+        raise ValidateError(f"Phong-prefiltered map: BRDF {dict(brdf)!r}: expected {{'model': 'phong', 'exponent': s}}")
+    return _check_exponent(float(brdf["exponent"])), float(brdf.get("reflectance", 1.0))  # type: ignore[arg-type]
+
+
+@specular.register("phong_prefiltered", "Phong-prefiltered cube map of exponent s + 1 at r (exact at normal "
+                   "incidence for the modified-Phong BRDF of exponent s)", brdf=("phong",))
+def phong_prefiltered(radiance: np.ndarray, brdf: Mapping[str, object], normals: np.ndarray,
+                      views: np.ndarray) -> np.ndarray:
+    """L_o ≈ k_s P_{s+1}(r), r = 2(n·v)n − v (module docstring: the map of exponent s + 1 equals the
+    modified-Phong BRDF (s + 2)/2π cos^s α · cos θ at v = n)."""
+    s, ks = _phong_exponent(brdf)
+    r = reflect(normals, views)
+    return ks * cached_phong_cube(radiance, map_exponent_for_brdf(s), r).lookup(r)
+
+
+@specular.register("phong_prefiltered_s", "Phong-prefiltered cube map of the BRDF's own exponent s at r (the "
+                   "usual practice, HDRShop [3])", brdf=("phong",))
+def phong_prefiltered_s(radiance: np.ndarray, brdf: Mapping[str, object], normals: np.ndarray,
+                        views: np.ndarray) -> np.ndarray:
+    """L_o ≈ k_s P_s(r): the same-exponent map (a slightly wider lobe than the BRDF's at v = n)."""
+    s, ks = _phong_exponent(brdf)
+    r = reflect(normals, views)
+    return ks * cached_phong_cube(radiance, s, r).lookup(r)

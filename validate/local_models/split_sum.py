@@ -55,16 +55,26 @@ References
 
 from __future__ import annotations
 
+import functools
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..backend import float_type
 from ..errors import ValidateError
-from .irradiance_map import CubeMap, EnvironmentNodes, IrradianceMap, Kernel, convolve_zonal, environment_nodes
-from .prefiltered_specular import block_deg_for_width, face_size_for_width, reflect
+from .families import specular
+from .irradiance_map import (
+    CubeMap,
+    EnvironmentNodes,
+    IrradianceMap,
+    Kernel,
+    compute_irradiance_cube,
+    convolve_zonal,
+    environment_nodes,
+)
+from .prefiltered_specular import array_digest, block_deg_for_width, cached, face_size_for_width, reflect
 
 ALPHA_RANGE = (1e-3, 1.0)
 DFG_SAMPLES = 2048  # Hammersley points per table cell (QMC error ≲ 10⁻³ of A + B, tests/test_ibl.py)
@@ -372,3 +382,54 @@ def shade_plastic(prefiltered: CubeMap, table: DFGTable, irradiance: IrradianceM
     spec = shade_split_sum(prefiltered, table, normals, views, terms.alpha, schlick_f0(terms.eta))
     scale = rho / (1.0 - terms.internal_reflectance) / terms.eta**2 * terms.mean_transmittance / math.pi
     return spec + (scale * terms.t(mu))[:, None] * irradiance.lookup(normals)
+
+
+# ---------------------------------------------------------------------------------------------
+# Registered technique (family ``specular``)
+# ---------------------------------------------------------------------------------------------
+
+PLASTIC_IRRADIANCE_FACE = 64  # irradiance map of the plastic's diffuse base (the ibl sweep: < 1 % of the peak)
+
+
+@functools.lru_cache(maxsize=1)
+def default_dfg_table() -> DFGTable:
+    """The DFG table at the default size and sample count (computed once per process)."""
+    return compute_dfg_table()
+
+
+@functools.lru_cache(maxsize=16)
+def cached_plastic_terms(alpha: float, eta: float) -> PlasticTerms:
+    return plastic_terms(alpha, eta)
+
+
+def cached_ggx_cube(radiance: np.ndarray, alpha: float, directions: np.ndarray) -> CubeMap:
+    """:func:`prefilter_ggx_cube` (face per :func:`ggx_face_size`), sparse on ``directions``, memoised."""
+    key = ("ggx", array_digest(radiance), float(alpha), array_digest(directions))
+    return cached(key, lambda: prefilter_ggx_cube(radiance, alpha, needed=directions))  # type: ignore[return-value]
+
+
+def _ggx_params(brdf: Mapping[str, object]) -> tuple[str, float]:
+    model = brdf.get("model")
+    if model not in ("ggx", "ggx_plastic") or "alpha" not in brdf:
+        raise ValidateError(f"split-sum GGX: BRDF {dict(brdf)!r}: expected {{'model': 'ggx' | 'ggx_plastic', "
+                            "'alpha': α, …}")
+    return str(model), _check_alpha(float(brdf["alpha"]))  # type: ignore[arg-type]
+
+
+@specular.register("split_sum_ggx", "split-sum GGX [1, eq. 7]: GGX-prefiltered radiance × DFG table "
+                   "(conductor: F0 A + B; plastic: + coat-transmitted diffuse base)", brdf=("ggx", "ggx_plastic"))
+def split_sum_ggx(radiance: np.ndarray, brdf: Mapping[str, object], normals: np.ndarray,
+                  views: np.ndarray) -> np.ndarray:
+    """BRDF ``{'model': 'ggx', 'alpha': α, 'f0': F0 (default 1)}`` → :func:`shade_split_sum`;
+    ``{'model': 'ggx_plastic', 'alpha': α, 'eta': η, 'rho': ρ}`` → :func:`shade_plastic` with a cosine
+    irradiance map of faces :data:`PLASTIC_IRRADIANCE_FACE`."""
+    model, alpha = _ggx_params(brdf)
+    r = reflect(normals, views)
+    pre = cached_ggx_cube(radiance, alpha, r)
+    if model == "ggx":
+        return shade_split_sum(pre, default_dfg_table(), normals, views, alpha, float(brdf.get("f0", 1.0)))
+    terms = cached_plastic_terms(alpha, float(brdf.get("eta", 1.49)))
+    n = np.asarray(normals, dtype=np.float64)
+    key = ("irradiance", array_digest(radiance), PLASTIC_IRRADIANCE_FACE, array_digest(n))
+    irr = cached(key, lambda: compute_irradiance_cube(radiance, PLASTIC_IRRADIANCE_FACE, needed=n))
+    return shade_plastic(pre, default_dfg_table(), irr, terms, float(brdf.get("rho", 0.5)), n, views)  # type: ignore[arg-type]

@@ -51,6 +51,12 @@ References
   [3] R. R. Lewis, "Making shaders more physically plausible", CGF 13(2), 1994.
   [4] A. B. Owen, "Randomly permuted (t, m, s)-nets and (t, s)-sequences", 1995 (randomised QMC: the
       variance of independent randomisations estimates the error).
+
+Checks of the reference BSDFs (:func:`furnace`, :func:`chi2_bsdf`)
+  [1] PBRT 4th ed. §4.3.2 / §5.6.1: under a uniform unit environment the outgoing radiance equals the
+      directional albedo ρ_hd(ω_o) = ∫ f cos θ dω ("white furnace").
+  [2] Mitsuba 3, ``src/python/python/chi2.py``: ``ChiSquareTest`` (Pearson χ², pooling of cells with
+      expected count < 5, Šidák correction) and ``BSDFAdapter``.
 """
 
 from __future__ import annotations
@@ -86,7 +92,10 @@ _REGISTERED = False
 def register_phong_bsdf() -> str:
     """Register the normalised modified-Phong BSDF as Mitsuba plugin ``modphong`` (once); its name.
 
-    Properties: ``exponent`` (s > 0, default 10), ``reflectance`` (k_s in [0, 1], default 1)."""
+    Properties: ``exponent`` (s > 0, default 10), ``reflectance`` (k_s in [0, 1], default 1), and
+    ``eval_scale`` (default 1): multiplies ``eval`` only, leaving ``sample``/``pdf`` alone — a deliberate
+    inconsistency used by the ``ibl`` power checks (e.g. (s + 1)/(s + 2): the Phong lobe's normalisation
+    written in ``eval`` instead of the BRDF's), never in a reference."""
     global _REGISTERED
     init()
     if _REGISTERED:
@@ -99,6 +108,7 @@ def register_phong_bsdf() -> str:
             super().__init__(props)
             self.s = float(props.get("exponent", 10.0))
             self.ks = float(props.get("reflectance", 1.0))
+            self.eval_scale = float(props.get("eval_scale", 1.0))  # power checks only (register_phong_bsdf)
             if not (self.s > 0 and 0.0 <= self.ks <= 1.0):
                 raise ValidateError(f"modphong: exponent={self.s}, reflectance={self.ks}: expected exponent > 0 "
                                     "and reflectance in [0, 1]")
@@ -129,7 +139,7 @@ def register_phong_bsdf() -> str:
 
         def eval(self, ctx: Any, si: Any, wo: Any, active: Any = True) -> Any:
             cos_i, cos_o = mi.Frame3f.cos_theta(si.wi), mi.Frame3f.cos_theta(wo)
-            v = self.ks * (self.s + 2.0) / (2.0 * dr.pi) * self._lobe(si, wo) * cos_o
+            v = self.eval_scale * self.ks * (self.s + 2.0) / (2.0 * dr.pi) * self._lobe(si, wo) * cos_o
             ok = active & (cos_i > 0) & (cos_o > 0) & ctx.is_enabled(mi.BSDFFlags.GlossyReflection)
             return dr.select(ok, mi.Spectrum(v), mi.Spectrum(0.0))
 
@@ -146,7 +156,7 @@ def register_phong_bsdf() -> str:
             return None
 
         def to_string(self) -> str:
-            return f"ModifiedPhong[exponent={self.s}, reflectance={self.ks}]"
+            return f"ModifiedPhong[exponent={self.s}, reflectance={self.ks}, eval_scale={self.eval_scale}]"
 
     mi.register_bsdf(PHONG_PLUGIN, lambda props: ModifiedPhong(props))
     _REGISTERED = True
@@ -489,3 +499,84 @@ def bsdf_albedo(bsdf: dict, cos_theta_v: float, samples: int = 1 << 18, seed: in
     w = np.array(w, dtype=np.float64).reshape(3, -1)[0]
     m, se = mean_and_stderr(w)
     return float(m), float(se)
+
+
+# ---------------------------------------------------------------------------------------------
+# BSDF checks: white furnace through the path integrator, χ² of the sampling routine
+# ---------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class FurnaceResult:
+    """Outgoing radiance of a unit sphere under a uniform white environment (L = 1) at views with
+    n·v = ``cos_views``: pass mean and standard error per view (red channel), P = ``passes``."""
+
+    cos_views: np.ndarray
+    mean: np.ndarray
+    stderr: np.ndarray
+    passes: int
+    spp: int
+
+
+def furnace(bsdf: dict, cos_views: np.ndarray, spp: int = 1 << 16, passes: int = 8, seed: int = 11,
+            rays: int = 64) -> FurnaceResult:
+    """White furnace through Mitsuba's ``path`` integrator (``max_depth`` 2, MIS of emitter and BSDF
+    sampling, so ``eval``, ``pdf`` and ``sample`` all enter): a unit sphere with ``bsdf`` under a
+    ``constant`` emitter of radiance 1, hit by ``rays`` orthographic rays along −z whose hit point has
+    n·v = μ. Then L_o(μ) = ∫ f cos θ_o dω_o, the BSDF's directional albedo [1, §5.6.1] — what a
+    quadrature of the BRDF (e.g. :func:`phong_albedo`) must equal. Each view gets ``passes`` independent
+    passes (``independent`` sampler, seeds ``seed·1000 + p``) of rays·spp/passes paths."""
+    import mitsuba as mi
+
+    init()
+    if PHONG_PLUGIN in json.dumps(bsdf):
+        register_phong_bsdf()
+    mus = np.asarray(cos_views, dtype=np.float64).ravel()
+    if not (np.all(mus > 0) and np.all(mus <= 1)) or passes < 2 or spp % passes:
+        raise ValidateError(f"furnace: cos_views in (0, 1], passes ≥ 2, spp a multiple of passes; got "
+                            f"{mus.tolist()}, spp={spp}, passes={passes}")
+    scene = mi.load_dict({"type": "scene", "emitter": {"type": "constant", "radiance": {"type": "rgb", "value": 1.0}},
+                          "shape": {"type": "sphere", "center": [0.0, 0.0, 0.0], "radius": 1.0, "bsdf": bsdf}})
+    integrator = mi.load_dict({"type": "path", "max_depth": 2})
+    x = np.sqrt(np.clip(1.0 - mus * mus, 0.0, 1.0)) * (1.0 - 1e-6)
+    o = np.repeat(np.stack([x, np.zeros_like(x), np.full_like(x, CAMERA_DISTANCE)], -1), rays, axis=0)
+    d = np.broadcast_to(np.array([0.0, 0.0, -1.0]), o.shape).copy()
+    per = spp // passes
+    vals = np.stack([_trace(scene, integrator, o, d, per, seed * MAX_PASSES + p, "independent")[:, 0]
+                     .reshape(len(mus), rays).mean(axis=1) for p in range(passes)])
+    mean, se = mean_and_stderr(vals)
+    return FurnaceResult(mus, mean, se, passes, spp * rays)
+
+
+@dataclass(frozen=True)
+class Chi2Result:
+    """Pearson χ² of a BSDF's ``sample`` against its ``pdf`` (Mitsuba's ``ChiSquareTest``)."""
+
+    p_value: float
+    statistic_ok: bool  # False when Mitsuba's sanity checks failed (samples outside the domain, …)
+    messages: str
+
+
+def chi2_bsdf(bsdf: dict, cos_view: float, pdf_bsdf: dict | None = None, samples: int = 2_000_000,
+              res: int = 101, ires: int = 16, seed: int = 5) -> Chi2Result:
+    """``mitsuba.chi2.ChiSquareTest`` with its ``BSDFAdapter`` [2]: histogram of ``samples`` directions from
+    ``bsdf``'s ``sample`` on the sphere (``SphericalDomain``, res × 2res cells; odd res so no cell edge lies
+    on the horizon) against ``pdf`` integrated per cell (trapezoid rule, ires² points per cell: 16 resolves
+    a lobe of 1/√100 rad in 1.8° cells), cells with expected count < 5 pooled. ``pdf_bsdf`` (default
+    ``bsdf``) supplies the pdf: a different one is the power check (does the test see a wrong pdf?).
+    The view is (√(1 − μ²), 0, μ) in the local frame; returns the p-value (0 if a sanity check failed)."""
+    from mitsuba.chi2 import BSDFAdapter, ChiSquareTest, SphericalDomain
+
+    init()
+    for b in (bsdf, pdf_bsdf or bsdf):
+        if b.get("type") == PHONG_PLUGIN:
+            register_phong_bsdf()
+    mu = float(np.clip(cos_view, 0.0, 1.0))
+    wi = [float(np.sqrt(1.0 - mu * mu)), 0.0, mu]
+    sample_fn, _ = BSDFAdapter(bsdf["type"], bsdf, wi=wi)
+    _, pdf_fn = BSDFAdapter((pdf_bsdf or bsdf)["type"], pdf_bsdf or bsdf, wi=wi)
+    test = ChiSquareTest(SphericalDomain(), sample_fn, pdf_fn, sample_dim=3, sample_count=samples, res=res,
+                         ires=ires, seed=seed)
+    test.run(significance_level=0.01, test_count=1, quiet=True)
+    ok = not test.fail
+    p = float(test.p_value) if ok and test.p_value is not None and np.isfinite(test.p_value) else 0.0
+    return Chi2Result(p, ok, test.messages)
