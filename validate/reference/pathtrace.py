@@ -281,7 +281,7 @@ def compare(render: SphereRender, expected: np.ndarray, uncertainty: np.ndarray,
         raise ValidateError("expected radiance has NaN/Inf on a tested pixel")
     sigma = np.sqrt(se**2 + uq**2)
     diff = m - q
-    t = np.divide(diff, sigma, out=np.where(diff == 0, 0.0, np.sign(diff) * np.inf), where=sigma > 0)
+    t = np.divide(diff, sigma, out=np.where(diff == 0, 0.0, np.copysign(np.inf, diff)), where=sigma > 0)
     z = t_to_z(t, render.passes - 1)
     tests = z.size
     z_crit = sidak_critical(tests, alpha)

@@ -1,0 +1,1 @@
+"""Package data: published reference figures (see README.md in this folder)."""
