@@ -1,0 +1,155 @@
+"""Cube faces for the engines, rendered from the same radiance function the reference integrates.
+
+The reference integrates Mitsuba's envmap radiance: bilinear in (φ, θ) between the lat-long samples
+(:mod:`validate.scenes.latlong`). Each cube texel here holds that function's *average over the
+texel's solid angle*, L_texel = ∫_texel L dω / Ω_texel, so that a face carries the map's flux and a
+sun keeps its energy whatever the face size. The map is split as L = L₀ + D:
+
+* D is the bilinear radiance of the *hot* texels alone (each holding more than ``HOT_FRACTION`` =
+  10⁻⁴ of the luminance flux and brighter than 50 × the mean radiance: a sun, a lamp): every
+  bilinear patch it touches gets a 16 × 16 Gauss–Legendre rule (weights Δθ Δφ w_a w_b sin θ), each
+  node's flux D w goes to the cube texel its direction falls in, and the texel gains that flux over
+  its exact solid angle Ω_texel — exact to ~10⁻⁶ of the flux, placed to 1/16 of a lat-long texel.
+* L₀ (the map with the hot texels zeroed) is smooth enough for a midpoint rule: s × s sub-texel points
+  on the face plane, weighted by dω/dA = r⁻³, L₀_texel = Σ L₀(ω_k) r_k⁻³ / Σ r_k⁻³, with s such that the
+  sub-texel spacing is no wider than the lat-long row spacing π/(H − 1) (2 ≤ s ≤ 4).
+
+The face flux Σ L_texel Ω_texel is measured against the map's (:func:`face_flux`) and reported beside
+every result.
+
+Layout: faces +X, −X, +Y, −Y, +Z, −Z; texel (row i, column j) of an N × N face is centred at
+s = (j + ½)/N, t = (i + ½)/N of OpenGL's cube-map selection table [1, Table 8.19]
+(:func:`validate.local_models.irradiance_map.face_direction`). Both engines read faces in exactly this
+layout: three.js's ``LightProbeGenerator.fromCubeRenderTarget`` (WebGL readback rows, bottom-up) and
+Babylon.js's ``CubeMapToSphericalPolynomialTools._FileFaces`` (right, left, up, down, front, back) —
+checked texel by texel in ``tests/test_engines.py``.
+
+References
+  [1] M. Segal, K. Akeley, "The OpenGL Graphics System: A Specification (4.6 Core)", §8.13, Table 8.19.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ...errors import ValidateError
+from ...scenes import latlong
+from .. import sh as shm
+from ..irradiance_map import cube_texel_directions, cube_texel_solid_angles, face_coords, face_direction
+
+MAX_SUPERSAMPLE = 4
+HOT_FRACTION = 1e-4  # a texel above this share of the luminance flux is splatted exactly
+HOT_CONTRAST = 50.0  # … and brighter than 50 × the mean radiance Φ_Y/4π (a peak, not a small map)
+MAX_HOT = 4096  # at most this many hot texels (the brightest)
+HOT_NODES = 16  # Gauss–Legendre nodes per patch axis for the hot part
+
+
+def supersample_for(height: int, face_size: int) -> int:
+    """Sub-texel points per axis for L₀: ⌈(2/N) / (π/(H − 1))⌉ (sub-texel spacing ≤ the lat-long row
+    spacing), clipped to [2, 4]."""
+    s = math.ceil((2.0 / face_size) / (math.pi / max(height - 1, 1)))
+    return int(min(max(s, 2), MAX_SUPERSAMPLE))
+
+
+def hot_texels(radiance: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(rows, cols) of the texels above ``HOT_FRACTION`` of the luminance flux and ``HOT_CONTRAST`` × the
+    mean radiance (at most ``MAX_HOT``, the brightest)."""
+    f = latlong.luminance(radiance.astype(np.float64)) * latlong.texel_solid_angles(*radiance.shape[:2])
+    flat = f.ravel()
+    y = latlong.luminance(radiance.astype(np.float64)).ravel()
+    mean_y = flat.sum() / (4.0 * np.pi)
+    idx = np.flatnonzero((flat > HOT_FRACTION * max(flat.sum(), 1e-300)) & (y > HOT_CONTRAST * mean_y))
+    if len(idx) > MAX_HOT:
+        idx = idx[np.argsort(flat[idx])[::-1][:MAX_HOT]]
+    return np.unravel_index(idx, f.shape)
+
+
+def _supersampled(radiance: np.ndarray, n: int, s: int) -> np.ndarray:
+    sub = (np.arange(n * s, dtype=np.float64) + 0.5) / (n * s) * 2.0 - 1.0
+    tc, sc = np.meshgrid(sub, sub, indexing="ij")
+    w = (1.0 + sc * sc + tc * tc) ** -1.5  # dω/dA on the face plane
+    wsum = w.reshape(n, s, n, s).sum(axis=(1, 3))
+    faces = np.empty((6, n, n, 3))
+    for f in range(6):
+        d = face_direction(f, sc, tc)
+        d /= np.linalg.norm(d, axis=-1, keepdims=True)
+        lv = latlong.bilinear_lookup(radiance, d) * w[..., None]
+        faces[f] = lv.reshape(n, s, n, s, 3).sum(axis=(1, 3)) / wsum[..., None]
+    return faces
+
+
+def _splat_hot(d_map: np.ndarray, rows: np.ndarray, cols: np.ndarray, n: int) -> np.ndarray:
+    """Flux of the bilinear function ``d_map`` (non-zero only at the hot texels) per cube texel."""
+    h, w = d_map.shape[:2]
+    pi = np.concatenate([rows - 1, rows - 1, rows, rows])
+    pj = np.concatenate([cols - 1, cols, cols - 1, cols]) % w
+    keep = (pi >= 0) & (pi < h - 1)
+    patches = np.unique(np.stack([pi[keep], pj[keep]], axis=1), axis=0)
+    flux = np.zeros((6 * n * n, 3))
+    if len(patches) == 0:
+        return flux
+    i, j = patches[:, 0], patches[:, 1]
+    j1 = (j + 1) % w
+    xg, wg = np.polynomial.legendre.leggauss(HOT_NODES)
+    xg, wg = (xg + 1.0) / 2.0, wg / 2.0
+    a, b = np.meshgrid(xg, xg, indexing="ij")
+    wab = np.outer(wg, wg)
+    dth, dph = math.pi / (h - 1), 2.0 * math.pi / w
+    theta = latlong.row_theta(h)[i][:, None, None] + a * dth
+    phi = latlong.col_phi(w)[j][:, None, None] + b * dph
+    a, b = a[None, ..., None], b[None, ..., None]
+    lv = ((1 - a) * (1 - b) * d_map[i, j][:, None, None] + (1 - a) * b * d_map[i, j1][:, None, None]
+          + a * (1 - b) * d_map[i + 1, j][:, None, None] + a * b * d_map[i + 1, j1][:, None, None])
+    weight = dth * dph * wab[None] * np.sin(theta)
+    face, x, y = face_coords(latlong.spherical_to_direction(theta, phi), n)
+    idx = (face * n + np.clip(np.floor(y), 0, n - 1).astype(np.int64)) * n + np.clip(np.floor(x), 0, n - 1).astype(
+        np.int64)
+    for c in range(3):
+        flux[:, c] = np.bincount(idx.ravel(), (lv[..., c] * weight).ravel(), 6 * n * n)
+    return flux
+
+
+def render_faces(radiance: np.ndarray, face_size: int, supersample: int | None = None) -> np.ndarray:
+    """Texel-averaged radiance of the six faces, (6, N, N, 3) float32 (see the module docstring)."""
+    if radiance.ndim != 3 or radiance.shape[2] != 3 or radiance.shape[0] < 2:
+        raise ValidateError(f"cube faces: radiance must be an (H ≥ 2, W, 3) lat-long map, got {radiance.shape}")
+    if not 1 <= face_size <= 4096:
+        raise ValidateError(f"cube faces: face size {face_size} outside [1, 4096]")
+    n = face_size
+    rad = np.asarray(radiance, dtype=np.float64)
+    rows, cols = hot_texels(rad)
+    smooth = rad.copy()
+    smooth[rows, cols] = 0.0
+    faces = _supersampled(smooth, n, supersample or supersample_for(rad.shape[0], n))
+    if len(rows):
+        hot = rad - smooth
+        faces += (_splat_hot(hot, rows, cols, n) / cube_texel_solid_angles(n).reshape(1, n * n).repeat(6, 0)
+                  .reshape(-1, 1)).reshape(6, n, n, 3)
+    return faces.astype(np.float32)
+
+
+def face_flux(faces: np.ndarray) -> np.ndarray:
+    """Φ = Σ L_texel Ω_texel per channel (exact texel solid angles), (3,)."""
+    omega = cube_texel_solid_angles(faces.shape[1])
+    return np.einsum("fijc,ij->c", faces.astype(np.float64), omega)
+
+
+def project_faces_sh9(faces: np.ndarray) -> np.ndarray:
+    """Order-2 SH coefficients (9, 3) of the faces with exact texel solid angles, float64, in the suite's
+    basis (:mod:`validate.local_models.sh`): the engines' projection done exactly, for comparison."""
+    n = faces.shape[1]
+    d = cube_texel_directions(n).reshape(-1, 3)
+    omega = np.broadcast_to(cube_texel_solid_angles(n), (6, n, n)).reshape(-1)
+    basis = shm.eval_basis_numpy(d, 2)
+    return basis.T @ (faces.reshape(-1, 3).astype(np.float64) * omega[:, None])
+
+
+def render_sh9(coeffs: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """E(n) = Σ_l A_l Σ_m L_lm Y_lm(n) (R&H 2001 eq. 8) in float64, (N, 3)."""
+    al = np.array([shm.clamped_cosine_al(shm.degree_of(k)) for k in range(9)])
+    return shm.eval_basis_numpy(np.asarray(normals, dtype=np.float64), 2) @ (al[:, None] * coeffs[:9])
+
+
+__all__ = ["render_faces", "face_flux", "project_faces_sh9", "render_sh9", "supersample_for", "hot_texels"]
