@@ -1,0 +1,198 @@
+"""``validate.testing`` — gate your own lighting code on physics from your own pytest suite.
+
+One check function per technique family. Each evaluates your function on reference environments,
+measures it against Mitsuba ground truth with the suite's metrics, and returns a
+:class:`~validate.experiments.techniques.CheckResult` whose values carry their uncertainty::
+
+    # test_my_model.py (a complete example: examples/test_my_model.py)
+    from validate.testing import check_irradiance
+
+    def my_irradiance(radiance, normals):   # (H, W, 3) lat-long, (N, 3) unit normals → (N, 3)
+        ...
+
+    def test_my_irradiance():
+        r = check_irradiance(my_irradiance, environments=("two_tone", "grace_probe"))
+        assert r.flux_luminance.max < 0.05        # worst environment, max over normals
+        assert r["two_tone"].flux_luminance.mean < 0.01
+        # conservative: demand that the bound clears, not just the value
+        assert r.flux_luminance.max + r.flux_luminance.max_uncertainty < 0.05
+
+Run it with ``python -m pytest test_my_model.py`` (from this repository: ``.venv/bin/python -m pytest
+examples/``).
+
+``check_irradiance(fn, environments=("two_tone", "grace_probe"), normals=2500, name=None, missing="skip")``
+    ``fn(radiance, normals) -> irradiance`` follows the ``irradiance`` family's contract
+    (:mod:`validate.local_models.families`): ``radiance`` is an (H, W, 3) float32 lat-long map in
+    Mitsuba's ``envmap`` convention (y up; direction (sin φ sin θ, cos θ, −cos φ sin θ); row i at
+    θ = iπ/(H − 1), column j at φ = 2π(j + ½)/W), ``normals`` (N, 3) unit vectors, and the result the
+    (N, 3) irradiance E(n) = ∫ L(ω) max(0, n·ω) dω (not E/π). A wrong shape, NaN or Inf raises
+    :class:`~validate.errors.ValidateError` naming the technique. ``fn`` may also be a registered
+    technique (its name or its :class:`~validate.local_models.registry.Technique`).
+
+    ``environments``: built-in names (``constant``, ``two_tone``, ``bandlimited``, ``disc_on_sky``,
+    ``near_directional``, ``sunsky_5deg``, ``sunsky_30deg``, ``sunsky_60deg``), probe names resolved as
+    ``<probes>/<name>.{hdr,exr,pfm}`` where ``<probes>`` is ``$VALIDATE_PROBES``, else
+    ``<checkout>/../shared/probes``, else ``./../shared/probes``, or paths to probe files.
+
+    ``normals``: the number of spherical-Fibonacci normals (quasi-uniform) the error is measured at.
+
+    A probe that cannot be found: ``missing="skip"`` (default) skips the calling test through
+    ``pytest.skip`` with the reason (outside pytest it raises :class:`MissingProbe`);
+    ``missing="error"`` always raises :class:`MissingProbe`, a :class:`~validate.errors.ValidateError`.
+
+    The metrics (README § Metrics; :mod:`validate.metrics.irradiance_error`) at every normal n, with
+    Φ = ∫ L dω and Y the Rec. 709 luminance: ``flux_luminance`` |Y(E′) − Y(E)| / Φ_Y (the normalisation
+    of R&H 2001's "< 1 % average, < 5 % max"), ``flux_rgb`` the worst channel of |E′_c − E_c| / Φ_c,
+    ``relative`` |Y(E′) − Y(E)| / Y(E) where Y(E) ≥ 10⁻³ max Y(E), ``peak`` |Y(E′) − Y(E)| / max Y(E).
+    Each is a :class:`~validate.experiments.techniques.Stat`: ``mean`` and ``max`` over the normals with
+    ``mean_uncertainty`` and ``max_uncertainty`` (the reference quadrature's, propagated).
+
+    The reference is cached on disk (``$VALIDATE_CACHE``, default ``~/.cache/validate``), so a second
+    run costs only your function.
+
+``CheckResult``
+    ``r.<metric>`` is the worst case over the environments checked (largest mean, largest max);
+    ``r[env].<metric>`` one environment; ``r.environments[env][metric]`` the same as a dict;
+    ``repr(r)`` lists every value ± uncertainty (pytest shows it when an assert fails).
+
+``check_specular``, ``check_arealight``, ``check_shadow``
+    The same for the ``specular``, ``arealight`` and ``shadow`` families; they are implemented by their
+    experiments (:mod:`validate.experiments.ibl`, ``.arealights``, ``.shadows``) and documented there.
+    Where this version has none, calling one raises ``NotImplementedError``.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from collections.abc import Callable, Iterable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .errors import ValidateError
+from .experiments.techniques import CheckResult, Stat
+from .local_models.registry import Technique
+
+PROBE_EXTENSIONS = (".hdr", ".exr", ".pfm")
+DEFAULT_ENVIRONMENTS = ("two_tone", "grace_probe")
+
+
+class MissingProbe(ValidateError):
+    """A probe named in ``environments`` was not found (one line: the name and where it was looked for)."""
+
+
+def probe_dirs() -> list[Path]:
+    """Where probe names are looked up, in order: ``$VALIDATE_PROBES``, else the checkout's
+    ``../shared/probes``, else ``./../shared/probes`` (relative to the working folder)."""
+    env = os.environ.get("VALIDATE_PROBES")
+    if env:
+        return [Path(env)]
+    return [Path(__file__).resolve().parents[2] / "shared" / "probes", Path.cwd().parent / "shared" / "probes"]
+
+
+def find_probe(name: str) -> Path:
+    """The probe file for ``name`` (a path, or a stem looked up in :func:`probe_dirs`); else MissingProbe."""
+    as_path = Path(name)
+    if as_path.suffix.lower() in PROBE_EXTENSIONS or as_path.parent != Path("."):
+        if as_path.is_file():
+            return as_path
+        raise MissingProbe(f"{name}: probe file not found")
+    dirs = probe_dirs()
+    for d in dirs:
+        for ext in PROBE_EXTENSIONS:
+            if (d / f"{name}{ext}").is_file():
+                return d / f"{name}{ext}"
+    where = ", ".join(str(d) for d in dirs)
+    raise MissingProbe(f"{name}: light probe not found (looked for {name}.hdr/.exr/.pfm in {where}); "
+                       "set VALIDATE_PROBES to the folder holding it")
+
+
+def load_named_environment(name: str) -> Any:
+    """A built-in environment (full size) or a probe (:func:`find_probe`) as an Environment."""
+    from .scenes import procedural
+    from .scenes.loaders import load_environment
+
+    if name in procedural.BUILTIN_NAMES:
+        return procedural.builtin_environment(name)
+    return load_environment(find_probe(name))
+
+
+def _technique(fn: Callable[..., Any] | Technique | str, name: str | None) -> Technique:
+    from .local_models import irradiance
+
+    if isinstance(fn, str):
+        fn = irradiance[fn]
+    if isinstance(fn, Technique):
+        return fn if name is None else Technique(name, fn.family, fn.fn, fn.description)
+    if not callable(fn):
+        raise ValidateError(f"check_irradiance: {fn!r} is not callable")
+    label = name or getattr(fn, "__name__", None) or type(fn).__name__
+    return Technique(label, "irradiance", fn, (getattr(fn, "__doc__", None) or "").strip().split("\n")[0])
+
+
+def _skip_or_raise(exc: MissingProbe, missing: str) -> None:
+    if missing == "skip" and "pytest" in sys.modules:
+        import pytest
+
+        pytest.skip(str(exc))
+    raise exc
+
+
+def check_irradiance(fn: Callable[[np.ndarray, np.ndarray], np.ndarray] | Technique | str,
+                     environments: Iterable[str] = DEFAULT_ENVIRONMENTS, normals: int = 2500,
+                     name: str | None = None, missing: str = "skip") -> CheckResult:
+    """Measure an irradiance technique against the reference on each environment (module docstring)."""
+    from .backend import init
+    from .local_models import irradiance
+    from .metrics.irradiance_error import irradiance_errors
+    from .reference.irradiance import reference_irradiance
+    from .scenes.latlong import fibonacci_sphere
+
+    if missing not in ("skip", "error"):
+        raise ValidateError(f"check_irradiance: missing={missing!r} must be 'skip' or 'error'")
+    if not isinstance(normals, (int, np.integer)) or normals < 16:
+        raise ValidateError(f"check_irradiance: normals={normals!r} must be an integer ≥ 16")
+    names = [environments] if isinstance(environments, str) else list(environments)
+    if not names:
+        raise ValidateError("check_irradiance: environments is empty")
+    tech = _technique(fn, name)
+    init()
+    envs = []
+    for env_name in names:
+        try:
+            envs.append(load_named_environment(env_name))
+        except MissingProbe as exc:
+            _skip_or_raise(exc, missing)
+    n = fibonacci_sphere(int(normals))
+    out: dict[str, dict[str, Stat]] = {}
+    for env_name, env in zip(names, envs, strict=True):
+        ref = reference_irradiance(env, n)
+        e = irradiance.call(tech, env.radiance, n)
+        stats = irradiance_errors(ref.irradiance, e, env.total_flux(), ref.uncertainty)
+        out[env_name] = {k: Stat(s.mean, s.max, s.mean_uncertainty, s.max_uncertainty) for k, s in stats.items()}
+    return CheckResult(tech.name, "irradiance", out)
+
+
+def _lazy(family: str, module: str, function: str) -> Callable[..., Any]:
+    def check(*args: Any, **kwargs: Any) -> Any:
+        try:
+            impl = getattr(__import__(f"validate.experiments.{module}", fromlist=[function]), function)
+        except (ImportError, AttributeError) as exc:
+            raise NotImplementedError(f"validate.testing.{function}: the {family} check is not available in this "
+                                      f"version (validate.experiments.{module}.{function}: {exc})") from None
+        return impl(*args, **kwargs)
+
+    check.__name__ = check.__qualname__ = function
+    check.__doc__ = (f"Check a ``{family}`` technique: see ``validate.experiments.{module}.{function}`` "
+                     "(NotImplementedError where this version has none).")
+    return check
+
+
+check_specular = _lazy("specular", "ibl", "check_specular")
+check_arealight = _lazy("arealight", "arealights", "check_arealight")
+check_shadow = _lazy("shadow", "shadows", "check_shadow")
+
+__all__ = ["CheckResult", "MissingProbe", "Stat", "check_arealight", "check_irradiance", "check_shadow",
+           "check_specular", "find_probe", "load_named_environment", "probe_dirs"]
