@@ -1,0 +1,298 @@
+"""Numbers of the ``brdfs`` experiment: every ``brdf`` technique against Mitsuba BSDFs and the V-groove surface.
+
+Metrics (luminance Y of the (N, 3) cosine-weighted BRDF q = f_r·cos θ_l; the reference q_ref):
+
+* ``rel_l1.<material>`` = ∫∫ |q − q_ref| cos θ_v dω_l dω_v / ∫∫ q_ref cos θ_v dω_l dω_v — the error in the
+  light reflected under uniform illumination from every direction, relative to that light. Mitsuba
+  materials: Gauss–Legendre (cos θ_l, cos θ_v) × uniform Δφ grid (:func:`~validate.scenes.brdf_scenes.brdf_grid`);
+  uncertainty = |value(n) − value(n/2)| (quadrature). V-groove materials: the configurations of the settings
+  with equal weights; uncertainty Σ se/Σ q_ref (an upper bound on what the Monte Carlo noise can shift).
+* ``max_rel.<material>`` (Mitsuba materials) = max |q − q_ref|/q_ref over grid points where q_ref > 10⁻³
+  max q_ref; uncertainty 10⁻⁵ (Mitsuba's float32 evaluation: ≈ 50 operations × 2⁻²⁴).
+* ``albedo_error.<material>`` (Mitsuba materials) = max over view angles θ_v of |W − W_ref|, where the
+  white-furnace albedo W(v) = ∫ q(l, v) dω_l is the radiance seen under a unit white sky; both by the same
+  quadrature (:func:`~validate.scenes.brdf_scenes.hemisphere_quadrature`); uncertainty |Δ| between n and n/2.
+
+Power (every metric): the technique's output × 1.02, a 2 % bias (``Measured.perturbed``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..local_models import family
+from ..local_models.registry import Technique
+from ..reference import brdf_render as br
+from ..reference.ibl_render import register_phong_bsdf
+from ..scenes import brdf_scenes as bs
+from ..scenes.latlong import luminance
+
+BIAS = 1.02
+POWER_TEXT = "technique output × 1.02 (a 2 % bias)"
+MASK_FRACTION = 1e-3
+FLOAT32_UNCERTAINTY = 1e-5
+
+
+@dataclass(frozen=True)
+class Settings:
+    grid: int  # Gauss–Legendre nodes in cos θ_l and cos θ_v, and Δφ nodes
+    furnace: tuple[int, int]  # (cos θ nodes, φ nodes) of the furnace quadrature
+    furnace_views_deg: tuple[float, ...]
+    alphas: tuple[float, ...]  # Beckmann roughness of the conductor materials
+    ggx_alphas: tuple[float, ...]
+    phong_exponents: tuple[float, ...]  # modified-Phong materials
+    sweep_alphas: tuple[float, ...]  # energy sweep (mirror F = 1)
+    sigmas_deg: tuple[float, ...]  # V-groove slope deviations (first: the Lambert limit)
+    thetas_deg: tuple[float, ...]
+    dphis_deg: tuple[float, ...]
+    n_slope: int
+    n_orient: int
+    paths: int
+    depth: int
+    albedo: float = 0.8
+    image: int = 64
+    minnaert_ks: tuple[float, ...] = tuple(float(k) for k in np.round(np.arange(0.5, 1.51, 0.05), 2))
+
+
+QUICK = Settings(grid=20, furnace=(48, 96), furnace_views_deg=(0.0, 45.0, 75.0), alphas=(0.2, 0.5), ggx_alphas=(0.3,),
+                 phong_exponents=(20.0,), sweep_alphas=(0.1, 0.2, 0.3, 0.5, 0.8), sigmas_deg=(2.0, 20.0, 40.0),
+                 thetas_deg=(0.0, 30.0, 60.0, 75.0), dphis_deg=(0.0, 90.0, 180.0), n_slope=5, n_orient=6,
+                 paths=128, depth=10, image=48)
+FULL = Settings(grid=40, furnace=(128, 256), furnace_views_deg=(0.0, 30.0, 45.0, 60.0, 75.0, 85.0),
+                alphas=(0.1, 0.2, 0.3, 0.5), ggx_alphas=(0.1, 0.3), phong_exponents=(20.0, 100.0),
+                sweep_alphas=(0.05, 0.1, 0.2, 0.3, 0.5, 0.8, 1.0), sigmas_deg=(2.0, 10.0, 20.0, 30.0, 40.0),
+                thetas_deg=(0.0, 20.0, 40.0, 60.0, 75.0, 85.0), dphis_deg=(0.0, 45.0, 90.0, 135.0, 180.0),
+                n_slope=8, n_orient=8, paths=512, depth=12, image=96)
+
+
+def materials(s: Settings) -> list[bs.Material]:
+    """The Mitsuba materials: coloured and mirror Beckmann conductors, GGX, a dielectric interface, diffuse,
+    the modified-Phong BSDF."""
+    plugin = register_phong_bsdf()
+    out = [bs.conductor(a) for a in s.alphas] + [bs.conductor(a, "ggx") for a in s.ggx_alphas]
+    out.append(bs.conductor(0.2, coloured=False))
+    out.append(bs.dielectric_interface(0.3))
+    out.append(bs.diffuse(s.albedo))
+    out += [bs.modified_phong(p, plugin) for p in s.phong_exponents]
+    return out
+
+
+@dataclass
+class Measurements:
+    settings: Settings
+    techniques: list[Technique]
+    materials: list[str] = field(default_factory=list)
+    # metrics[tech][metric] = {"value", "uncertainty", "perturbed"}
+    metrics: dict[str, dict[str, dict[str, float]]] = field(default_factory=dict)
+    furnace: dict[str, Any] = field(default_factory=dict)  # furnace[material][tech or "mitsuba"] = [W per view]
+    sweep: dict[str, Any] = field(default_factory=dict)
+    terms: dict[str, Any] = field(default_factory=dict)
+    vgroove: dict[str, Any] = field(default_factory=dict)
+    images: dict[str, Any] = field(default_factory=dict)
+
+
+def _normals(n: int) -> np.ndarray:
+    return np.tile(np.array([0.0, 0.0, 1.0]), (n, 1))
+
+
+def call(tech: Technique | str, params: dict[str, Any], lights: np.ndarray, views: np.ndarray) -> np.ndarray:
+    """A technique through the registry (contract checked), local frame."""
+    return family("brdf").call(tech, params, _normals(len(lights)), lights, views)
+
+
+def rel_l1(q: np.ndarray, ref: np.ndarray, w: np.ndarray) -> float:
+    """Σ w |Y(q) − Y(ref)| / Σ w Y(ref)."""
+    return float(np.sum(w * np.abs(luminance(q) - luminance(ref))) / np.sum(w * luminance(ref)))
+
+
+def max_rel(q: np.ndarray, ref: np.ndarray) -> float:
+    """max |q − ref|/ref over channels and points where ref > 10⁻³ max ref."""
+    mask = ref > MASK_FRACTION * ref.max()
+    return float(np.max(np.abs(q[mask] - ref[mask]) / ref[mask]))
+
+
+def _entry(value: float, unc: float, perturbed: float) -> dict[str, float]:
+    return {"value": float(value), "uncertainty": float(unc), "perturbed": float(perturbed)}
+
+
+def grid_metrics(m: Measurements, mat: bs.Material) -> None:
+    """rel_l1 and max_rel of every technique for one Mitsuba material (grid n and n/2)."""
+    grids = [bs.brdf_grid(m.settings.grid, m.settings.grid), bs.brdf_grid(m.settings.grid // 2, m.settings.grid // 2)]
+    refs = [br.eval_bsdf(mat.bsdf, g[0], g[1]) for g in grids]
+    for tech in m.techniques:
+        q = [call(tech, mat.params, g[0], g[1]) for g in grids]
+        e = [rel_l1(qq, r, g[2]) for qq, r, g in zip(q, refs, grids, strict=True)]
+        mx = max_rel(q[0], refs[0])
+        d = m.metrics.setdefault(tech.name, {})
+        d[f"rel_l1.{mat.name}"] = _entry(e[0], abs(e[0] - e[1]), rel_l1(BIAS * q[0], refs[0], grids[0][2]))
+        d[f"max_rel.{mat.name}"] = _entry(mx, FLOAT32_UNCERTAINTY, max_rel(BIAS * q[0], refs[0]))
+
+
+def furnace_albedo(fn: Any, views_deg: tuple[float, ...], nodes: tuple[int, int]) -> np.ndarray:
+    """W(θ_v) = ∫ Y(q(l, v)) dω_l for each view angle (luminance), with ``fn(lights, views) -> q``."""
+    dirs, w = bs.hemisphere_quadrature(*nodes)
+    out = []
+    for t in views_deg:
+        v = np.tile(bs.direction(np.radians(t), 0.0), (len(dirs), 1))
+        out.append(float(np.sum(w * luminance(fn(dirs, v)))))
+    return np.asarray(out)
+
+
+def furnace_metrics(m: Measurements, mat: bs.Material) -> None:
+    """White-furnace albedo of Mitsuba and every technique at the material's parameters; albedo_error."""
+    s = m.settings
+    half = (s.furnace[0] // 2, s.furnace[1] // 2)
+    ref = [furnace_albedo(lambda lt, vw: br.eval_bsdf(mat.bsdf, lt, vw), s.furnace_views_deg, n)
+           for n in (s.furnace, half)]
+    entry: dict[str, Any] = {"mitsuba": ref[0].tolist()}
+    for tech in m.techniques:
+        w = [furnace_albedo(lambda lt, vw, t=tech: call(t, mat.params, lt, vw), s.furnace_views_deg, n)
+             for n in (s.furnace, half)]
+        entry[tech.name] = w[0].tolist()
+        err, err_half = np.max(np.abs(w[0] - ref[0])), np.max(np.abs(w[1] - ref[1]))
+        m.metrics[tech.name][f"albedo_error.{mat.name}"] = _entry(err, abs(err - err_half),
+                                                                  np.max(np.abs(BIAS * w[0] - ref[0])))
+    m.furnace[mat.name] = entry
+
+
+def energy_sweep(m: Measurements) -> None:
+    """Albedo at normal incidence and at 60° vs roughness (mirror F = 1, k_s = 1): every technique and
+    Mitsuba's roughconductor (Beckmann) at the Walter-equivalent α."""
+    s = m.settings
+    views = (0.0, 60.0)
+    out: dict[str, Any] = {"alpha": list(s.sweep_alphas),
+                           "blinn_exponent": [bs.blinn_exponent(a) for a in s.sweep_alphas],
+                           "views_deg": list(views), "mitsuba": [], "techniques": {t.name: [] for t in m.techniques}}
+    for a in s.sweep_alphas:
+        mat = bs.conductor(a, coloured=False)
+        params = {**mat.params, "ks": 1.0}
+        out["mitsuba"].append(furnace_albedo(lambda lt, vw, b=mat.bsdf: br.eval_bsdf(b, lt, vw), views,
+                                             s.furnace).tolist())
+        for tech in m.techniques:
+            out["techniques"][tech.name].append(
+                furnace_albedo(lambda lt, vw, t=tech, p=params: call(t, p, lt, vw), views, s.furnace).tolist())
+    m.sweep = out
+
+
+# Term-by-term path from the corrected microfacet BRDF to Ganovelli's printed Cook–Torrance
+TERM_STEPS: tuple[tuple[str, dict[str, str]], ...] = (
+    ("corrected: exact F(v·h), Smith G, 4(n·l)(n·v)",
+     {"fresnel": "exact", "geometry": "smith", "denominator": "walter"}),
+    ("+ Schlick F(v·h)", {"fresnel": "schlick_vh", "geometry": "smith", "denominator": "walter"}),
+    ("+ Schlick F(n·l) (as printed)", {"fresnel": "schlick_nl", "geometry": "smith", "denominator": "walter"}),
+    ("+ V-cavity G", {"fresnel": "schlick_nl", "geometry": "vcavity", "denominator": "walter"}),
+    ("+ no 4 in the denominator = as printed", {"fresnel": "schlick_nl", "geometry": "vcavity",
+                                                "denominator": "printed"}),
+)
+
+
+def term_analysis(m: Measurements, mats: list[bs.Material]) -> None:
+    """rel_l1 and reflected-energy ratio vs Mitsuba of each step of :data:`TERM_STEPS` (Beckmann materials), and
+    the Fresnel terms alone on the dielectric material: weighted error of Schlick(n·l) and Schlick(v·h) against
+    the exact F(v·h)."""
+    from ..local_models.classic_brdfs import Geometry, cook_torrance_printed_terms, fresnel_exact, fresnel_schlick
+
+    lights, views, w = bs.brdf_grid(m.settings.grid, m.settings.grid)
+    g = Geometry(_normals(len(lights)), lights, views)
+    out: dict[str, Any] = {"steps": [s for s, _ in TERM_STEPS], "materials": {}}
+    for mat in mats:
+        if mat.params.get("distribution") != "beckmann" or "alpha" not in mat.bsdf:
+            continue
+        ref = br.eval_bsdf(mat.bsdf, lights, views)
+        rows = []
+        for _, kw in TERM_STEPS:
+            q = cook_torrance_printed_terms(mat.params, g, **kw) * g.front[:, None]
+            rows.append({"rel_l1": rel_l1(q, ref, w),
+                         "energy_ratio": float(np.sum(w * luminance(q)) / np.sum(w * luminance(ref)))})
+        out["materials"][mat.name] = rows
+    diel = next((x for x in mats if x.name.startswith("dielectric")), None)
+    if diel is not None:
+        f0 = bs.specular_params(0.3, "beckmann", diel.params["eta"], 0.0)["ks"]
+        exact = fresnel_exact(g.vh, diel.params["eta"], 0.0)[:, 0]
+        lobe = luminance(br.eval_bsdf(diel.bsdf, lights, views)) * w
+        for name, fx in (("schlick_nl", fresnel_schlick(g.cl, np.asarray(f0))[:, 0]),
+                         ("schlick_vh", fresnel_schlick(g.vh, np.asarray(f0))[:, 0])):
+            rel = np.abs(fx - exact) / exact
+            out[f"fresnel_{name}"] = {"lobe_weighted_rel": float(np.sum(lobe * rel) / lobe.sum()),
+                                      "max_rel": float(np.max(np.abs(fx - exact)[g.front] / exact[g.front]))}
+    m.terms = out
+
+
+def vgroove_metrics(m: Measurements, ctx_seed: int) -> None:
+    """Every technique against the path-traced V-groove surface at each σ (luminance = the grey value)."""
+    s = m.settings
+    lights, views = bs.vgroove_configurations(list(s.thetas_deg), list(s.dphis_deg))
+    out: dict[str, Any] = {"configs": {"lights": lights.tolist(), "views": views.tolist()}, "sigmas": {}}
+    for sd in s.sigmas_deg:
+        mat = bs.vgroove_material(sd, s.albedo)
+        r = br.vgroove_brdf(np.radians(sd), lights, views, s.albedo, s.n_slope, s.n_orient, s.paths, s.depth,
+                            ctx_seed + int(10 * sd))
+        ref, se = r["value"], r["stderr"]
+        unc = float(np.sum(se) / np.sum(ref))
+        per: dict[str, Any] = {"reference": ref.tolist(), "stderr": se.tolist(), "techniques": {}}
+        for tech in m.techniques:
+            q = luminance(call(tech, mat.params, lights, views))
+            e = float(np.sum(np.abs(q - ref)) / np.sum(ref))
+            ep = float(np.sum(np.abs(BIAS * q - ref)) / np.sum(ref))
+            m.metrics.setdefault(tech.name, {})[f"rel_l1.{mat.name}"] = _entry(e, unc, ep)
+            per["techniques"][tech.name] = q.tolist()
+        per["minnaert_fit"] = minnaert_fit(mat.params, lights, views, ref, s.minnaert_ks)
+        per["on_terms"] = on_terms(mat.params, lights, views, ref)
+        out["sigmas"][mat.name] = {"sigma_deg": sd, **per, "rel_uncertainty": unc}
+    m.vgroove = out
+
+
+def minnaert_fit(params: dict[str, Any], lights: np.ndarray, views: np.ndarray, ref: np.ndarray,
+                 ks: tuple[float, ...]) -> dict[str, Any]:
+    """Minnaert's K minimising the V-groove rel_l1 (grid search), with the albedo as given."""
+    if "minnaert" not in family("brdf"):
+        return {}
+    errs = [float(np.sum(np.abs(luminance(call("minnaert", {**params, "minnaert_k": k}, lights, views)) - ref))
+                  / np.sum(ref)) for k in ks]
+    i = int(np.argmin(errs))
+    return {"k": list(ks), "rel_l1": errs, "best_k": float(ks[i]), "best_rel_l1": errs[i]}
+
+
+def on_terms(params: dict[str, Any], lights: np.ndarray, views: np.ndarray, ref: np.ndarray) -> dict[str, float]:
+    """The full Oren–Nayar model without its inter-reflection term L₂ (power check of the ON claim), and the share
+    of L₂ in the full model's light (Σ L₂ / Σ (L₁ + L₂))."""
+    from ..local_models.classic_brdfs import Geometry, oren_nayar_full_terms
+
+    g = Geometry(_normals(len(lights)), lights, views)
+    l1, l2 = oren_nayar_full_terms(float(params["sigma"]), np.asarray(params["albedo"], dtype=np.float64), g)
+    l1, l2 = (luminance(np.broadcast_to(x * g.front[:, None], (len(lights), 3))) for x in (l1, l2))
+    return {"no_l2_rel_l1": float(np.sum(np.abs(l1 - ref)) / np.sum(ref)),
+            "l2_share": float(np.sum(l2) / np.sum(l1 + l2))}
+
+
+def sphere_images(m: Measurements, mat: bs.Material, light_dir: tuple[float, float, float]) -> dict[str, np.ndarray]:
+    """An orthographic view (from +z) of a unit sphere under a directional light of unit perpendicular
+    irradiance: per pixel q(l, v) from Mitsuba and from every technique (direct light on a convex object is
+    exactly the BRDF evaluation; no inter-reflection, no occlusion)."""
+    n = m.settings.image
+    c = (np.arange(n) + 0.5) / n * 2.0 - 1.0
+    x, y = np.meshgrid(c, -c)
+    inside = x * x + y * y < 1.0
+    nrm = np.stack([x, y, np.sqrt(np.maximum(1.0 - x * x - y * y, 0.0))], -1)[inside]
+    l = np.asarray(light_dir, dtype=np.float64) / np.linalg.norm(light_dir)
+    lw, vw = np.tile(l, (len(nrm), 1)), np.tile([0.0, 0.0, 1.0], (len(nrm), 1))
+    t = np.cross(nrm, np.array([0.0, 1.0, 0.0]))
+    t = np.where(np.linalg.norm(t, axis=-1, keepdims=True) < 1e-6, np.array([1.0, 0.0, 0.0]), t)
+    t /= np.linalg.norm(t, axis=-1, keepdims=True)
+    b = np.cross(nrm, t)
+
+    def local(d: np.ndarray) -> np.ndarray:
+        return np.stack([np.sum(d * t, -1), np.sum(d * b, -1), np.sum(d * nrm, -1)], -1)
+
+    def paint(q: np.ndarray) -> np.ndarray:
+        img = np.zeros((n, n, 3))
+        img[inside] = q
+        return img
+
+    out = {"mitsuba": paint(br.eval_bsdf(mat.bsdf, local(lw), local(vw)))}
+    for tech in m.techniques:
+        out[tech.name] = paint(family("brdf").call(tech, mat.params, nrm, lw, vw))
+    return out
