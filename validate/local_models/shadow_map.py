@@ -18,7 +18,8 @@ the "illuminanceSphereOrDisk" form of [1] §4.7 (the horizon-clipped spherical c
 disc's foreshortening max(0, n_L·(−l)) as the extra factor. It is exact on the disc's axis with n
 facing the disc, E = π L_e r²/(r² + d²), and has the right point-light limit E = L_e πr² cos θ cos θ_L
 / d²; elsewhere it is an approximation whose error grows like (r/d)² (measured against
-``disc_irradiance_quadrature``, the slow exact integral E = L_e ∫_disc max(0, n·ω) max(0, −n_L·ω) /
+:func:`validate.reference.shadow_render.disc_irradiance_quadrature`, the slow exact integral
+E = L_e ∫_disc max(0, n·ω) max(0, −n_L·ω) /
 |q − x|² dA_q: ≤ 6.5·10⁻⁵ of the on-axis value for r/d ≤ 0.02, ≤ 6 % for r/d ≤ 0.4).
 
 **Shadow map** (``build_shadow_map``): a perspective view from the disc centre O along n_L, with the
@@ -66,6 +67,13 @@ References
     the OpenGL 4.6 core specification (polygon offset; depth texture comparison with LINEAR filtering).
 [4] R. Fernando, "Percentage-Closer Soft Shadows", SIGGRAPH 2005 sketch.
 [5] J. Isidoro, "Shadow Mapping: GPU-based Tips and Techniques", GDC 2006 (receiver plane depth bias).
+[6] J. de Vries, "Shadow Mapping", LearnOpenGL, Advanced Lighting (learnopengl.com), section "PCF": the
+    3×3 texel neighbourhood averaged around the receiver, the kernel most tutorials and engines start from.
+
+Registered techniques (family ``shadow``, :mod:`validate.local_models.families`; each is the family's
+contract fn(shadow_map, light, points, normals) -> (N,) V′ and registers exactly as a plug-in does):
+``hard`` (nearest texel, glPolygonOffset(2, 4) [3]), ``pcf`` (3×3 bilinear taps [6] [3], footprint 4×4
+texels) and ``pcss`` ([4], 32 blocker-search and 64 filter taps, receiver-plane depth [5]).
 """
 
 from __future__ import annotations
@@ -78,6 +86,7 @@ import numpy as np
 from ..backend import float_type, init, uint_type
 from ..errors import ValidateError
 from ..scenes.shadow_scenes import DiscLight
+from .families import shadow
 from .sphere_cap import cap_irradiance_dr
 
 DEPTH_BITS = 24
@@ -142,6 +151,29 @@ class ShadowMap:
     @property
     def texel_tan(self) -> float:
         return self.view.span / self.resolution
+
+    def depth_image(self) -> np.ndarray:
+        """The stored window depths as a (R, R) float64 array, row j, column i (1 = empty)."""
+        return np.array(self.depth, dtype=np.float64).reshape(self.resolution, self.resolution)
+
+    def view_depth_image(self) -> np.ndarray:
+        """Linear view depth z = n / (1 − z_w / A) per texel (R, R); +inf where the texel is empty."""
+        zw = self.depth_image()
+        with np.errstate(divide="ignore"):
+            z = self.view.near / (1.0 - zw / self.view.depth_scale)
+        return np.where(zw >= 1.0, np.inf, z)
+
+    def window_coords(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(x, y, z_w, z) of points (N, 3): continuous texel coordinates (texel (i, j) covers [i, i + 1) ×
+        [j, j + 1)), the window depth z_w clamped to [0, 1] as GL clamps the reference value, and the
+        linear view depth z. Points behind the light get z = far and coordinates far outside the map."""
+        v = self.view
+        s, t, z = v.view_coords(np.asarray(points, dtype=np.float64).reshape(-1, 3))
+        bad = ~(z > 0)
+        z = np.where(bad, v.far, z)
+        x = np.where(bad, -1e6, (s - v.s0) / v.span * self.resolution)
+        y = np.where(bad, -1e6, (t - v.t0) / v.span * self.resolution)
+        return x, y, np.clip(v.depth_scale * (1 - v.near / z), 0.0, 1.0), z
 
 
 def light_frame(light: DiscLight) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -445,26 +477,35 @@ def disc_irradiance(light: DiscLight, position: np.ndarray, normal: np.ndarray) 
     return _to_numpy(light.radiance * cap_irradiance_dr(cos_t, sin2s) * cos_l)
 
 
-def disc_irradiance_quadrature(light: DiscLight, position: np.ndarray, normal: np.ndarray, side: int = 96
-                               ) -> np.ndarray:
-    """Slow exact E = L_e ∫ max(0, n·ω) max(0, −n_L·ω)/|q − x|² dA (side² equal-area strata, numpy)."""
-    from ..reference.shadow_render import disc_points
-
-    pts = disc_points(np.array(light.centre), light.frame(), light.radius, side)
-    p = np.asarray(position, dtype=np.float64).reshape(-1, 3)
-    nrm = np.asarray(normal, dtype=np.float64).reshape(-1, 3)
-    out = np.empty(p.shape[0])
-    da = light.area / pts.shape[0]
-    for s in range(0, p.shape[0], 256):
-        w = pts[None, :, :] - p[s:s + 256, None, :]
-        d2 = np.einsum("pqk,pqk->pq", w, w)
-        w = w / np.sqrt(d2)[..., None]
-        cos_r = np.maximum(np.einsum("pqk,pk->pq", w, nrm[s:s + 256]), 0)
-        cos_l = np.maximum(-(w @ light.normal), 0)
-        out[s:s + 256] = light.radiance * (cos_r * cos_l / d2).sum(axis=1) * da
-    return out
-
-
 def shade(albedo: np.ndarray, irradiance: np.ndarray, visibility: np.ndarray) -> np.ndarray:
     """L_o = ρ/π · E · V (Lambertian), (N, 3)."""
     return np.asarray(albedo) / np.pi * (np.asarray(irradiance) * np.asarray(visibility))[:, None]
+
+
+# ---------------------------------------------------------------------------------------------- techniques
+
+PCF_KERNEL = 3  # 3×3 taps as shipped [6]; each tap bilinear (sampler2DShadow, GL_LINEAR [3])
+PCSS_SEARCH_TAPS = 32  # blocker-search taps [4]
+PCSS_FILTER_TAPS = 64  # filter taps [4]
+
+
+@shadow.register("hard", "hard shadow map: nearest-texel depth test, glPolygonOffset(2, 4)",
+                 source="Red Book ch. 7 [3]: nearest-texel depth comparison with glPolygonOffset(2, 4)")
+def shadow_hard(shadow_map: ShadowMap, light: DiscLight, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """V′ ∈ {0, 1}: lit iff z_r ≤ D + o at the nearest texel (:func:`visibility_hard`)."""
+    return visibility_hard(shadow_map, points, normals)
+
+
+@shadow.register("pcf", f"PCF {PCF_KERNEL}×{PCF_KERNEL} bilinear taps one texel apart (footprint 4×4 texels)",
+                 source="3×3 neighbourhood of LearnOpenGL's PCF [6]; each tap a GL_LINEAR sampler2DShadow [3]")
+def shadow_pcf(shadow_map: ShadowMap, light: DiscLight, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """V′ = mean of the k×k bilinear comparisons, k = PCF_KERNEL (:func:`visibility_pcf`)."""
+    return visibility_pcf(shadow_map, points, normals, PCF_KERNEL)
+
+
+@shadow.register("pcss", "PCSS: blocker search, penumbra w_p = r (z_r − z_b)/(z_b z_r), variable PCF",
+                 source="Fernando 2005 [4]; receiver-plane depth per tap, Isidoro 2006 [5]")
+def shadow_pcss(shadow_map: ShadowMap, light: DiscLight, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """V′ of PCSS with the light's own radius (:func:`visibility_pcss`, receiver-plane depth on)."""
+    return visibility_pcss(shadow_map, points, normals, light.radius, search_taps=PCSS_SEARCH_TAPS,
+                           filter_taps=PCSS_FILTER_TAPS).visibility

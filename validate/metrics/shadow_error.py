@@ -17,6 +17,13 @@ approximation's visibility V′ (N,) and the reference visible fraction of the d
   of :mod:`validate.metrics.irradiance_error`).
 * ``false_shadow`` (shadow acne and over-darkening): fraction of the reference-lit pixels where
   V′ < ½. ``false_light`` (peter-panning and light leaks): fraction of the umbra pixels where V′ > ½.
+  Each ± its binomial standard error √(max(p(1 − p), 1/n)/n) over the n pixels of the region (the
+  pixels are a sample of the surface; 1/n keeps the error of an empty count from being zero).
+* ``leak``: mean V′ over the umbra pixels (the fraction of the unoccluded light that leaks where the
+  reference is black; the filtered maps' "light bleeding" [2] [3]), ± the standard error of that mean.
+* ``flip_noise``: HDR-FLIP between the reference and the reference plus one draw of its own noise
+  (r + σ ξ, ξ ~ N(0, 1), fixed seed, clamped at 0) — the FLIP a perfect model would score against this
+  reference, quoted as FLIP's uncertainty.
 * FLIP [1]: HDR-FLIP of the two images (invalid pixels black in both), via ``flip_evaluator``
   (defaults: 67 pixels per degree, ACES tone mapper, exposure range from the reference).
 * ``outside_band_test``: per-pixel two-sided Student-t test of a − r against σ with P − 1 degrees
@@ -26,6 +33,8 @@ approximation's visibility V′ (N,) and the reference visible fraction of the d
 References
 [1] P. Andersson, J. Nilsson, P. Shirley, T. Akenine-Möller, "Visualizing Errors in Rendered High
     Dynamic Range Images", Eurographics 2021 (HDR-FLIP).
+[2] W. Donnelly, A. Lauritzen, "Variance Shadow Maps", I3D 2006, §3.2 (light bleeding).
+[3] T. Annen, T. Mertens, H.-P. Seidel, E. Flerackers, J. Kautz, "Exponential Shadow Maps", GI 2008.
 """
 
 from __future__ import annotations
@@ -37,7 +46,7 @@ import numpy as np
 
 from ..errors import ValidateError
 from ..scenes.latlong import luminance
-from .stats import two_sided_t_critical
+from ..stats import two_sided_t_critical
 
 REGIONS = ("lit", "penumbra", "umbra")
 FLOAT_TOLERANCE = 1e-6  # relative to L_norm: below this a difference is float rounding, not error
@@ -67,10 +76,17 @@ class ShadowErrors:
     false_light: float  # fraction of umbra pixels with V′ > ½
     flip: float  # mean HDR-FLIP (NaN if not computed)
     normaliser: float  # L_norm
+    false_shadow_uncertainty: float = 0.0  # binomial standard error
+    false_light_uncertainty: float = 0.0
+    leak: float = float("nan")  # mean V′ over the umbra
+    leak_uncertainty: float = 0.0
 
     def to_json(self) -> dict[str, Any]:
         return {"total": self.total.to_json(), "regions": {k: v.to_json() for k, v in self.regions.items()},
                 "false_shadow": _finite_or_none(self.false_shadow), "false_light": _finite_or_none(self.false_light),
+                "false_shadow_uncertainty": self.false_shadow_uncertainty,
+                "false_light_uncertainty": self.false_light_uncertainty,
+                "leak": _finite_or_none(self.leak), "leak_uncertainty": self.leak_uncertainty,
                 "flip": _finite_or_none(self.flip), "normaliser": self.normaliser}
 
 
@@ -130,10 +146,30 @@ def shadow_errors(reference: np.ndarray, uncertainty: np.ndarray, approx: np.nda
 
     regions = {name: region(masks[name]) for name in REGIONS}
     lit, umbra = masks["lit"], masks["umbra"]
-    false_shadow = float((v_approx[lit] < 0.5).mean()) if lit.any() else float("nan")
-    false_light = float((v_approx[umbra] > 0.5).mean()) if umbra.any() else float("nan")
+    fs, fs_u = binomial_fraction(v_approx[lit] < 0.5)
+    fl, fl_u = binomial_fraction(v_approx[umbra] > 0.5)
+    k = int(umbra.sum())
+    leak = float(v_approx[umbra].mean()) if k else float("nan")
+    leak_u = float(v_approx[umbra].std(ddof=1) / np.sqrt(k)) if k > 1 else 0.0
     flip = flip_error(*images)[1] if images is not None else float("nan")
-    return ShadowErrors(region(np.ones(n, dtype=bool)), regions, false_shadow, false_light, flip, norm)
+    return ShadowErrors(region(np.ones(n, dtype=bool)), regions, fs, fl, flip, norm, fs_u, fl_u, leak, leak_u)
+
+
+def binomial_fraction(hits: np.ndarray) -> tuple[float, float]:
+    """(fraction p of True, binomial standard error √(max(p(1 − p), 1/n)/n)); (NaN, 0) when empty."""
+    n = int(np.size(hits))
+    if n == 0:
+        return float("nan"), 0.0
+    p = float(np.mean(hits))
+    return p, float(np.sqrt(max(p * (1 - p), 1.0 / n) / n))
+
+
+def flip_noise_floor(reference: np.ndarray, uncertainty: np.ndarray, seed: int = 0) -> float:
+    """Mean HDR-FLIP of the reference (H, W, 3) against itself plus one draw of its noise σ (module doc)."""
+    ref = np.nan_to_num(np.asarray(reference, dtype=np.float64))
+    sig = np.nan_to_num(np.asarray(uncertainty, dtype=np.float64))
+    noisy = np.maximum(ref + sig * np.random.default_rng(seed).standard_normal(ref.shape[:2])[..., None], 0.0)
+    return flip_error(ref, noisy)[1]
 
 
 def flip_error(reference: np.ndarray, test: np.ndarray) -> tuple[np.ndarray, float]:

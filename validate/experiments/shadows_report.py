@@ -1,0 +1,202 @@
+"""Report sections, summary and JSON data of the ``shadows`` experiment (figures and tables only).
+
+Every registered shadow technique gets a column in the image grid, an error map, a row per light
+radius in the comparison table and a column in the resolution table.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..metrics import shadow_error as se
+from ..report import plots
+from .base import Context, Figure, Section, Table
+from .shadows_claims import NAME, PENUMBRA_SHARE_X, error_metrics, pct
+from .shadows_measure import Measurements
+
+ERROR_VMAX = 0.5  # error maps clip at 50 % of L_norm
+
+
+def summary(m: Measurements) -> str:
+    s = m.settings
+    return ("A ground plane with a floating sphere, a box, a thin pole and steps under a disc light of radius "
+            f"{m.r_pt:g}–{m.r_max:g} m, 4 m up. Mitsuba's direct lighting at the pixel centres ({s.passes} × {s.spp} "
+            f"spp, {s.width}×{s.height}) is the reference; every registered shadow technique "
+            f"({', '.join(t.name for t in m.techniques)}) shades Mitsuba's G-buffer with the closed-form disc "
+            "irradiance times its visibility V′ from a shadow map. Errors are |ΔY| relative to the mean lit radiance, "
+            "split into lit, penumbra and umbra regions by the reference's visible fraction of the disc.")
+
+
+def data(m: Measurements) -> dict[str, Any]:
+    ref = m.frame.refs[m.r_pt]
+    return {"reference": ref.settings() | {"width": m.settings.width, "height": m.settings.height},
+            "radii": m.radii,
+            "resolution_sweep": {str(q): {f"{r:g}": {n: e.to_json() for n, e in d.items()} for r, d in rr.items()}
+                                 for q, rr in m.sweep.items()},
+            "bias_sweep": m.bias, "kernel_sweep": m.kernels, "convergence_rate": m.rate,
+            "band_test": {k: v for k, v in m.band.items() if not k.startswith("_")},
+            "pcss_without_receiver_plane_largest_light": m.pcss_flat.to_json() if m.pcss_flat else None,
+            "flip_noise_floor": {f"{r:g}": m.frame.flip_noise[r] for r in m.radii},
+            "shadow_map_build_s": {str(k): v for k, v in m.build_seconds.items()}}
+
+
+def sections(m: Measurements, ctx: Context) -> list[Section]:
+    return [Section("Images", [
+                "Reference (Mitsuba direct lighting at the pixel centres) and every shadow technique for the largest "
+                "light, with per-pixel error maps (|ΔY| / L_norm, clipped at 50 %); then the near-point light at the "
+                "lowest and highest shadow-map resolutions and the mask of the edge-band claim."],
+                gallery=[_technique_row(m, ctx, m.r_max), *_near_point_row(m, ctx)]),
+            Section("Curves", [
+                "Error against shadow-map resolution, polygon-offset bias, PCF kernel and light radius. The penumbra "
+                "'share' is the penumbra pixels' summed error divided by all valid pixels (it grows with the "
+                "penumbra's area); the penumbra 'mean' is the average over penumbra pixels."], figures=_curves(m, ctx)),
+            Section("Tables", _table_notes(m), tables=[comparison_table(m), resolution_table(m), *_bias_table(m)])]
+
+
+def _error_map(m: Measurements, ctx: Context, r: float, approx: np.ndarray, title: str, filename: str) -> Figure:
+    e = se.pixel_error(m.frame.refs[r].radiance[m.frame.valid], approx, m.frame.norm[r])
+    p, rel = ctx.figure_path(NAME, filename)
+    plots.save_heatmap(p, m.frame.image(e, np.nan), title, "error", vmax=ERROR_VMAX, percent=True)
+    return Figure(rel, title, 300)
+
+
+def _technique_row(m: Measurements, ctx: Context, r: float) -> list[Figure]:
+    d = m.settings.default_resolution
+    tag = f"r{r:g}".replace(".", "p")
+    names = [t.name for t in m.techniques]
+    p, rel = ctx.figure_path(NAME, f"{tag}_{d}_images.png")
+    plots.save_image_grid(p, [m.frame.refs[r].radiance] + [m.frame.image(m.images[(d, r, n)]) for n in names],
+                          ["reference (Mitsuba)"] + names)
+    row = [Figure(rel, f"r = {r:g} m, shadow map {d}²: reference and every technique (same exposure)")]
+    return row + [_error_map(m, ctx, r, m.images[(d, r, n)], f"{n}: |ΔY| / L_norm (r = {r:g} m)",
+                             f"{tag}_{d}_error_{n}.png") for n in names]
+
+
+def _near_point_row(m: Measurements, ctx: Context) -> list[list[Figure]]:
+    ress = sorted(m.sweep)
+    lo, hi = ress[0], ress[-1]
+    if (lo, m.r_pt, "hard") not in m.images or not m.band:
+        return []
+    img = {q: m.images[(q, m.r_pt, "hard")] for q in (lo, hi)}
+    p, rel = ctx.figure_path(NAME, f"near_point_hard_{lo}_{hi}.png")
+    plots.save_image_grid(p, [m.frame.refs[m.r_pt].radiance] + [m.frame.image(img[q]) for q in (lo, hi)],
+                          ["reference", f"hard {lo}²", f"hard {hi}²"])
+    row = [Figure(rel, f"near-point light (r = {m.r_pt:g} m): hard shadows at {lo}² and {hi}²")]
+    row += [_error_map(m, ctx, m.r_pt, img[q], f"hard {q}²: |ΔY| / L_norm", f"near_point_error_hard_{q}.png")
+            for q in (lo, hi)]
+    cat = np.where(m.band["_band_image"][m.frame.valid], 2.0, np.where(m.band["_include"], 0.0, 1.0))
+    p, rel = ctx.figure_path(NAME, f"near_point_band_{hi}.png")
+    plots.save_heatmap(p, m.frame.image(cat, np.nan), f"edge-band claim mask ({hi}²): 0 tested, 1 penumbra/horizon, "
+                       "2 one-texel band", "class", vmax=2.0, cmap="viridis")
+    row.append(Figure(rel, "pixels tested by the edge-band claim (0) and excluded (1: reference penumbra or below the "
+                           "horizon, 2: one-texel band)", 300))
+    return [row]
+
+
+def _curves(m: Measurements, ctx: Context) -> list[Figure]:
+    figs = [_resolution_curve(m, ctx)]
+    if m.bias:
+        figs.append(_bias_curve(m, ctx))
+    for key, kd in m.kernels.items():
+        if isinstance(kd, dict) and "classic_penumbra" in kd:
+            p, rel = ctx.figure_path(NAME, f"error_vs_pcf_kernel_r{key.replace('.', 'p')}.png")
+            plots.save_line_plot(p, m.kernels["kernels"], {
+                "PCF penumbra (classic)": kd["classic_penumbra"], "PCF penumbra (receiver plane)":
+                kd["receiver_plane_penumbra"], "PCF total (classic)": kd["classic_total"],
+                "PCF total (receiver plane)": kd["receiver_plane_total"]}, "PCF kernel k (k×k bilinear taps)",
+                "|ΔY| / L_norm", f"PCF kernel, r = {key} m, {m.kernels['resolution']}²", logx=True, percent=True,
+                hlines={"PCSS penumbra": kd["pcss_penumbra"]} if "pcss_penumbra" in kd else None)
+            figs.append(Figure(rel, f"PCF kernel sweep, r = {key} m", 500))
+    figs.append(_radius_curve(m, ctx))
+    return figs
+
+
+def _resolution_curve(m: Measurements, ctx: Context) -> Figure:
+    ress = sorted(m.sweep)
+    p, rel = ctx.figure_path(NAME, "error_vs_resolution.png")
+    series = {f"{t.name}, r = {r:g} m": [m.sweep[q][r][t.name].total.mean for q in ress]
+              for r in (m.r_pt, m.r_max) for t in m.techniques}
+    noise = m.sweep[ress[-1]][m.r_pt][m.techniques[0].name].total.uncertainty if m.techniques else 0.0
+    plots.save_line_plot(p, ress, series, "shadow-map resolution (texels per side)", "total |ΔY| / L_norm",
+                         "Error vs shadow-map resolution", logx=True, logy=True, percent=True,
+                         hlines={f"reference noise (r = {m.r_pt:g} m)": noise})
+    return Figure(rel, "total error vs resolution, near-point and largest light", 500)
+
+
+def _bias_curve(m: Measurements, ctx: Context) -> Figure:
+    b = m.bias
+    nz = [i for i, x in enumerate(b["scale"]) if x > 0]
+
+    def gaps(key: str) -> list[float]:  # zeros leave gaps on a log axis
+        return [b[key][i] if b[key][i] > 0 else float("nan") for i in nz]
+
+    p, rel = ctx.figure_path(NAME, f"error_vs_bias_{b['resolution']}.png")
+    plots.save_line_plot(p, [b["factor"][i] for i in nz], {
+        "total error": gaps("total"), "false shadow (acne), share of lit area": gaps("false_shadow"),
+        "false light (peter-panning), share of umbra": gaps("false_light")},
+        "glPolygonOffset factor (units = 2 × factor)", "fraction",
+        f"Bias sweep, hard {b['resolution']}², r = {b['radius']:g} m", logx=True, logy=True, percent=True)
+    return Figure(rel, "acne vs peter-panning as the polygon offset grows", 500)
+
+
+def _radius_curve(m: Measurements, ctx: Context) -> Figure:
+    d = m.settings.default_resolution
+    p, rel = ctx.figure_path(NAME, "error_vs_light_radius.png")
+    series = {f"{t.name} penumbra {kind}": [getattr(m.at_default(r)[t.name].regions["penumbra"], kind) for r in m.radii]
+              for kind in ("share", "mean") for t in m.techniques}
+    plots.save_line_plot(p, m.radii, series, "light radius r (m)", "|ΔY| / L_norm",
+                         f"Penumbra error vs light radius ({d}²)", logx=True, logy=True, percent=True,
+                         hlines={f"{pct(PENUMBRA_SHARE_X, 0)} share": PENUMBRA_SHARE_X})
+    return Figure(rel, "penumbra error vs light radius: mean over penumbra pixels and share of the image", 500)
+
+
+def _pm(v: float, u: float, digits: int = 2) -> str:
+    return f"{pct(v, digits)} ± {pct(u, digits)}" if np.isfinite(v) else "—"
+
+
+def comparison_table(m: Measurements) -> Table:
+    rows = []
+    for r in m.radii:
+        for t in m.techniques:
+            e = m.at_default(r)[t.name]
+            v = error_metrics(e, m.frame.flip_noise[r])
+            rows.append([f"{r:g}", t.name, _pm(*v["total"]), _pm(*v["lit"]),
+                         f"{_pm(*v['penumbra'])} ({e.regions['penumbra'].pixels} px)", _pm(*v["umbra"]),
+                         _pm(*v["false_shadow"]), _pm(*v["false_light"]), _pm(*v["leak"]),
+                         f"{v['flip'][0]:.4f} ± {v['flip'][1]:.4f}" if np.isfinite(v["flip"][0]) else "—"])
+    return Table(["r (m)", "technique", "total", "lit", "penumbra", "umbra", "false shadow (acne)",
+                  "false light (peter-panning)", "light leak", "FLIP"], rows,
+                 f"Every registered shadow technique at {m.settings.default_resolution}², per light radius (|ΔY| / "
+                 "L_norm ± the reference's mean σ / L_norm; false shadow: share of the lit area with V′ < ½; false "
+                 "light: share of the umbra with V′ > ½, ± binomial standard error; light leak: mean V′ over the "
+                 "umbra; FLIP: mean HDR-FLIP ± the reference's own noise floor).")
+
+
+def resolution_table(m: Measurements) -> Table:
+    ress = sorted(m.sweep)
+    names = [t.name for t in m.techniques]
+    rows = [[str(q)] + [pct(m.sweep[q][m.r_pt][n].total.mean, 3) for n in names] +
+            [pct(m.sweep[q][m.r_max][n].regions["penumbra"].mean) for n in names] for q in ress]
+    return Table(["resolution"] + [f"{n} total, r = {m.r_pt:g}" for n in names] +
+                 [f"{n} penumbra, r = {m.r_max:g}" for n in names], rows, "Every technique vs shadow-map resolution.")
+
+
+def _bias_table(m: Measurements) -> list[Table]:
+    b = m.bias
+    if not b:
+        return []
+    rows = [[f"({f:g}, {u:g})", pct(t, 3), pct(a), pct(pp)] for f, u, t, a, pp in
+            zip(b["factor"], b["units"], b["total"], b["false_shadow"], b["false_light"], strict=True)]
+    return [Table(["glPolygonOffset(factor, units)", "total error", "false shadow (lit area)", "false light (umbra)"],
+                  rows, f"Hard shadows, {b['resolution']}², r = {b['radius']:g} m")]
+
+
+def _table_notes(m: Measurements) -> list[str]:
+    if not m.band:
+        return []
+    t, b = m.band["outside"], m.band
+    return [f"Edge-band claim detail: {t['exceeded']} of {t['tested']} tested pixels exceed the t bound "
+            f"({t['t_bound']:.2f} σ); inside the band and penumbra {b['inside_band']['exceeded']} of "
+            f"{b['inside_band']['tested']} do. One texel = {b['texel_tan']:.2e} in the light's tan plane."]
