@@ -17,9 +17,11 @@ import pytest
 from scipy.optimize import brentq
 
 from validate.errors import ValidateError
-from validate.experiments import Context, run_experiment
+from validate.experiments import Context
 from validate.experiments import arealights as exp
-from validate.local_models import disc_sh, point_light, sphere_cap
+from validate.experiments import arealights_compute as ac
+from validate.experiments.base import Claim
+from validate.local_models import arealight, disc_sh, point_light, sphere_cap
 from validate.local_models import sh as shm
 from validate.metrics.irradiance_error import WORST_CASE_MAX
 from validate.reference import area_irradiance as ai
@@ -65,10 +67,10 @@ def test_rotated_zonal_equals_projection_of_rotated_cap() -> None:
 def test_seed_formulas() -> None:
     for a_deg in (1.0, 10.0, 20.0, 45.0, 60.0):
         a = math.radians(a_deg)
-        assert np.max(np.abs(disc_sh.seed_zonal_order2(a) - disc_sh.zonal_cap(a, 2))) < exp.SEED_TOLERANCE
+        assert np.max(np.abs(disc_sh.seed_zonal_order2(a) - disc_sh.zonal_cap(a, 2))) < exp.SEED_DIGITS
         z = np.linspace(-1, 1, 41)
         exact2 = disc_sh.disc_irradiance_sh(a, z, 2)
-        assert np.max(np.abs(disc_sh.seed_irradiance_order2(a, z) - exact2)) < exp.SEED_TOLERANCE
+        assert np.max(np.abs(disc_sh.seed_irradiance_order2(a, z) - exact2)) < exp.SEED_DIGITS
     k = disc_sh.irradiance_polynomial_order2(math.radians(20.0))
     assert np.max(np.abs(np.array(k) - np.array(disc_sh.SEED_E_20DEG))) < SEED_PRINT_TOL
 
@@ -77,7 +79,7 @@ def test_rotated_path_equals_zonal_path() -> None:
     normals = latlong.fibonacci_sphere(400)
     d = np.array([-0.6, 0.2, 0.77])
     d /= np.linalg.norm(d)
-    for lmax in exp.ORDERS:
+    for lmax in ac.ORDERS:
         a = math.radians(25.0)
         rot = disc_sh.disc_irradiance_sh_rotated(a, d, normals, lmax)
         zon = disc_sh.disc_irradiance_sh(a, normals @ d, lmax)
@@ -85,18 +87,18 @@ def test_rotated_path_equals_zonal_path() -> None:
 
 
 def test_sh_error_shrinks_with_order_and_tends_to_directional_bound() -> None:
-    cos_t = np.cos(np.radians(np.arange(0.0, 180.0 + 1e-9, 0.05)))
-    e20 = exp.sh_errors(math.radians(20.0), cos_t)
+    th = np.arange(0.0, 180.0 + 1e-9, 0.05)
+    e20 = {n: ac.sphere_alpha_error(f"sh_order{n}", 20.0, th) for n in ac.ORDERS}
     assert e20[8] < e20[4] < e20[2] < WORST_CASE_MAX
     # α → 0: a directional light, order-2 max error → 3/32 Φ. At α = 0.25° the measured value is
     # 0.0928 (cap smoothing lowers it by ~α·0.27); 2e-3 brackets it.
-    e_small = exp.sh_errors(math.radians(0.25), cos_t)[2]
+    e_small = ac.sphere_alpha_error("sh_order2", 0.25, th)
     assert WORST_CASE_MAX - 2e-3 < e_small < WORST_CASE_MAX
 
 
 def test_cap_closed_form_equals_quadrature() -> None:
     cos_t = np.cos(np.radians(np.arange(0.0, 180.0 + 1e-9, 0.25)))
-    assert exp.cap_quadrature_check(cos_t) < exp.CAP_QUADRATURE_TOLERANCE
+    assert ac.cap_quadrature_check(cos_t) < ac.CAP_QUADRATURE_TOLERANCE
 
 
 def test_cap_branches() -> None:
@@ -133,9 +135,8 @@ def test_point_lights() -> None:
 
 
 def test_point_light_crossings() -> None:
-    s = exp._settings(quick=True)
-    cos_t = np.cos(np.radians(np.arange(0.0, 180.0 + 1e-9, 0.05)))
-    pts = exp.point_sweep(s, cos_t)
+    s = exp.settings(quick=True)
+    pts = ac.distance_sweep(s, np.arange(0.0, 180.0 + 1e-9, 0.05), exp.POINT_THRESHOLD)
     # disc on its axis: relative error r²/d² = 1 % at exactly d/r = 10
     assert abs(pts["crossing_inverse_square_disc_normal_incidence"] - 10.0) < 1e-3
     # sphere: the worst normal is θ = 90° (measured), where E/L = σ − sin σ cos σ and the point light gives
@@ -186,18 +187,110 @@ def test_mitsuba_rejects_wrong_predictions(meter) -> None:
     assert not ai.compare(meas, sphere_cap.cap_irradiance(cos_t, other), m.radiance).consistent
 
 
-def test_quick_experiment_end_to_end(tmp_path) -> None:
-    ctx = Context(out_dir=tmp_path, quick=True, show_progress=False, log=lambda _: None)
-    res = run_experiment("arealights", ctx)
+# -- the registered techniques, validate.testing, the experiment's claims and their power -----------------
+
+def test_techniques_registered_with_shapes() -> None:
+    names = {t.name for t in arealight if t.builtin}
+    assert {"cap_exact", "sh_order2", "sh_order4", "sh_order8", "inverse_square", "opengl_r2"} <= names
+    for t in arealight:
+        if t.builtin:
+            assert set(t.meta["shapes"]) <= {"disc", "sphere", "rectangle"}
+
+
+def test_cap_exact_technique_equals_closed_form_and_point_light_equals_module() -> None:
+    th = np.arange(0.0, 180.0 + 1e-9, 5.0)
+    pts, nrm = ac.receivers(3.0, th)
+    light = ac.light_mapping("sphere", 3.0)
+    exact = sphere_cap.cap_irradiance(np.cos(np.radians(th)), 1 / 9)
+    assert np.max(np.abs(arealight.call("cap_exact", light, pts, nrm) - exact)) < FLOAT32_TOL
+    inv = point_light.inverse_square(point_light.sphere_intensity(1.0), 3.0, np.cos(np.radians(th)))
+    assert np.max(np.abs(arealight.call("inverse_square", light, pts, nrm) - inv)) < FLOAT32_TOL
+    zon = disc_sh.disc_irradiance_sh(math.asin(1 / 3), np.cos(np.radians(th)), 4)
+    assert np.max(np.abs(arealight.call("sh_order4", light, pts, nrm) - zon)) < FLOAT32_TOL
+
+
+def test_bad_light_mapping_is_one_line_error() -> None:
+    pts, nrm = ac.receivers(3.0, np.array([0.0]))
+    with pytest.raises(ValidateError, match="radius"):
+        arealight.call("cap_exact", {"shape": "sphere", "center": (0, 0, 0), "radius": -1.0}, pts, nrm)
+    with pytest.raises(ValidateError, match="inside"):
+        arealight.call("cap_exact", {"shape": "sphere", "center": (0, 0, 0), "radius": 5.0}, pts, nrm)
+
+
+def test_check_arealight_passes_exact_and_catches_a_wrong_model() -> None:
+    r = exp.check_arealight("cap_exact")
+    assert r.flux.max < 1e-4 and set(r.environments) == {"sphere_r1_d2", "sphere_alpha20", "disc_r1_d2"}
+
+    def unclipped(light, points, normals):  # no horizon clipping: π sin²σ max(cos θ, 0)
+        g = sphere_cap.light_geometry(light, points, normals)
+        return np.pi * g["sin2_sigma"] * np.maximum(g["cos_theta"], 0.0)
+
+    bad = exp.check_arealight(unclipped, shapes=("sphere",), name="unclipped")
+    assert bad.flux.max > 0.05 and "disc_r1_d2" not in bad.environments
+    # order 2 at α = 20°: 4.99 % of Φ (closed form), the value the range claim rests on
+    assert abs(exp.check_arealight("sh_order2")["sphere_alpha20"].flux.max - 0.04988) < 1e-4
+
+
+def test_meter_bounds_zero_hit_and_noise() -> None:
+    meas = ai.MeterIrradiance(np.array([0.5, 0.0]), np.array([0.01, 0.0]), passes=8, spp=16, film=4, seed=0)
+    h = ac.meter_bounds(meas)
+    assert h[0] > 0.02  # z* > 2 for two normals
+    # zero hits in 8·16·16 = 2048 samples: E < π ln(1/α₁)/2048 at α₁ = 1 − 0.99^½
+    assert abs(h[1] - math.pi * math.log(1 / (1 - 0.99 ** 0.5)) / 2048) < 1e-12
+
+
+@pytest.fixture(scope="module")
+def quick_result(tmp_path_factory):
+    out = tmp_path_factory.mktemp("arealights")
+    ctx = Context(out_dir=out, quick=True, show_progress=False, log=lambda _: None)
+    return exp.run(ctx), out
+
+
+def test_quick_experiment_end_to_end(quick_result) -> None:
+    res, out = quick_result
     failed = [(c.id, c.measured, c.uncertainty, c.threshold) for c in res.claims if not c.passed]
     assert not failed
     ids = {c.id for c in res.claims}
-    assert {"arealights.seed_sh.projection", "arealights.sh2.alpha20", "arealights.cap.quadrature"} <= ids
+    assert {"arealights.seed_sh.projection", "arealights.cap.quadrature", "arealights.sh2.five_percent.range",
+            "arealights.sh2.five_percent.below", "arealights.sh2.five_percent.mitsuba_inside",
+            "arealights.sh2.five_percent.mitsuba_outside"} <= ids
     assert sum(i.startswith("arealights.cap.mitsuba.") for i in ids) == 3
-    sva = res.data["sh_vs_alpha"]
-    # the finding: order 2 exceeds 5 % of Φ below α* ≈ 19.9° (dense float64-checked closed form); the
-    # quick grid brackets it between 15° and 25°
-    assert 15.0 < sva["alpha_order2_exceeds_5pct_flux"] < 25.0
+    # the range's end: order 2 meets 5 % of Φ from α* ≈ 19.9° on (Brent on the float32 closed form)
+    assert 19.5 < res.data["alpha_range"]["crossing_deg"] < 20.0
+    assert set(res.techniques) >= {"cap_exact", "sh_order2", "inverse_square"}
+    for entry in res.techniques.values():
+        assert all({"value", "uncertainty"} <= set(v) for v in entry["metrics"].values())
     figs = [f.path for s in res.sections for f in s.figures]
-    assert len(figs) >= 5 and all((tmp_path / p).is_file() for p in figs)
+    assert len(figs) >= 6 and all((out / p).is_file() for p in figs)
     json.dumps(res.to_json())
+
+
+FAMILIES = {"arealights.seed_sh": "band sign", "arealights.cap.quadrature": "horizon clamp",
+            "arealights.cap.mitsuba": "reference bias", "arealights.sh2.five_percent.range": "neighbouring α",
+            "arealights.sh2.five_percent.below": "neighbouring α",
+            "arealights.sh2.five_percent.mitsuba": "other side of the range"}
+
+
+@pytest.mark.parametrize("family", list(FAMILIES))
+def test_every_claim_family_has_a_failing_power_check(quick_result, family) -> None:
+    res, _ = quick_result
+    found = [c for c in res.claims if c.id.startswith(family)]
+    assert found, family
+    for c in found:
+        assert c.power is not None and c.power.fails, (c.id, c.power)
+        assert c.source and "issue" not in c.source.lower()
+
+
+def test_declared_threshold_becomes_claim_with_power(quick_result) -> None:
+    res, _ = quick_result
+    tech = arealight.add("test_sh2_declared", arealight["sh_order2"].fn, "order 2 with a declared 6 % bound",
+                         thresholds={"flux.max": 0.06}, source="R&H 2001 §4 'max error < 5 %' + 1 % slack",
+                         shapes=("sphere", "disc"))
+    try:
+        from validate.experiments.arealights import technique_measured
+        from validate.experiments.techniques import technique_claims
+        per = exp.measure_techniques(res.data["scenes"], {}, np.arange(0.0, 180.0 + 1e-9, 0.25), [tech])
+        (c,) = technique_claims("arealights", tech, technique_measured(per[tech.name]))
+        assert isinstance(c, Claim) and c.passed and c.power.fails  # 4.99 % < 6 %; × 1.5 = 7.5 % > 6 %
+    finally:
+        arealight.unregister("test_sh2_declared")

@@ -194,3 +194,43 @@ def project_cap_numerical(alpha: float, direction: np.ndarray, lmax: int, nodes:
     dirs = (np.cos(tt)[..., None] * d + np.sin(tt)[..., None]
             * (np.cos(pp)[..., None] * e1 + np.sin(pp)[..., None] * e2)).reshape(-1, 3)
     return sh.eval_basis_numpy(dirs, lmax).T @ w
+
+
+def cap_irradiance_sh(sin2_sigma: np.ndarray, cos_theta: np.ndarray, lmax: int) -> np.ndarray:
+    """Order-``lmax`` SH irradiance of unit-radiance caps, one (sin²σ, cos θ) per receiver: the zonal
+    coefficients z_l(α) of each receiver's cap (α = asin √sin²σ) in float64, then
+    E_N = Σ_l A_l z_l √((2l+1)/4π) P_l(cos θ) in drjit (float32); (N,)."""
+    s2 = np.asarray(sin2_sigma, dtype=np.float64).ravel()
+    c = np.clip(np.asarray(cos_theta, dtype=np.float64).ravel(), -1.0, 1.0)
+    z = zonal_cap(np.arcsin(np.sqrt(np.clip(s2, 1e-300, 1.0))), lmax)  # (lmax+1, N)
+    f = float_type()
+    x = f(np.ascontiguousarray(c, dtype=np.float32))
+    p = legendre(x, lmax)
+    e = x * 0.0
+    for l in range(lmax + 1):
+        k = sh.clamped_cosine_al(l) * math.sqrt((2 * l + 1) / (4 * math.pi))
+        if k != 0.0:
+            e = e + p[l] * f(np.ascontiguousarray(k * z[l], dtype=np.float32))
+    return np.array(e, dtype=np.float64)
+
+
+# -- registered techniques (family ``arealight``) ----------------------------------------------------
+from .families import arealight as _arealight  # noqa: E402
+from .sphere_cap import light_geometry  # noqa: E402
+
+
+def _sh_technique(lmax: int):  # noqa: ANN202 (returns the technique function)
+    def fn(light: Any, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
+        g = light_geometry(light, points, normals)
+        return (cap_irradiance_sh(g["sin2_sigma"], g["cos_theta"], lmax) * g["radiance"]
+                * np.maximum(g["cos_psi"], 0.0))
+    fn.__doc__ = (f"Order-{lmax} zonal SH of the cap each receiver sees (sphere: sin α = r/d; disc: the cap of its "
+                  "axis, tan α = r/d, times max(0, cos ψ)), irradiance Σ_l A_l z_l √((2l+1)/4π) P_l(cos θ) [1, 5].")
+    fn.__name__ = fn.__qualname__ = f"sh_order{lmax}"
+    return fn
+
+
+for _l, _why in ((2, "the seed's order 2 (9 coefficients)"), (4, "order 4 (25 coefficients)"),
+                 (8, "order 8 (81 coefficients)")):
+    _arealight.add(f"sh_order{_l}", _sh_technique(_l), f"disc/sphere light as a cap in zonal SH, {_why}",
+                   shapes=("sphere", "disc"), lmax=_l)

@@ -106,3 +106,46 @@ def hemisphere_irradiance(normals: np.ndarray, sky: np.ndarray, ground: np.ndarr
 def worst_red_book_deviation() -> tuple[float, float]:
     """(θ in degrees, max |a − f|) of the Red Book weight against the exact one: (45°, ½(√2 − 1))."""
     return 45.0, 0.5 * (np.sqrt(2.0) - 1.0)
+
+
+# -- registered techniques (family ``irradiance``) ---------------------------------------------------
+# Hemisphere lighting needs two colours; from an environment they are derived as the irradiance at the
+# poles divided by π, C_sky = E(U)/π and C_ground = E(−U)/π (U = +y), so the technique is exact at
+# β = 0° and 180° for every environment and, for a two-tone sky, C_sky = L_s and C_ground = L_g exactly
+# (E(U) = π L_s when the whole upper hemisphere has radiance L_s): then ``hemisphere`` is the exact
+# irradiance [2]. E(±U) is a cosine-weighted sum over the texels with their exact solid angles
+# (:func:`pole_colours`), O(H·W), cheaper than an SH projection.
+from ..scenes.latlong import texel_directions, texel_solid_angles  # noqa: E402
+from .families import irradiance as _irradiance  # noqa: E402
+
+WORLD_UP = np.array([0.0, 1.0, 0.0])
+
+
+def pole_colours(radiance: np.ndarray, up: np.ndarray = WORLD_UP) -> tuple[np.ndarray, np.ndarray]:
+    """(C_sky, C_ground) = (E(U)/π, E(−U)/π) of a lat-long map (H, W, 3), E(n) = Σ_t L_t max(0, n·ω_t) Ω_t
+    with the texels' exact solid angles Ω_t (:func:`validate.scenes.latlong.texel_solid_angles`)."""
+    rad = np.asarray(radiance, dtype=np.float64)
+    if rad.ndim != 3 or rad.shape[2] != 3 or rad.shape[0] < 2:
+        raise ValidateError(f"hemisphere lighting: radiance must be an (H ≥ 2, W, 3) map, got shape {rad.shape}")
+    h, w = rad.shape[:2]
+    cos_u = texel_directions(h, w) @ np.asarray(up, dtype=np.float64)
+    dw = texel_solid_angles(h, w)
+    sky = np.einsum("hwc,hw->c", rad, np.maximum(cos_u, 0.0) * dw) / np.pi
+    ground = np.einsum("hwc,hw->c", rad, np.maximum(-cos_u, 0.0) * dw) / np.pi
+    return sky, ground
+
+
+@_irradiance.register("hemisphere", "hemisphere lighting, cosine blend ½(1 + N·U), C_sky/C_ground = E(±U)/π",
+                      source="Cohen & Wallace 1993 §4 (view factor (1 + cos β)/2): exact for a two-tone sky")
+def hemisphere_cosine(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """E′(n) = π (f C_sky + (1 − f) C_ground), f = ½(1 + n·U), colours from :func:`pole_colours` [1, 2]."""
+    sky, ground = pole_colours(radiance)
+    return hemisphere_irradiance(normals, sky, ground, WORLD_UP, "exact")
+
+
+@_irradiance.register("hemisphere_red_book", "hemisphere lighting, Red Book weight 1 − ½ sin β / ½ sin β, "
+                      "C_sky/C_ground = E(±U)/π")
+def hemisphere_red_book(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """E′(n) = π (a C_sky + (1 − a) C_ground), the Red Book's piecewise-sine weight a [1]."""
+    sky, ground = pole_colours(radiance)
+    return hemisphere_irradiance(normals, sky, ground, WORLD_UP, "red_book")

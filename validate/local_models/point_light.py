@@ -72,3 +72,31 @@ def attenuated_irradiance(intensity: float, distance: np.ndarray, cos_theta: np.
 def inverse_square(intensity: float, distance: np.ndarray, cos_theta: np.ndarray) -> np.ndarray:
     """E = I max(cos θ, 0) / d² [1]."""
     return attenuated_irradiance(intensity, distance, cos_theta)
+
+
+# -- registered techniques (family ``arealight``) ----------------------------------------------------
+from typing import Any  # noqa: E402
+
+from .families import arealight as _arealight  # noqa: E402
+from .sphere_cap import light_geometry  # noqa: E402
+
+
+def _point(light: Any, points: np.ndarray, normals: np.ndarray, constant_r2: bool) -> np.ndarray:
+    g = light_geometry(light, points, normals)
+    intensity = np.pi * g["radius"] ** 2 * g["radiance"] * np.maximum(g["cos_psi"], 0.0)  # I = π r² L (cos ψ)
+    a = g["radius"] ** 2 if constant_r2 else 0.0
+    return intensity * np.maximum(g["cos_theta"], 0.0) / (a + g["distance"] ** 2)
+
+
+@_arealight.register("inverse_square", "point light at the centre, I = π r² L, E = I max(cos θ, 0)/d²",
+                     shapes=("sphere", "disc"))
+def inverse_square_light(light: Any, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """E = I max(cos θ, 0) / d² [1] with I = π r² L (a sphere's power / 4π; a disc's intensity π r² L cos ψ)."""
+    return _point(light, points, normals, False)
+
+
+@_arealight.register("opengl_r2", "OpenGL attenuation 1/(a + b d + c d²) with (a, b, c) = (r², 0, 1)",
+                     shapes=("sphere", "disc"))
+def opengl_r2_light(light: Any, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """E = I max(cos θ, 0) / (r² + d²) [2]: exact on a facing disc's axis above the horizon."""
+    return _point(light, points, normals, True)
