@@ -1,0 +1,150 @@
+"""The ``brdf`` family: closed forms of the textbook models, agreement with Mitsuba's BSDFs, the V-groove
+reference, and the experiment's claims with their power checks (tiny settings)."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from validate.errors import ValidateError
+from validate.experiments import Context
+from validate.experiments import brdfs as exp
+from validate.experiments import brdfs_claims as bc
+from validate.experiments import brdfs_measure as bm
+from validate.local_models import classic_brdfs as cb
+from validate.local_models import family
+from validate.reference import brdf_render as br
+from validate.scenes import brdf_scenes as bs
+
+BUILTINS = ("lambert", "phong", "blinn_phong", "phong_normalized", "blinn_phong_normalized", "cook_torrance_printed",
+            "cook_torrance", "oren_nayar", "oren_nayar_full", "minnaert")
+FURNACE_NODES = (96, 192)  # Gauss–Legendre in cos θ × φ: lobes up to s = 50 integrate to < 1e-4
+QUADRATURE_TOL = 1e-3  # furnace quadrature at FURNACE_NODES, measured < 2e-4 for s ≤ 50
+BECKMANN_G1_TOL = 0.0071  # Walter et al. 2007 eq. 27: Mitsuba's rational G1 within 0.35 % per direction, ×2
+FLOAT32_TOL = 1e-4  # Mitsuba evaluates in float32 (≈ 50 operations × 6e-8)
+
+
+def _grid(n: int = 16) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    lights, views, w = bs.brdf_grid(n, n)
+    return np.tile([0.0, 0.0, 1.0], (len(lights), 1)), lights, views, w
+
+
+def _albedo(tech: str, params: dict, theta_v_deg: float = 0.0) -> float:
+    return float(bm.furnace_albedo(lambda lt, vw: bm.call(tech, params, lt, vw), (theta_v_deg,), FURNACE_NODES)[0])
+
+
+def test_family_has_the_builtins() -> None:
+    fam = family("brdf")
+    for name in BUILTINS:
+        assert name in fam
+
+
+def test_lambert_and_rough_models_at_zero_roughness_are_lambert() -> None:
+    n, lights, views, _ = _grid(8)
+    p = {"albedo": 0.7, "sigma": 0.0, "minnaert_k": 1.0}
+    expected = 0.7 / np.pi * np.maximum(lights[:, 2], 0.0)
+    for name in ("lambert", "oren_nayar", "oren_nayar_full", "minnaert"):
+        got = family("brdf").call(name, p, n, lights, views)
+        np.testing.assert_allclose(got[:, 1], expected, rtol=1e-12, atol=1e-15, err_msg=name)
+
+
+@pytest.mark.parametrize("s", [1.0, 10.0, 50.0])
+def test_furnace_closed_forms_of_phong(s: float) -> None:
+    """At normal view: textbook Phong (k_s = 1, π-folded light) has W = (1/π)∫cos^s θ dω = 2/(s + 1);
+    the modified Phong has W = 1 exactly (Lafortune & Willems 1994)."""
+    p = {"albedo": 0.0, "ks": 1.0, "phong_exponent": s}
+    assert abs(_albedo("phong", p) - 2.0 / (s + 1.0)) < QUADRATURE_TOL
+    assert abs(_albedo("phong_normalized", p) - 1.0) < QUADRATURE_TOL
+
+
+def test_beckmann_d_is_normalised_and_smith_matches_mitsubas_rational_fit() -> None:
+    """∫ D cos θ_h dω_h = 1 (Walter 2007 eq. 4); exact Smith G1 within 0.35 % of the rational fit (eq. 27)."""
+    dirs, w = bs.hemisphere_quadrature(256, 8)
+    for a in (0.1, 0.3, 0.7):
+        assert abs(np.sum(w * cb.beckmann_d(dirs[:, 2], a) * dirs[:, 2]) - 1.0) < 1e-3
+    c = np.linspace(0.05, 0.999, 200)
+    for a in (0.1, 0.5, 1.0):
+        t = np.sqrt(1 - c * c) / c
+        x = 1.0 / (a * t)
+        rational = np.where(x >= 1.6, 1.0, (3.535 * x + 2.181 * x * x) / (1 + 2.276 * x + 2.577 * x * x))
+        assert np.max(np.abs(cb.smith_g1(c, a, "beckmann") / rational - 1.0)) < 0.0035
+
+
+def test_fresnel_exact_matches_cook_torrance_dielectric_formula_and_mirror() -> None:
+    """Cook & Torrance 1982's unpolarised dielectric F with g² = η² + c² − 1; η = 0 + 1i reflects everything."""
+    c = np.linspace(0.01, 1.0, 50)
+    eta = 1.5
+    g = np.sqrt(eta * eta + c * c - 1.0)
+    ct = 0.5 * (g - c) ** 2 / (g + c) ** 2 * (1 + (c * (g + c) - 1) ** 2 / (c * (g - c) + 1) ** 2)
+    np.testing.assert_allclose(cb.fresnel_exact(c, eta, 0.0)[:, 0], ct, rtol=1e-10)
+    np.testing.assert_allclose(cb.fresnel_exact(c, 0.0, 1.0), 1.0, rtol=1e-10)
+
+
+@pytest.mark.parametrize("material, tol", [(bs.conductor(0.3, "ggx"), FLOAT32_TOL),
+                                           (bs.conductor(0.2), BECKMANN_G1_TOL),
+                                           (bs.conductor(0.5, coloured=False), BECKMANN_G1_TOL)])
+def test_cook_torrance_equals_mitsuba_roughconductor(material: bs.Material, tol: float) -> None:
+    _, lights, views, _ = _grid(12)
+    ref = br.eval_bsdf(material.bsdf, lights, views)
+    assert bm.max_rel(bm.call("cook_torrance", material.params, lights, views), ref) < tol
+    # power: the neighbouring roughness (α × 1.01) is caught
+    p = {**material.params, "alpha": 1.01 * material.params["alpha"]}
+    assert bm.max_rel(bm.call("cook_torrance", p, lights, views), ref) > tol
+
+
+def test_phong_normalized_equals_the_suites_modphong_bsdf() -> None:
+    _, lights, views, _ = _grid(12)
+    mat = bs.modified_phong(20.0, br.register_phong_bsdf())
+    ref = br.eval_bsdf(mat.bsdf, lights, views)
+    assert bm.max_rel(bm.call("phong_normalized", mat.params, lights, views), ref) < FLOAT32_TOL
+    p = {**mat.params, "phong_exponent": 21.0}  # the s + 1 off-by-one is caught
+    assert bm.max_rel(bm.call("phong_normalized", p, lights, views), ref) > FLOAT32_TOL
+
+
+def test_printed_cook_torrance_is_four_times_the_mirror_microfacet_energy() -> None:
+    """With F = 1 the printed form differs from Walter's only by the missing 4 and the V-cavity G."""
+    _, lights, views, w = _grid(16)
+    mat = bs.conductor(0.2, coloured=False)
+    ref = br.eval_bsdf(mat.bsdf, lights, views)
+    q = bm.call("cook_torrance_printed", mat.params, lights, views)
+    ratio = np.sum(w * q[:, 0]) / np.sum(w * ref[:, 0])
+    assert 3.9 < ratio < 4.1
+
+
+def test_bad_parameter_is_one_line_error() -> None:
+    n, lights, views, _ = _grid(4)
+    with pytest.raises(ValidateError, match="technique 'oren_nayar' .*sigma"):
+        family("brdf").call("oren_nayar", {"albedo": 0.5, "sigma": [1.0, 2.0]}, n, lights, views)
+    with pytest.raises(ValidateError, match="distribution"):
+        family("brdf").call("cook_torrance", {"distribution": "phong"}, n, lights, views)
+
+
+def test_vgroove_reference_is_lambert_at_small_slope() -> None:
+    lights, views = bs.vgroove_configurations([0.0, 45.0, 70.0], [0.0, 180.0])
+    r = br.vgroove_brdf(np.radians(2.0), lights, views, 0.8, 3, 3, 64, 6, 5)
+    lam = 0.8 / np.pi * lights[:, 2]
+    err = np.sum(np.abs(r["value"] - lam)) / np.sum(lam)
+    assert err + np.sum(r["stderr"]) / np.sum(lam) < bc.LAMBERT_LIMIT
+
+
+TINY = dataclasses.replace(bm.QUICK, grid=10, furnace=(24, 48), furnace_views_deg=(0.0, 60.0), sweep_alphas=(0.2, 0.5),
+                           sigmas_deg=(2.0, 30.0), thetas_deg=(0.0, 45.0, 70.0), dphis_deg=(0.0, 180.0), n_slope=3,
+                           n_orient=4, paths=64, depth=6, image=16)
+
+
+def test_experiment_claims_pass_and_every_power_check_fails(tmp_path) -> None:
+    ctx = Context(out_dir=tmp_path, quick=True, show_progress=False)
+    m = exp.compute(ctx, TINY)
+    cl = bc.claims(m)
+    assert cl, "no claims"
+    for c in cl:
+        assert c.power is not None and c.power.fails, c.id
+        assert c.passed, (c.id, c.measured, c.uncertainty, c.threshold)
+    entries = exp.entries(m)
+    for name in BUILTINS:
+        assert entries[name]["metrics"], name
+        for v in entries[name]["metrics"].values():
+            assert np.isfinite(v["value"]) and np.isfinite(v["uncertainty"])
+    assert bc.findings(m)
