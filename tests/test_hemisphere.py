@@ -142,7 +142,7 @@ def test_red_book_prediction_is_the_weight_difference() -> None:
     d = 0.5 * (np.sqrt(2) - 1)
     f = 0.5 * (1 + np.cos(np.radians(betas)))
     assert np.allclose(pred, d * abs(ys - yg) / (f * ys + (1 - f) * yg), rtol=1e-12)
-    assert np.all(exp.red_book_prediction(betas, swapped=True) > 2 * pred)  # |a_swapped − f| = ½ + … vs 0.207
+    assert np.all(exp.red_book_prediction(betas, swapped=True) > 2 * pred)  # at 45°: |½ sin β − f| = 0.50 vs 0.207
 
 
 @pytest.fixture(scope="module")
