@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import ValidateError
 from ..local_models import arealight
 from ..local_models.registry import Technique
 from . import arealights_compute as ac
@@ -324,7 +325,12 @@ def check_arealight(fn: Callable[..., Any] | str, scenes: Sequence[str] | None =
 
     Returns a :class:`CheckResult` with, per scene, ``flux`` (|E′ − E| / Φ) and ``peak`` (|E′ − E| / E(0)) as
     mean and max over θ ∈ [0°, 180°] ± the closed form's tolerance; e.g. ``r.flux.max < 0.05``."""
-    tech = arealight[fn] if isinstance(fn, str) else Technique(name, "arealight", fn, name, meta={"shapes": shapes})
+    if isinstance(fn, Technique) or isinstance(fn, str):
+        tech = fn if isinstance(fn, Technique) else arealight[fn]
+    elif callable(fn):
+        tech = Technique(name, "arealight", fn, name, meta={"shapes": tuple(shapes)})
+    else:
+        raise ValidateError(f"check_arealight: {fn!r} is not callable, a Technique or a registered name")
     table = ac.scene_table(ALPHA20)
     chosen = {k: v for k, v in table.items() if (scenes is None or k in scenes) and ac.supports(tech, v["shape"])}
     th = np.arange(0.0, 180.0 + 1e-9, theta_step_deg)

@@ -115,7 +115,7 @@ def worst_red_book_deviation() -> tuple[float, float]:
 # (E(U) = π L_s when the whole upper hemisphere has radiance L_s): then ``hemisphere`` is the exact
 # irradiance [2]. E(±U) is a cosine-weighted sum over the texels with their exact solid angles
 # (:func:`pole_colours`), O(H·W), cheaper than an SH projection.
-from ..scenes.latlong import texel_directions, texel_solid_angles  # noqa: E402
+from ..scenes.latlong import row_theta, texel_directions, texel_solid_angles  # noqa: E402
 from .families import irradiance as _irradiance  # noqa: E402
 
 WORLD_UP = np.array([0.0, 1.0, 0.0])
@@ -128,7 +128,12 @@ def pole_colours(radiance: np.ndarray, up: np.ndarray = WORLD_UP) -> tuple[np.nd
     if rad.ndim != 3 or rad.shape[2] != 3 or rad.shape[0] < 2:
         raise ValidateError(f"hemisphere lighting: radiance must be an (H ≥ 2, W, 3) map, got shape {rad.shape}")
     h, w = rad.shape[:2]
-    cos_u = texel_directions(h, w) @ np.asarray(up, dtype=np.float64)
+    u = np.asarray(up, dtype=np.float64)
+    if np.allclose(u, WORLD_UP):  # U is the map's pole axis: ω·U = cos θ_row for a whole row (one pass over L)
+        cos_u = np.cos(row_theta(h))
+        rows = rad.sum(axis=1) * texel_solid_angles(h, 1)[:, :1] / w  # Σ_cols L_t Ω_t per row, (H, 3)
+        return (np.maximum(cos_u, 0.0) @ rows / np.pi, np.maximum(-cos_u, 0.0) @ rows / np.pi)
+    cos_u = texel_directions(h, w) @ u
     dw = texel_solid_angles(h, w)
     sky = np.einsum("hwc,hw->c", rad, np.maximum(cos_u, 0.0) * dw) / np.pi
     ground = np.einsum("hwc,hw->c", rad, np.maximum(-cos_u, 0.0) * dw) / np.pi
