@@ -34,6 +34,7 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import ValidateError
 from ..local_models.classic_lights import light as family
 from ..reference import light_render as lr
 from ..scenes import light_scenes as ls
@@ -132,7 +133,10 @@ def evaluate_techniques(frames: dict[str, Frame], s: dict[str, Any], m: Measurem
     """Every registered technique on every standard light it models: image errors and an error map."""
     spot_f = m.data["spot"]["fitted_exponent"]
     for tech in family:
-        kinds = [k for k in tech.meta.get("lights", ()) if k in SINGLES]
+        if not tech.meta.get("lights"):
+            raise ValidateError(f"technique '{tech.name}' (light): declare the light types it models, e.g. "
+                                "@light.register(..., lights=('point',))")
+        kinds = [k for k in tech.meta["lights"] if k in SINGLES]
         entry, meas = {}, {}
         for kind in kinds:
             f = frames[kind]
