@@ -148,3 +148,22 @@ def test_experiment_claims_pass_and_every_power_check_fails(tmp_path) -> None:
         for v in entries[name]["metrics"].values():
             assert np.isfinite(v["value"]) and np.isfinite(v["uncertainty"])
     assert bc.findings(m)
+
+
+def test_icosphere_counts_and_radius() -> None:
+    for level in (0, 2):
+        v, f = bs.icosphere(level)
+        assert len(f) == 20 * 4 ** level and len(v) == 10 * 4 ** level + 2  # Euler: V = F/2 + 2
+        np.testing.assert_allclose(np.linalg.norm(v, axis=1), 1.0, rtol=1e-12)
+
+
+def test_per_fragment_beats_gouraud_and_converges_at_second_order() -> None:
+    """Linear interpolation of the normal errs O(h²) = O(1/T): ×4 triangles → error ÷ ~4 (asymptotically)."""
+    light = np.array([0.5, 0.6, 0.62]) / np.linalg.norm([0.5, 0.6, 0.62])
+    p = {"albedo": 0.0, "ks": 1.0, "phong_exponent": 20.0}
+    errs = []
+    for level in (2, 3):
+        r = bm._shade(lambda n, lt, vw: bm.call_world("phong_normalized", p, n, lt, vw), light, level, 64)
+        errs.append((bm._err(r["gouraud"], r["exact"]), bm._err(r["fragment"], r["exact"])))
+        assert errs[-1][1] < errs[-1][0]
+    assert 3.0 < errs[0][1] / errs[1][1] < 5.5

@@ -9,6 +9,11 @@ Metrics (luminance Y of the (N, 3) cosine-weighted BRDF q = f_r·cos θ_l; the r
   with equal weights; uncertainty Σ se/Σ q_ref (an upper bound on what the Monte Carlo noise can shift).
 * ``max_rel.<material>`` (Mitsuba materials) = max |q − q_ref|/q_ref over grid points where q_ref > 10⁻³
   max q_ref; uncertainty 10⁻⁵ (Mitsuba's float32 evaluation: ≈ 50 operations × 2⁻²⁴).
+* ``gouraud_rel_l1.l3`` / ``fragment_rel_l1.l3``: Σ_pixels |Y − Y_exact| / Σ Y_exact of the sphere tessellated
+  as an icosphere of level 3 (1280 triangles), shaded per vertex and interpolated (Gouraud) or with the
+  interpolated, renormalised normal per pixel (per-fragment), against the same technique evaluated with the
+  smooth sphere's exact normal at each pixel (orthographic view from +z, directional light; pixels where the
+  tessellated sphere is hit). Deterministic: uncertainty 0.
 * ``albedo_error.<material>`` (Mitsuba materials) = max over view angles θ_v of |W − W_ref|, where the
   white-furnace albedo W(v) = ∫ q(l, v) dω_l is the radiance seen under a unit white sky; both by the same
   quadrature (:func:`~validate.scenes.brdf_scenes.hemisphere_quadrature`); uncertainty |Δ| between n and n/2.
@@ -52,6 +57,9 @@ class Settings:
     n_orient: int
     paths: int
     depth: int
+    gouraud_levels: tuple[int, ...] = (1, 2, 3)  # icosphere subdivisions (80 … 1280 triangles)
+    gouraud_exponents: tuple[float, ...] = (5.0, 20.0, 100.0)  # modified-Phong exponents of the sweep
+    gouraud_image: int = 80
     albedo: float = 0.8
     image: int = 64
     minnaert_ks: tuple[float, ...] = tuple(float(k) for k in np.round(np.arange(0.5, 1.51, 0.05), 2))
@@ -65,7 +73,8 @@ FULL = Settings(grid=40, furnace=(128, 256), furnace_views_deg=(0.0, 30.0, 45.0,
                 alphas=(0.1, 0.2, 0.3, 0.5), ggx_alphas=(0.1, 0.3), phong_exponents=(20.0, 100.0),
                 sweep_alphas=(0.05, 0.1, 0.2, 0.3, 0.5, 0.8, 1.0), sigmas_deg=(2.0, 10.0, 20.0, 30.0, 40.0),
                 thetas_deg=(0.0, 20.0, 40.0, 60.0, 75.0, 85.0), dphis_deg=(0.0, 45.0, 90.0, 135.0, 180.0),
-                n_slope=8, n_orient=8, paths=512, depth=12, image=96)
+                n_slope=8, n_orient=8, paths=512, depth=12, image=96, gouraud_levels=(1, 2, 3, 4, 5, 6),
+                gouraud_exponents=(5.0, 20.0, 100.0, 500.0), gouraud_image=192)
 
 
 def materials(s: Settings) -> list[bs.Material]:
@@ -92,6 +101,7 @@ class Measurements:
     terms: dict[str, Any] = field(default_factory=dict)
     vgroove: dict[str, Any] = field(default_factory=dict)
     images: dict[str, Any] = field(default_factory=dict)
+    gouraud: dict[str, Any] = field(default_factory=dict)
 
 
 def _normals(n: int) -> np.ndarray:
@@ -296,3 +306,84 @@ def sphere_images(m: Measurements, mat: bs.Material, light_dir: tuple[float, flo
     for tech in m.techniques:
         out[tech.name] = paint(family("brdf").call(tech, mat.params, nrm, lw, vw))
     return out
+
+
+# Gouraud vs per-fragment shading on a tessellated sphere
+GOURAUD_LEVEL = 3  # the tessellation whose errors go into every technique's metrics (1280 triangles)
+
+
+def gouraud_params() -> dict[str, Any]:
+    """A mixed material so that every technique lights the sphere: ρ = 0.3, k_s = 0.7, modified-Phong s = 20
+    (Blinn 80, α by Walter's mapping), F = 1, σ = 0.3 rad, Minnaert K = 0.8."""
+    alpha = bs.alpha_from_blinn(80.0)
+    return {**bs.specular_params(alpha, "beckmann", 0.0, 1.0), "albedo": 0.3, "ks": 0.7, "phong_exponent": 20.0,
+            "exponent": 80.0, "sigma": 0.3, "minnaert_k": 0.8}
+
+
+def _shade(fn: Any, light: np.ndarray, level: int, size: int) -> dict[str, np.ndarray]:
+    """Per-pixel exact (smooth sphere), Gouraud and per-fragment values (luminance) of ``fn(normals, l, v)``
+    over the pixels where the tessellated sphere is hit."""
+    verts, faces = bs.icosphere(level)
+    x, y, inside = bs.sphere_pixels(size)
+    hit, prim, bary = br.mesh_gbuffer(verts, faces, x, y)
+    hit &= inside.ravel()
+    xs, ys = x.ravel()[hit], y.ravel()[hit]
+    exact_n = np.stack([xs, ys, np.sqrt(np.maximum(1.0 - xs * xs - ys * ys, 0.0))], -1)
+    tri = faces[prim[hit]]
+    w = bary[hit]
+    view = np.array([0.0, 0.0, 1.0])
+
+    def run(n: np.ndarray) -> np.ndarray:
+        return luminance(fn(n, np.tile(light, (len(n), 1)), np.tile(view, (len(n), 1))))
+
+    vert_c = run(verts)
+    interp_n = np.sum(w[..., None] * verts[tri], axis=1)
+    return {"exact": run(exact_n), "gouraud": np.sum(w * vert_c[tri], axis=1),
+            "fragment": run(interp_n / np.linalg.norm(interp_n, axis=-1, keepdims=True)), "exact_n": exact_n}
+
+
+def _err(img: np.ndarray, ref: np.ndarray) -> float:
+    return float(np.sum(np.abs(img - ref)) / np.sum(ref))
+
+
+def gouraud_analysis(m: Measurements, light: tuple[float, float, float]) -> None:
+    """(1) every technique: Gouraud and per-fragment error vs its own smooth-sphere shading, per tessellation;
+    (2) the modified Phong vs Mitsuba's modphong render of the smooth sphere, per exponent and tessellation."""
+    s = m.settings
+    ldir = np.asarray(light, dtype=np.float64) / np.linalg.norm(light)
+    params = gouraud_params()
+    triangles = [20 * 4 ** lv for lv in s.gouraud_levels]
+    out: dict[str, Any] = {"levels": list(s.gouraud_levels), "triangles": triangles, "techniques": {},
+                           "exponents": {}}
+    for tech in m.techniques:
+        rows = {"gouraud": [], "fragment": []}
+        for lv in s.gouraud_levels:
+            r = _shade(lambda n, lt, vw, t=tech: family("brdf").call(t, params, n, lt, vw), ldir, lv, s.gouraud_image)
+            for kind in rows:
+                rows[kind].append(_err(r[kind], r["exact"]))
+            if lv == GOURAUD_LEVEL:
+                for kind in rows:
+                    e, ep = _err(r[kind], r["exact"]), _err(BIAS * r[kind], r["exact"])
+                    m.metrics.setdefault(tech.name, {})[f"{kind}_rel_l1.l{lv}"] = _entry(e, 0.0, ep)
+        out["techniques"][tech.name] = rows
+    plugin = register_phong_bsdf()
+    for sp in s.gouraud_exponents:
+        bsdf = {"type": plugin, "exponent": sp, "reflectance": 1.0}
+        p = {"albedo": 0.0, "ks": 1.0, "phong_exponent": sp}
+        rows = {"gouraud": [], "fragment": []}
+        for lv in s.gouraud_levels:
+            r = _shade(lambda n, lt, vw, p=p: call_world("phong_normalized", p, n, lt, vw), ldir, lv, s.gouraud_image)
+            ref = luminance(br.eval_bsdf_world(bsdf, r["exact_n"], np.tile(ldir, (len(r["exact_n"]), 1)),
+                                               np.tile([0.0, 0.0, 1.0], (len(r["exact_n"]), 1))))
+            for kind in rows:
+                rows[kind].append(_err(r[kind], ref))
+        out["exponents"][f"{sp:g}"] = rows
+    m.gouraud = out
+
+
+def call_world(tech: str, params: dict[str, Any], normals: np.ndarray, lights: np.ndarray,
+               views: np.ndarray) -> np.ndarray:
+    """A technique through the registry with world-space normals; zeros when it is not registered."""
+    if tech not in family("brdf"):
+        return np.zeros((len(normals), 3))
+    return family("brdf").call(tech, params, normals, lights, views)

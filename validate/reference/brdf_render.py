@@ -192,3 +192,49 @@ def vgroove_brdf(sigma: float, lights: np.ndarray, views: np.ndarray, albedo: fl
 
     r = cached("brdf_vgroove", key, compute)
     return {k: np.asarray(v) for k, v in r.items()}
+
+
+# ---------------------------------------------------------------------------------------------
+# Shading frames and meshes seen by an orthographic camera
+
+def eval_bsdf_world(bsdf: dict[str, Any], normals: np.ndarray, lights: np.ndarray, views: np.ndarray) -> np.ndarray:
+    """:func:`eval_bsdf` with world-space unit normals, lights and views (an isotropic BSDF: any tangent frame)."""
+    n = np.asarray(normals, dtype=np.float64)
+    a = np.where(np.abs(n[:, 1:2]) > 0.9, np.array([[1.0, 0.0, 0.0]]), np.array([[0.0, 1.0, 0.0]]))
+    t = np.cross(n, a)
+    t /= np.linalg.norm(t, axis=-1, keepdims=True)
+    b = np.cross(n, t)
+
+    def local(d: np.ndarray) -> np.ndarray:
+        return np.stack([np.sum(d * t, -1), np.sum(d * b, -1), np.sum(d * n, -1)], -1)
+
+    return eval_bsdf(bsdf, local(np.asarray(lights, dtype=np.float64)), local(np.asarray(views, dtype=np.float64)))
+
+
+def mesh_gbuffer(verts: np.ndarray, faces: np.ndarray, x: np.ndarray, y: np.ndarray
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Orthographic rays along −z through the points (x, y) against a triangle mesh: (hit (P,), triangle index
+    (P,), barycentric coordinates (P, 3) of the hit in its triangle's vertices)."""
+    import mitsuba as mi
+
+    init()
+    mesh = mi.Mesh("tess", len(verts), len(faces), has_vertex_normals=False)
+    params = mi.traverse(mesh)
+    params["vertex_positions"] = mi.Float(verts.astype(np.float32).ravel())
+    params["faces"] = mi.UInt32(faces.astype(np.uint32).ravel())
+    params.update()
+    scene = mi.load_dict({"type": "scene", "mesh": mesh})
+    o = np.stack([x.ravel(), y.ravel(), np.full(x.size, 3.0)], -1).astype(np.float32)
+    ray = mi.Ray3f(mi.Point3f(o[:, 0], o[:, 1], o[:, 2]), mi.Vector3f(0.0, 0.0, -1.0))
+    si = scene.ray_intersect(ray)
+    hit = np.array(si.is_valid(), dtype=bool)
+    prim = np.array(si.prim_index, dtype=np.int64)
+    p = np.array(si.p, dtype=np.float64).reshape(3, -1).T
+    prim = np.where(hit, prim, 0)
+    a, b, c = (verts[faces[prim, k]] for k in range(3))
+    n = np.cross(b - a, c - a)
+    area = np.maximum(np.sum(n * n, -1), 1e-300)
+    wa = np.sum(np.cross(b - p, c - p) * n, -1) / area
+    wb = np.sum(np.cross(c - p, a - p) * n, -1) / area
+    bary = np.clip(np.stack([wa, wb, 1.0 - wa - wb], -1), 0.0, 1.0)
+    return hit, prim, bary / bary.sum(-1, keepdims=True)

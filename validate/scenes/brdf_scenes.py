@@ -202,3 +202,46 @@ def vgroove_mesh(slope: float, count: int = VGROOVE_COUNT, extent: float = VGROO
     i = np.arange(m - 1)
     faces = np.concatenate([np.stack([i, i + 1, m + i + 1], -1), np.stack([i, m + i + 1, m + i], -1)])
     return verts.astype(np.float64), faces.astype(np.int64)
+
+
+# ---------------------------------------------------------------------------------------------
+# Tessellated sphere (Gouraud vs per-fragment shading)
+
+def _midpoint(verts: list[np.ndarray], cache: dict[tuple[int, int], int], a: int, b: int) -> int:
+    """Index of the (new or shared) vertex halfway along edge ab, pushed onto the unit sphere."""
+    key = (min(a, b), max(a, b))
+    if key not in cache:
+        p = verts[a] + verts[b]
+        verts.append(p / np.linalg.norm(p))
+        cache[key] = len(verts) - 1
+    return cache[key]
+
+
+def icosphere(level: int) -> tuple[np.ndarray, np.ndarray]:
+    """(vertices (V, 3) on the unit sphere, faces (F, 3)): the icosahedron subdivided ``level`` times (each
+    triangle into 4, new vertices pushed to the sphere); F = 20·4^level. A vertex's normal is its position."""
+    if not 0 <= level <= 7:
+        raise ValidateError(f"icosphere: level={level}; expected 0 … 7")
+    t = (1.0 + np.sqrt(5.0)) / 2.0
+    v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
+         (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    f = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2), (10, 7, 6),
+         (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5), (2, 4, 11), (6, 2, 10),
+         (8, 6, 7), (9, 8, 1)]
+    verts = [np.asarray(p, dtype=np.float64) / np.linalg.norm(p) for p in v]
+    faces = [tuple(x) for x in f]
+    for _ in range(level):
+        cache: dict[tuple[int, int], int] = {}
+        new = []
+        for a, b, c in faces:
+            ab, bc, ca = (_midpoint(verts, cache, i, j) for i, j in ((a, b), (b, c), (c, a)))
+            new += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
+        faces = new
+    return np.asarray(verts), np.asarray(faces, dtype=np.int64)
+
+
+def sphere_pixels(size: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Orthographic view of the unit sphere from +z over [−1, 1]²: (pixel centres x (S, S), y (S, S), inside mask)."""
+    c = (np.arange(size) + 0.5) / size * 2.0 - 1.0
+    x, y = np.meshgrid(c, -c)
+    return x, y, x * x + y * y < 1.0
