@@ -148,12 +148,11 @@ def _reference_claims(m: dict[str, Any]) -> list[Claim]:
     sf, cq = m["seed_formulas"], m["cap_quadrature"]
     out = [Claim("arealights.seed_sh.projection",
                  "the seed's disc SH formulas (L00, L10, L20 and the order-2 irradiance polynomial, α = 1°…60°, and "
-                 "its "
-                 "α = 20° numbers) equal a numerical projection of the cap", "max |seed − numerical|", SEED_DIGITS,
+                 "its α = 20° numbers) equal a numerical projection of the cap", "max |seed − numerical|", SEED_DIGITS,
                  sf["max_deviation"], sf["quadrature_uncertainty"],
-                 source="[1] eqs. 20.29–20.31 print 6 significant digits (π/2 as 1.57079, truncated): a correct "
-                        "formula is within one unit of the 6th digit, 1e-5 × factors ≤ 1; uncertainty = change of "
-                        "the projection when its nodes are doubled"
+                 source="Fore June ch. 20 eqs. 20.29–20.31 print 6 significant digits (π/2 as 1.57079, "
+                        "truncated): a correct formula is within one unit of the 6th digit, 1e-5 × factors ≤ 1; "
+                        "uncertainty = change of the projection when its nodes are doubled"
                  ).with_power("the l = 2 band's sign flipped (L20 → −L20)", sf["band2_flipped_deviation"]),
            Claim("arealights.cap.quadrature", "closed-form cap irradiance (float32 drjit) = brute-force quadrature",
                  "max |E − E_quad| / (π sin²σ)", ac.CAP_QUADRATURE_TOLERANCE, cq["max"], 0.0, unit="%",
@@ -176,8 +175,8 @@ def _reference_claims(m: dict[str, Any]) -> list[Claim]:
 
 def _range_claims(m: dict[str, Any]) -> list[Claim]:
     r, d = m["alpha_range"], m["decide"]
-    src = ("[1] eqs. 20.29–20.31 (order-2 SH of a disc, worked at α = 20°) against [2]'s order-2 level 'max error "
-           "< 5 %' in R&H's flux normalisation")
+    src = ("Fore June ch. 20 eqs. 20.29–20.31 (order-2 SH of a disc, worked at α = 20°) against Ramamoorthi & "
+           "Hanrahan 2001 §4's order-2 level 'max error < 5 %', in R&H's flux normalisation")
     lo, hi = m["settings"]["range_deg"]
     inside, outside = d["inside"], d["outside"]
     return [
