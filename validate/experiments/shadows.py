@@ -55,6 +55,7 @@ from .shadows_measure import (
     kernel_sweep,
     measure_resolution,
     rate_counts,
+    upper_bounds,
 )
 from .techniques import CheckResult, Stat, technique_entry
 
@@ -87,6 +88,7 @@ def compute(ctx: Context, s: Settings | None = None) -> Measurements:
         if res == s.default_resolution:
             flat = smod.visibility_pcss(sm, frame.position, frame.normal, m.r_max, receiver_plane=False)
             m.pcss_flat = evaluate(frame, m.r_max, flat.visibility)[0]
+            m.bounds = upper_bounds(sm, frame, m.techniques, m.r_max)
         if res == max(s.resolutions) and "hard" in shadow:
             m.band = band_test(sm, frame, geometry, m.r_pt)
         del sm
@@ -124,7 +126,8 @@ def technique_entries(m: Measurements) -> dict[str, Any]:
     """``ExperimentResult.techniques``: every metric of every technique at every radius, ± uncertainty."""
     return {t.name: technique_entry(t, {k: {"value": v.value, "uncertainty": v.uncertainty}
                                         for k, v in sc.technique_metrics(m, t.name).items()},
-                                    resolution=m.settings.default_resolution)
+                                    resolution=m.settings.default_resolution,
+                                    memory_bytes_per_texel=t.meta.get("memory_bytes_per_texel"))
             for t in m.techniques}
 
 

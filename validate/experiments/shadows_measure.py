@@ -23,6 +23,7 @@ from ..reference import shadow_render as sr
 from ..scenes import shadow_scenes as ss
 
 BAND_TEST_ALPHA = 1e-3  # per-pixel two-sided t test level (expected exceed fraction 0.1 %)
+BLEEDING_REDUCTION = 0.2  # Lauritzen 2007 (GPU Gems 3, ch. 8) light-bleeding reduction linstep(0.2, 1, p)
 
 
 @dataclass(frozen=True)
@@ -117,6 +118,7 @@ class Measurements:
     band: dict[str, Any] = field(default_factory=dict)
     rate: dict[str, Any] = field(default_factory=dict)
     pcss_flat: se.ShadowErrors | None = None
+    bounds: dict[str, dict[str, Any]] = field(default_factory=dict)  # upper-bound techniques (VSM, ESM, MSM)
     build_seconds: dict[int, float] = field(default_factory=dict)
 
     @property
@@ -223,6 +225,23 @@ def band_test(sm: smod.ShadowMap, frame: Frame, geometry: Any, r: float) -> dict
             "outside_biased_1pct": test(1.01 * approx, include), "_band_image": band_img, "_include": include}
 
 
+def upper_bounds(sm: smod.ShadowMap, frame: Frame, techniques: list[Technique], r: float) -> dict[str, Any]:
+    """For each technique registered with meta ``upper_bound=True`` (the filterable maps): the largest amount
+    by which its V′ falls below the filtered depth test P(D ≥ t) over the same 6×6 weights
+    (:func:`~validate.local_models.shadow_map.filter_footprint`), and the same after the light-bleeding
+    reduction V′ → clamp((V′ − a)/(1 − a)), a = BLEEDING_REDUCTION (the power check)."""
+    p = smod.filter_footprint(sm, frame.position).depth_test()
+    out = {}
+    for tech in techniques:
+        if tech.meta.get("upper_bound"):
+            v = technique_visibility(tech, sm, frame, r)
+            reduced = np.clip((v - BLEEDING_REDUCTION) / (1 - BLEEDING_REDUCTION), 0.0, 1.0)
+            out[tech.name] = {"max_violation": float(np.max(p - v)),
+                              "reduced_max_violation": float(np.max(p - reduced)),
+                              "partial_pixels": int(((p > 0) & (p < 1)).sum()), "resolution": sm.resolution}
+    return out
+
+
 def ground_grid(frame: Frame, side: int) -> tuple[np.ndarray, np.ndarray]:
     """side² receivers on the ground plane (y = 0, normal +y) over the bounding box of the ground pixels."""
     g = (np.abs(frame.position[:, 1]) < 1e-4) & (frame.normal[:, 1] > 0.99)
@@ -258,4 +277,4 @@ def fit_rate(resolutions: list[int], counts: list[int]) -> tuple[float, float]:
 
 __all__ = ["BAND_TEST_ALPHA", "FULL", "QUICK", "Frame", "Measurements", "Settings", "band_test", "bias_sweep",
            "build_frame", "evaluate", "fit_rate", "ground_grid", "kernel_sweep", "measure_resolution",
-           "rate_counts", "technique_visibility"]
+           "rate_counts", "technique_visibility", "upper_bounds"]

@@ -165,9 +165,10 @@ def comparison_table(m: Measurements) -> Table:
             rows.append([f"{r:g}", t.name, _pm(*v["total"]), _pm(*v["lit"]),
                          f"{_pm(*v['penumbra'])} ({e.regions['penumbra'].pixels} px)", _pm(*v["umbra"]),
                          _pm(*v["false_shadow"]), _pm(*v["false_light"]), _pm(*v["leak"]),
-                         f"{v['flip'][0]:.4f} ± {v['flip'][1]:.4f}" if np.isfinite(v["flip"][0]) else "—"])
+                         f"{v['flip'][0]:.4f} ± {v['flip'][1]:.4f}" if np.isfinite(v["flip"][0]) else "—",
+                         str(t.meta.get("memory_bytes_per_texel", "—"))])
     return Table(["r (m)", "technique", "total", "lit", "penumbra", "umbra", "false shadow (acne)",
-                  "false light (peter-panning)", "light leak", "FLIP"], rows,
+                  "false light (peter-panning)", "light leak", "FLIP", "bytes/texel"], rows,
                  f"Every registered shadow technique at {m.settings.default_resolution}², per light radius (|ΔY| / "
                  "L_norm ± the reference's mean σ / L_norm; false shadow: share of the lit area with V′ < ½; false "
                  "light: share of the umbra with V′ > ½, ± binomial standard error; light leak: mean V′ over the "

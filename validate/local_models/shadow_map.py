@@ -69,11 +69,17 @@ References
 [5] J. Isidoro, "Shadow Mapping: GPU-based Tips and Techniques", GDC 2006 (receiver plane depth bias).
 [6] J. de Vries, "Shadow Mapping", LearnOpenGL, Advanced Lighting (learnopengl.com), section "PCF": the
     3×3 texel neighbourhood averaged around the receiver, the kernel most tutorials and engines start from.
+[7] T. Annen, T. Mertens, H.-P. Seidel, E. Flerackers, J. Kautz, "Exponential Shadow Maps", Graphics
+    Interface 2008 (Fig. 1: 2k × 2k maps, 5×5 Gauss filtering for CSMs, VSMs and ESMs).
+[8] W. Donnelly, A. Lauritzen, "Variance Shadow Maps", I3D 2006.
+[9] C. Peters, R. Klein, "Moment Shadow Mapping", I3D 2015.
 
 Registered techniques (family ``shadow``, :mod:`validate.local_models.families`; each is the family's
 contract fn(shadow_map, light, points, normals) -> (N,) V′ and registers exactly as a plug-in does):
 ``hard`` (nearest texel, glPolygonOffset(2, 4) [3]), ``pcf`` (3×3 bilinear taps [6] [3], footprint 4×4
-texels) and ``pcss`` ([4], 32 blocker-search and 64 filter taps, receiver-plane depth [5]).
+texels) and ``pcss`` ([4], 32 blocker-search and 64 filter taps, receiver-plane depth [5]). The
+filterable maps (VSM [8], ESM [7], MSM [9]) each register in their own module (``shadow_vsm``,
+``shadow_esm``, ``shadow_msm``) on :func:`filter_footprint`.
 """
 
 from __future__ import annotations
@@ -490,22 +496,90 @@ PCSS_FILTER_TAPS = 64  # filter taps [4]
 
 
 @shadow.register("hard", "hard shadow map: nearest-texel depth test, glPolygonOffset(2, 4)",
-                 source="Red Book ch. 7 [3]: nearest-texel depth comparison with glPolygonOffset(2, 4)")
+                 source="Red Book ch. 7 [3]: nearest-texel depth comparison with glPolygonOffset(2, 4)",
+                 memory_bytes_per_texel=4)
 def shadow_hard(shadow_map: ShadowMap, light: DiscLight, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
     """V′ ∈ {0, 1}: lit iff z_r ≤ D + o at the nearest texel (:func:`visibility_hard`)."""
     return visibility_hard(shadow_map, points, normals)
 
 
 @shadow.register("pcf", f"PCF {PCF_KERNEL}×{PCF_KERNEL} bilinear taps one texel apart (footprint 4×4 texels)",
-                 source="3×3 neighbourhood of LearnOpenGL's PCF [6]; each tap a GL_LINEAR sampler2DShadow [3]")
+                 source="3×3 neighbourhood of LearnOpenGL's PCF [6]; each tap a GL_LINEAR sampler2DShadow [3]",
+                 memory_bytes_per_texel=4)
 def shadow_pcf(shadow_map: ShadowMap, light: DiscLight, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
     """V′ = mean of the k×k bilinear comparisons, k = PCF_KERNEL (:func:`visibility_pcf`)."""
     return visibility_pcf(shadow_map, points, normals, PCF_KERNEL)
 
 
 @shadow.register("pcss", "PCSS: blocker search, penumbra w_p = r (z_r − z_b)/(z_b z_r), variable PCF",
-                 source="Fernando 2005 [4]; receiver-plane depth per tap, Isidoro 2006 [5]")
+                 source="Fernando 2005 [4]; receiver-plane depth per tap, Isidoro 2006 [5]", memory_bytes_per_texel=4)
 def shadow_pcss(shadow_map: ShadowMap, light: DiscLight, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
     """V′ of PCSS with the light's own radius (:func:`visibility_pcss`, receiver-plane depth on)."""
     return visibility_pcss(shadow_map, points, normals, light.radius, search_taps=PCSS_SEARCH_TAPS,
                            filter_taps=PCSS_FILTER_TAPS).visibility
+
+
+# ---------------------------------------------------------------------------------------------- filterable maps
+
+GAUSS5 = np.array([1.0, 4.0, 6.0, 4.0, 1.0]) / 16.0  # 5-tap binomial Gauss (the 5×5 Gauss filtering of [7] Fig. 1)
+
+
+@dataclass
+class FilterFootprint:
+    """What a prefiltered (moment) shadow map returns at each receiver, computed exactly at lookup.
+
+    A filterable map [7] [8] [9] stores a function of depth, blurs it with the 5×5 Gauss G = g gᵀ
+    (``GAUSS5``) and is read with bilinear filtering. Both are linear, so the value read at a receiver is
+    Σ_k w_k f(d_k) over the 6×6 texels around it, with separable weights w = (bilinear ∗ g) in x and y
+    (Σ w = 1). ``depth`` holds those texels' normalised linear depths d = (z − n)/(f − n) ∈ [0, 1]
+    (empty texels and texels outside the map: d = 1, the far plane — lit, like GL_CLAMP_TO_BORDER),
+    ``weight`` the w_k, ``receiver`` the receiver's own t = (z_r − n)/(f − n), clamped to [0, 1].
+    """
+
+    depth: np.ndarray  # (N, 36)
+    weight: np.ndarray  # (N, 36)
+    receiver: np.ndarray  # (N,)
+
+    def moments(self, order: int) -> np.ndarray:
+        """(N, order) filtered moments b_k = Σ w d^k, k = 1 … order."""
+        return np.stack([(self.weight * self.depth**k).sum(axis=1) for k in range(1, order + 1)], axis=1)
+
+    def depth_test(self) -> np.ndarray:
+        """The filtered depth test Σ w 1[t ≤ d] = P(D ≥ t): what the moment bounds bound from above."""
+        return (self.weight * (self.receiver[:, None] <= self.depth)).sum(axis=1)
+
+
+def filter_footprint(sm: ShadowMap, points: np.ndarray) -> FilterFootprint:
+    """The 6×6 texels and weights a bilinear lookup of the 5×5-Gauss-prefiltered map reads (see the class)."""
+    res = sm.resolution
+    x, y, _, z = sm.window_coords(points)
+    v = sm.view
+    i0, j0 = np.floor(x - 0.5), np.floor(y - 0.5)
+
+    def weights(f: np.ndarray) -> np.ndarray:  # (N, 6): (1 − f)·[g, 0] + f·[0, g]
+        w = np.zeros((f.size, 6))
+        w[:, :5] += (1 - f)[:, None] * GAUSS5
+        w[:, 1:] += f[:, None] * GAUSS5
+        return w
+
+    wx, wy = weights(x - 0.5 - i0), weights(y - 0.5 - j0)
+    ii = np.clip(i0, -8, res + 8).astype(np.int64)[:, None] - 2 + np.arange(6)  # (N, 6)
+    jj = np.clip(j0, -8, res + 8).astype(np.int64)[:, None] - 2 + np.arange(6)
+    inside = ((ii >= 0) & (ii < res))[:, None, :] & ((jj >= 0) & (jj < res))[:, :, None]  # (N, 6 j, 6 i)
+    idx = np.clip(jj, 0, res - 1)[:, :, None] * res + np.clip(ii, 0, res - 1)[:, None, :]
+    zw = np.asarray(dr_gather_numpy(sm.depth, idx.ravel()), dtype=np.float64).reshape(idx.shape)
+    zw = np.where(inside, zw, 1.0)
+    with np.errstate(divide="ignore"):
+        zlin = np.where(zw >= 1.0, v.far, v.near / (1.0 - zw / v.depth_scale))
+    d = np.clip((zlin - v.near) / (v.far - v.near), 0.0, 1.0)
+    w = wy[:, :, None] * wx[:, None, :]
+    t = np.clip((z - v.near) / (v.far - v.near), 0.0, 1.0)
+    return FilterFootprint(d.reshape(-1, 36), w.reshape(-1, 36), t)
+
+
+def dr_gather_numpy(values: Any, index: np.ndarray) -> np.ndarray:
+    """values[index] for a drjit Float ``values`` and a numpy index array (one gather, no full copy)."""
+    import drjit as dr
+
+    U = uint_type()
+    return np.array(dr.gather(float_type(), values, U(np.ascontiguousarray(index, dtype=np.uint32))))
