@@ -76,6 +76,6 @@ UNAVAILABLE = unavailable_reason()  # a file-system check only: no process is st
 if UNAVAILABLE is None:
     for _name in ENGINE_TECHNIQUES:
         _irradiance.register(_name, DESCRIPTIONS[_name], engine=ENGINE_TECHNIQUES[_name][0],
-                             face_size=FACE_SIZE)(_technique(_name))
+                             path=ENGINE_TECHNIQUES[_name][1], face_size=FACE_SIZE)(_technique(_name))
 
 __all__ = ["DESCRIPTIONS", "ENGINE_TECHNIQUES", "FACE_SIZE", "UNAVAILABLE"]

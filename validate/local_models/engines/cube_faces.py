@@ -30,6 +30,7 @@ References
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -66,18 +67,39 @@ def hot_texels(radiance: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.unravel_index(idx, f.shape)
 
 
-def _supersampled(radiance: np.ndarray, n: int, s: int) -> np.ndarray:
+@functools.lru_cache(maxsize=8)
+def _sampling_plan(h: int, w: int, n: int, s: int) -> tuple[np.ndarray, ...]:
+    """Bilinear taps of every sub-texel point (the arithmetic of :func:`latlong.bilinear_lookup`) and its
+    weight r⁻³ / Σ r⁻³ within its texel; depends only on the sizes, so it is computed once per run."""
     sub = (np.arange(n * s, dtype=np.float64) + 0.5) / (n * s) * 2.0 - 1.0
     tc, sc = np.meshgrid(sub, sub, indexing="ij")
-    w = (1.0 + sc * sc + tc * tc) ** -1.5  # dω/dA on the face plane
-    wsum = w.reshape(n, s, n, s).sum(axis=(1, 3))
-    faces = np.empty((6, n, n, 3))
-    for f in range(6):
-        d = face_direction(f, sc, tc)
-        d /= np.linalg.norm(d, axis=-1, keepdims=True)
-        lv = latlong.bilinear_lookup(radiance, d) * w[..., None]
-        faces[f] = lv.reshape(n, s, n, s, 3).sum(axis=(1, 3)) / wsum[..., None]
-    return faces
+    wt = (1.0 + sc * sc + tc * tc) ** -1.5  # dω/dA on the face plane
+    wt = wt / np.repeat(np.repeat(wt.reshape(n, s, n, s).sum(axis=(1, 3)), s, 0), s, 1)
+    d = np.stack([face_direction(f, sc, tc) for f in range(6)])
+    d /= np.linalg.norm(d, axis=-1, keepdims=True)
+    theta, phi = latlong.direction_to_spherical(d)
+    y = theta / np.pi * (h - 1)
+    x = phi / (2.0 * np.pi) * w - 0.5
+    y0 = np.clip(np.floor(y).astype(np.int64), 0, h - 2)
+    fy = np.clip(y - y0, 0.0, 1.0)
+    x0f = np.floor(x)
+    fx = x - x0f
+    x0 = np.mod(x0f.astype(np.int64), w)
+    x1 = np.mod(x0 + 1, w)
+    taps = [(y0 * w + x0, (1 - fx) * (1 - fy)), (y0 * w + x1, fx * (1 - fy)),
+            ((y0 + 1) * w + x0, (1 - fx) * fy), ((y0 + 1) * w + x1, fx * fy)]
+    return tuple(a for idx, wb in taps for a in (idx.ravel(), (wb * wt[None]).ravel()))
+
+
+def _supersampled(radiance: np.ndarray, n: int, s: int) -> np.ndarray:
+    """Σ_k L(ω_k) r_k⁻³ / Σ_k r_k⁻³ over the s × s sub-texel points of each texel, (6, N, N, 3)."""
+    h, w = radiance.shape[:2]
+    plan = _sampling_plan(h, w, n, s)
+    flat = radiance.reshape(-1, 3)
+    acc = np.zeros((6 * n * s * n * s, 3))
+    for idx, wb in zip(plan[0::2], plan[1::2], strict=True):
+        acc += flat[idx] * wb[:, None]
+    return acc.reshape(6, n, s, n, s, 3).sum(axis=(2, 4))
 
 
 def _splat_hot(d_map: np.ndarray, rows: np.ndarray, cols: np.ndarray, n: int) -> np.ndarray:

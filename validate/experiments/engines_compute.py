@@ -1,0 +1,219 @@
+"""``engines`` compute step: numbers only, one environment per task.
+
+Per environment (:func:`measure_environment`, through ``ctx.map``):
+
+* the reference E(n) ± δ(n) (:func:`validate.reference.irradiance.reference_irradiance`) at N
+  spherical-Fibonacci normals, and the suite's ``sh9`` beside every engine technique of the
+  ``irradiance`` family (those registered with ``engine=`` meta), each through ``family.call`` and
+  judged under every metric of :mod:`validate.metrics.irradiance_error`;
+* the decomposition of each engine's error: the faces it received (their flux against the map's),
+  the exact-solid-angle SH9 of those same faces (:func:`cube_faces.project_faces_sh9`) and the engine's
+  largest departure from it, ``max_{n,c} |E_engine − E_faces|/Φ_c``;
+* the power-check variants: each engine at −n (band 1's sign flipped: the odd band of an SH9
+  irradiance is (E(n) − E(−n))/2, so E(−n) is SH9 with L1m ↦ −L1m) and its output × 1.01;
+* Babylon with the 4096 clamp lifted (MAX_HDRI_VALUE = ∞) and the share of the face flux the clamp
+  removes; three.js fed half-float faces (a HalfFloatType target); Babylon's polynomial path against
+  SH9 of the faces with band l scaled by A_l/π (the cosine lobe applied twice).
+
+:func:`measure_face_sizes` sweeps the cube-face size on a few environments.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from typing import Any
+
+import numpy as np
+
+from ..local_models import irradiance as irradiance_family
+from ..local_models import sh as shm
+from ..local_models.engines import cube_faces, worker
+from ..local_models.irradiance_map import cube_texel_solid_angles
+from ..local_models.registry import Technique
+from ..metrics.irradiance_error import ErrorStats, irradiance_errors
+from ..reference.irradiance import reference_irradiance
+from ..scenes import latlong
+from ..scenes.environment import Environment
+
+BABYLON_CLAMP = 4096.0  # CubeMapToSphericalPolynomialTools.MAX_HDRI_VALUE (Babylon.js 9.35)
+HALF_MAX = 65504.0  # largest finite IEEE half float
+SCALE_BUG = 1.01  # power of the equality claims: the engine's output 1 % too bright
+BASELINE = "sh9"
+# A_l/π for l = 0, 1, 2 over the 9 coefficients: Babylon's polynomial path applies the lobe twice.
+DOUBLE_LOBE = np.array([shm.clamped_cosine_al(shm.degree_of(k)) / np.pi for k in range(9)])[:, None]
+
+
+@dataclass(frozen=True)
+class Settings:
+    """How hard the experiment tries (quick and full are two instances, :data:`SETTINGS`)."""
+
+    normals: int  # spherical-Fibonacci normals for every metric
+    cells: int  # reference quadrature cells
+    face_size: int  # faces the registered techniques receive (worker.FACE_SIZE)
+    sweep_sizes: tuple[int, ...]  # face sizes of the resolution sweep (same normals: the reference is cached)
+
+    def to_json(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+SETTINGS = {
+    "quick": Settings(2500, 64, worker.FACE_SIZE, (32, 64, 128)),
+    "full": Settings(10000, 64, worker.FACE_SIZE, (16, 32, 64, 128, 256)),
+}
+
+
+def engine_techniques() -> list[Technique]:
+    """Every registered irradiance technique that runs a shipping engine (meta ``engine``)."""
+    return [t for t in irradiance_family if t.meta.get("engine")]
+
+
+def compared_techniques() -> list[Technique]:
+    """The suite's own SH9 first, then every engine technique."""
+    base = [irradiance_family[BASELINE]] if BASELINE in irradiance_family else []
+    return base + engine_techniques()
+
+
+def stats_json(stats: dict[str, ErrorStats]) -> dict[str, dict[str, float]]:
+    return {k: v.to_json() for k, v in stats.items()}
+
+
+def deviation(a: np.ndarray, b: np.ndarray, flux: np.ndarray) -> float:
+    """max over normals and channels of |a_c − b_c| / Φ_c (channels with Φ_c > 0)."""
+    ok = flux > 0
+    return float(np.max(np.abs(a - b)[:, ok] / flux[ok])) if ok.any() else 0.0
+
+
+def clamp_share(faces: np.ndarray, limit: float = BABYLON_CLAMP) -> float:
+    """Luminance flux the per-channel clamp at ``limit`` removes, over the faces' luminance flux."""
+    omega = cube_texel_solid_angles(faces.shape[1])
+    y_all = latlong.luminance(np.einsum("fijc,ij->c", faces.astype(np.float64), omega))
+    y_cut = latlong.luminance(np.einsum("fijc,ij->c", np.maximum(faces.astype(np.float64) - limit, 0.0), omega))
+    return float(y_cut / y_all) if y_all > 0 else 0.0
+
+
+def measure_technique(tech: Technique, env: Environment, normals: np.ndarray, e_ref: np.ndarray,
+                      unc: np.ndarray, flux: np.ndarray, e_faces: np.ndarray, e_sh9: np.ndarray | None) -> dict:
+    """One technique on one environment: metrics, its departure from the faces' SH9 (and from the suite's
+    SH9), and the same under band 1's sign flipped and under a 1 % scale error."""
+    both = irradiance_family.call(tech, env.radiance, np.concatenate([normals, -normals]))
+    e, e_flip = both[: len(normals)], both[len(normals):]
+    out = {"errors": stats_json(irradiance_errors(e_ref, e, flux, unc)),
+           "errors_band1_flipped": stats_json(irradiance_errors(e_ref, e_flip, flux, unc)),
+           "faces_deviation": deviation(e, e_faces, flux),
+           "faces_deviation_scaled": deviation(SCALE_BUG * e, e_faces, flux)}
+    if e_sh9 is not None:
+        out["sh9_deviation"] = deviation(e, e_sh9, flux)
+    if env.name == "constant":  # E = πL exactly: the π normalisation
+        pil = np.pi * env.radiance[0, 0].astype(np.float64)
+        out["pi_normalisation"] = float(np.max(np.abs(e / pil - 1.0)))
+        out["pi_normalisation_unscaled"] = float(np.max(np.abs(e / np.pi / pil - 1.0)))
+    out["_irradiance"] = e
+    return out
+
+
+def babylon_variants(env: Environment, normals: np.ndarray, e_ref: np.ndarray, unc: np.ndarray,
+                     flux: np.ndarray, coeffs: np.ndarray, e_poly: np.ndarray | None) -> dict:
+    """Babylon without its clamp; the polynomial path against the doubly convolved SH9 of the faces."""
+    out: dict[str, Any] = {}
+    if not any(t.meta.get("engine") == "babylon" for t in engine_techniques()):
+        return out
+    e_nc = worker.engine_irradiance("babylon", "sh", env.radiance, normals, worker.FaceSettings(clamp=False))
+    out["babylon_sh_unclamped"] = stats_json(irradiance_errors(e_ref, e_nc, flux, unc))
+    if e_poly is not None:
+        e_dbl = cube_faces.render_sh9(coeffs * DOUBLE_LOBE, normals)
+        out["polynomial_double_lobe_deviation"] = deviation(e_poly, e_dbl, flux)
+        out["polynomial_double_lobe_fixed"] = deviation(cube_faces.render_sh9(coeffs, normals), e_dbl, flux)
+    return out
+
+
+def half_float(env: Environment, normals: np.ndarray, faces: np.ndarray, e_three: np.ndarray | None,
+               flux: np.ndarray) -> dict:
+    """three.js fed the same faces as half floats: departure from the float32 result, or overflow."""
+    if e_three is None or not any(t.meta.get("engine") == "three" for t in engine_techniques()):
+        return {}
+    over = int((faces > HALF_MAX).any(axis=-1).sum())
+    e16 = worker.engine_irradiance("three", "getIrradianceAt", env.radiance, normals,
+                                   worker.FaceSettings(dtype="float16"))
+    finite = bool(np.isfinite(e16).all())
+    return {"half_overflow_texels": over, "half_finite": finite,
+            "half_deviation": deviation(e16, e_three, flux) if finite else None}
+
+
+def _output_of(techs: dict[str, dict], engine: str, path: str) -> np.ndarray | None:
+    """The irradiance of the technique running ``engine`` through ``path``, if one is registered."""
+    for t in engine_techniques():
+        if t.meta.get("engine") == engine and t.meta.get("path") == path and t.name in techs:
+            return techs[t.name]["_irradiance"]
+    return None
+
+
+def measure_environment(env: Environment, settings: Settings) -> dict:
+    """Everything the experiment measures on one environment (JSON-able but for ``_``-keys)."""
+    normals = latlong.fibonacci_sphere(settings.normals)
+    ref = reference_irradiance(env, normals, cells=settings.cells)
+    flux = env.total_flux()
+    faces = worker.faces_for(env.radiance, settings.face_size)
+    coeffs = cube_faces.project_faces_sh9(faces)
+    e_faces = cube_faces.render_sh9(coeffs, normals)
+    techs: dict[str, dict] = {}
+    e_sh9: np.ndarray | None = None
+    for tech in compared_techniques():
+        techs[tech.name] = measure_technique(tech, env, normals, ref.irradiance, ref.uncertainty, flux, e_faces,
+                                             e_sh9)
+        if tech.name == BASELINE:
+            e_sh9 = techs[tech.name]["_irradiance"]
+    poly = _output_of(techs, "babylon", "polynomial")
+    three = _output_of(techs, "three", "getIrradianceAt")
+    for t in techs.values():
+        t.pop("_irradiance")
+    face_flux = cube_faces.face_flux(faces)
+    return {
+        "kind": env.kind, "resolution": [env.width, env.height],
+        "flux": flux.tolist(), "flux_luminance": float(latlong.luminance(flux)),
+        "face_size": settings.face_size, "face_flux_error": float(np.max(np.abs(face_flux / flux - 1.0))),
+        "max_face_texel": float(faces.max()), "max_map_texel": float(env.radiance.max()),
+        "above_clamp": bool(faces.max() > BABYLON_CLAMP), "clamp_share": clamp_share(faces),
+        "convergence": ref.convergence, "techniques": techs,
+        "faces_vs_sh9": deviation(e_faces, e_sh9, flux) if e_sh9 is not None else None,
+        **babylon_variants(env, normals, ref.irradiance, ref.uncertainty, flux, coeffs, poly),
+        **half_float(env, normals, faces, three, flux),
+    }
+
+
+def measure_face_sizes(env: Environment, settings: Settings) -> dict:
+    """Each engine path at every face size of the sweep: flux-normalised luminance error against the
+    reference, departure from the exact SH9 of the same faces, Babylon's clamped share."""
+    normals = latlong.fibonacci_sphere(settings.normals)
+    ref = reference_irradiance(env, normals, cells=settings.cells)
+    flux = env.total_flux()
+    paths = {t.name: (t.meta["engine"], t.meta.get("path")) for t in engine_techniques() if t.meta.get("path")}
+    out: dict[str, Any] = {"sizes": list(settings.sweep_sizes), "techniques": {}, "clamp_share": [],
+                           "max_face_texel": []}
+    for size in settings.sweep_sizes:
+        faces = worker.faces_for(env.radiance, size)
+        e_faces = cube_faces.render_sh9(cube_faces.project_faces_sh9(faces), normals)
+        out["clamp_share"].append(clamp_share(faces))
+        out["max_face_texel"].append(float(faces.max()))
+        for name, (engine, path) in paths.items():
+            e = worker.engine_irradiance(engine, path, env.radiance, normals, worker.FaceSettings(size=size))
+            st = irradiance_errors(ref.irradiance, e, flux, ref.uncertainty)["flux_luminance"]
+            row = out["techniques"].setdefault(name, {"mean": [], "max": [], "faces_deviation": []})
+            row["mean"].append(st.mean)
+            row["max"].append(st.max)
+            row["faces_deviation"].append(deviation(e, e_faces, flux))
+    return out
+
+
+def three_weight_error(n: int) -> float:
+    """ρ(N) = max over texels of |w/Ω − 1| for three.js's weights w ∝ r⁻³ at the texel centre, normalised
+    to Σ w = 4π, against the exact texel solid angles Ω (Driscoll 2012's atan2 area element)."""
+    c = (np.arange(n) + 0.5) / n * 2.0 - 1.0
+    u, v = np.meshgrid(c, c, indexing="ij")
+    w = (1.0 + u * u + v * v) ** -1.5
+    w *= 4.0 * np.pi / (6.0 * w.sum())
+    return float(np.max(np.abs(w / cube_texel_solid_angles(n) - 1.0)))
+
+
+__all__ = ["SETTINGS", "Settings", "BABYLON_CLAMP", "HALF_MAX", "SCALE_BUG", "BASELINE", "DOUBLE_LOBE",
+           "engine_techniques", "compared_techniques", "measure_environment", "measure_face_sizes",
+           "three_weight_error", "deviation", "clamp_share"]
