@@ -55,3 +55,21 @@ if ! command -v chromium >/dev/null 2>&1 && command -v apt-get >/dev/null 2>&1; 
     DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq chromium >/dev/null \
         || echo "setup: WARNING: chromium unavailable; the report page test will be skipped" >&2
 fi
+
+# Shipping engines under test (the `engines` experiment): Node.js and the pinned npm packages
+# (package.json / package-lock.json: three, @babylonjs/core). Without them that experiment is skipped
+# with the reason and everything else runs; so any failure here is a warning, never an abort.
+if ! command -v node >/dev/null 2>&1 && command -v apt-get >/dev/null 2>&1; then
+    echo "setup: installing Debian's nodejs and npm through apt (engines experiment)"
+    { $SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq nodejs npm >/dev/null; } \
+        || echo "setup: WARNING: nodejs/npm unavailable; the engines experiment will be skipped" >&2
+fi
+if [ -f package.json ] && command -v node >/dev/null 2>&1 && node --version >/dev/null 2>&1; then
+    if command -v npm >/dev/null 2>&1; then
+        npm ci --silent --no-audit --no-fund >/dev/null 2>&1 \
+            && echo "setup: npm packages installed (three, @babylonjs/core)" \
+            || echo "setup: WARNING: npm ci failed; the engines experiment will be skipped" >&2
+    else
+        echo "setup: WARNING: npm not found; the engines experiment will be skipped" >&2
+    fi
+fi
