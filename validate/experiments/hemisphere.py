@@ -174,13 +174,16 @@ def compute(ctx: Context) -> dict[str, Any]:
             "skies": {env.name: sky_analysis(env, s) for env in ctx.progress(skies, "hemisphere: skies")}}
 
 
-def technique_measured(m: dict[str, Any], name: str) -> dict[str, Measured]:
-    """Worst over the skies of every metric's mean and max ± uncertainty; power 'error × 1.5'."""
+def technique_measured(m: dict[str, Any], name: str, skies: list[str] | None = None) -> dict[str, Measured]:
+    """Worst over ``skies`` (default all) of every metric's mean, max and rms ± uncertainty (rms: the max
+    uncertainty, since |rms(e′) − rms(e)| ≤ max δ); power 'error × 1.5'."""
     out: dict[str, Measured] = {}
+    chosen = [m["skies"][k] for k in (skies if skies is not None else m["skies"])]
     for metric in METRIC_NAMES:
-        for stat in ("mean", "max"):
-            vals = [(sky["techniques"][name][metric][stat], sky["techniques"][name][metric][f"{stat}_uncertainty"])
-                    for sky in m["skies"].values() if name in sky["techniques"]]
+        for stat in ("mean", "max", "rms"):
+            unc = "max_uncertainty" if stat == "rms" else f"{stat}_uncertainty"
+            vals = [(sky["techniques"][name][metric][stat], sky["techniques"][name][metric][unc])
+                    for sky in chosen if name in sky["techniques"]]
             if vals:
                 v, u = max(vals)
                 out[f"{metric}.{stat}"] = Measured(v, u, 1.5 * v, "error × 1.5")
@@ -216,9 +219,11 @@ def claims(m: dict[str, Any]) -> list[Claim]:
               ).with_power("the Red Book's two branches swapped (½ sin β above the horizon)", rb["swapped_deviation"]),
     ]
     for tech in irradiance:
-        if tech.thresholds:
-            out += technique_claims(NAME, tech, technique_measured(m, tech.name),
-                                    scope=f"worst over {', '.join(m['skies'])}, tilt × azimuth normals")
+        # a technique may name the environments its thresholds are meant for (meta environments=…, as in sh9)
+        skies = [k for k in m["skies"] if k in set(tech.meta.get("environments") or m["skies"])]
+        if tech.thresholds and skies:
+            out += technique_claims(NAME, tech, technique_measured(m, tech.name, skies),
+                                    scope=f"worst over {', '.join(skies)}, tilt × azimuth normals")
     return out
 
 
