@@ -149,6 +149,35 @@ def test_bad_settings_raise(environments: dict, kwargs: dict, culprit: str) -> N
         pathtrace.render_lambertian_sphere(environments["two_tone"], **kwargs)
 
 
+def test_zero_standard_error_gives_infinite_z_without_warnings() -> None:
+    """A pixel whose passes agree exactly (σ = 0, e.g. black in every pass) has z = 0 when the quadrature
+    agrees and |z| = ∞ when it does not; no invalid-value warning on the way."""
+    import warnings
+
+    r = 8
+    mean = np.ones((r, r, 3))
+    render = pathtrace.SphereRender(mean, np.zeros_like(mean), np.zeros_like(mean), pathtrace.footprint_mask(r),
+                                    16, 4, 0, {})
+    expected = np.where(pathtrace.footprint_mask(r)[..., None], 1.0, np.nan) * np.ones(3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        same = pathtrace.compare(render, expected, np.zeros_like(expected))
+        off = pathtrace.compare(render, 0.5 * expected, np.zeros_like(expected))
+    assert same.max_abs_z == 0.0 and same.passed
+    assert off.max_abs_z == np.inf and not off.passed
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["near_directional", "sunsky_30deg"])
+def test_crosscheck_passes_on_sun_and_near_directional(name: str) -> None:
+    """The sh9 experiment's additional cross-checks (full run), at their settings: measured sunsky_30deg
+    max |z| 4.07, χ²/dof 0.99; near_directional max |z| 3.07."""
+    env = procedural.builtin_environment(name)
+    cc = pathtrace.crosscheck_sphere(env, RESOLUTION, SPP, PASSES, seed=0)
+    assert cc.passed, f"{name}: {cc.summary()}"
+    assert CHI2_PER_DOF_RANGE[0] <= cc.chi2_per_dof <= CHI2_PER_DOF_RANGE[1], cc.summary()
+
+
 @pytest.mark.probes
 def test_crosscheck_passes_on_a_real_probe(load_probe) -> None:
     env = load_probe("grace_probe_latlong.exr")
