@@ -167,3 +167,18 @@ def test_per_fragment_beats_gouraud_and_converges_at_second_order() -> None:
         errs.append((bm._err(r["gouraud"], r["exact"]), bm._err(r["fragment"], r["exact"])))
         assert errs[-1][1] < errs[-1][0]
     assert 3.0 < errs[0][1] / errs[1][1] < 5.5
+
+
+def test_check_brdf_accepts_a_correct_model_and_rejects_a_wrong_one() -> None:
+    def my_ggx(params, normals, lights, views):  # noqa: ANN001, ANN202 (a user's plug-in)
+        return cb.cook_torrance(params, normals, lights, views)
+
+    def missing_four(params, normals, lights, views):  # noqa: ANN001, ANN202
+        return 4.0 * cb.cook_torrance(params, normals, lights, views)
+
+    ok = exp.check_brdf(my_ggx, ["conductor_ggx_a0.3"])
+    assert ok.max_rel.max + ok.max_rel.max_uncertainty < FLOAT32_TOL
+    bad = exp.check_brdf(missing_four, ["conductor_ggx_a0.3"])
+    assert bad.rel_l1.max > 1.0
+    with pytest.raises(ValidateError, match="unknown material"):
+        exp.check_brdf(my_ggx, ["no_such_material"])

@@ -338,8 +338,11 @@ def _shade(fn: Any, light: np.ndarray, level: int, size: int) -> dict[str, np.nd
 
     vert_c = run(verts)
     interp_n = np.sum(w[..., None] * verts[tri], axis=1)
+    face_n = np.cross(verts[tri[:, 1]] - verts[tri[:, 0]], verts[tri[:, 2]] - verts[tri[:, 0]])
+    face_n *= np.sign(np.sum(face_n * verts[tri[:, 0]], axis=-1, keepdims=True))
     return {"exact": run(exact_n), "gouraud": np.sum(w * vert_c[tri], axis=1),
-            "fragment": run(interp_n / np.linalg.norm(interp_n, axis=-1, keepdims=True)), "exact_n": exact_n}
+            "fragment": run(interp_n / np.linalg.norm(interp_n, axis=-1, keepdims=True)),
+            "flat": run(face_n / np.linalg.norm(face_n, axis=-1, keepdims=True)), "exact_n": exact_n}
 
 
 def _err(img: np.ndarray, ref: np.ndarray) -> float:
@@ -370,7 +373,7 @@ def gouraud_analysis(m: Measurements, light: tuple[float, float, float]) -> None
     for sp in s.gouraud_exponents:
         bsdf = {"type": plugin, "exponent": sp, "reflectance": 1.0}
         p = {"albedo": 0.0, "ks": 1.0, "phong_exponent": sp}
-        rows = {"gouraud": [], "fragment": []}
+        rows = {"gouraud": [], "fragment": [], "flat": []}
         for lv in s.gouraud_levels:
             r = _shade(lambda n, lt, vw, p=p: call_world("phong_normalized", p, n, lt, vw), ldir, lv, s.gouraud_image)
             ref = luminance(br.eval_bsdf_world(bsdf, r["exact_n"], np.tile(ldir, (len(r["exact_n"]), 1)),
