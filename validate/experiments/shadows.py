@@ -124,11 +124,16 @@ def sections(m: Measurements, ctx: Context) -> list[Section]:
 
 def technique_entries(m: Measurements) -> dict[str, Any]:
     """``ExperimentResult.techniques``: every metric of every technique at every radius, ± uncertainty."""
-    return {t.name: technique_entry(t, {k: {"value": v.value, "uncertainty": v.uncertainty}
+    return {t.name: technique_entry(t, {k: {"value": _finite(v.value), "uncertainty": _finite(v.uncertainty)}
                                         for k, v in sc.technique_metrics(m, t.name).items()},
                                     resolution=m.settings.default_resolution,
                                     memory_bytes_per_texel=t.meta.get("memory_bytes_per_texel"))
             for t in m.techniques}
+
+
+def _finite(x: float) -> float | None:
+    """NaN (an empty region, FLIP not computed at that radius) → None, so results.json stays strict JSON."""
+    return float(x) if np.isfinite(x) else None
 
 
 @register_experiment(NAME, "Shadow maps (hard, PCF, PCSS, plug-ins) vs path-traced soft shadows of a disc light",
@@ -168,7 +173,7 @@ def check_shadow(fn: Callable[..., Any] | Technique, radius: float | Iterable[fl
     if not radii:
         raise ValidateError("check_shadow: no light radius given")
     s = QUICK if quick else FULL
-    frame = build_frame(s, radii, seed)
+    frame = build_frame(s, radii, seed, flip_radii=radii)
     r_pt = min(radii)
     geometry = sr.load_scene(frame.scenes[r_pt], with_light=False)
     sm = smod.build_shadow_map(geometry, frame.scenes[r_pt].light, frame.position, resolution)

@@ -44,19 +44,21 @@ class Settings:
     bias_scales: tuple[float, ...]
     kernels: tuple[int, ...]
     rate_grid: int  # ground receivers per side for the hard map's convergence rate
+    flip_radii: tuple[float, ...]  # radii whose images get HDR-FLIP (≈ 0.7 s per image pair)
 
 
 QUICK = Settings(96, 72, 64, 8, 12, (ss.NEAR_POINT_RADIUS, 0.25, 1.0), (256, 1024, 4096), 1024, 1024, 256, (1.0,),
-                 (0.0, 0.125, 0.25, 0.5, 1.0, 2.0, 8.0, 32.0), (1, 3, 5, 9, 13, 17, 25, 33), 256)
+                 (0.0, 0.125, 0.25, 0.5, 1.0, 2.0, 8.0, 32.0), (1, 3, 5, 9, 13, 17, 25, 33), 256, (1.0,))
 FULL = Settings(160, 120, 64, 16, 16, tuple(ss.LIGHT_RADII), (256, 512, 1024, 2048, 4096), 2048, 1024, 512,
                 (0.25, 1.0), (0.0, 0.0625, 0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0),
-                (1, 2, 3, 5, 7, 9, 13, 17, 25, 33, 49), 512)
+                (1, 2, 3, 5, 7, 9, 13, 17, 25, 33, 49), 512, tuple(ss.LIGHT_RADII))
 
 
 class Frame:
     """The G-buffer of the fixed camera (identical for every radius) and the per-radius references."""
 
-    def __init__(self, refs: dict[float, sr.ShadowReference], scenes: dict[float, ss.ShadowScene]):
+    def __init__(self, refs: dict[float, sr.ShadowReference], scenes: dict[float, ss.ShadowScene],
+                 flip_radii: tuple[float, ...] = ()):
         first = refs[min(refs)]
         for r, ref in refs.items():  # one camera, one geometry: the G-buffers must agree
             if not (np.array_equal(ref.valid, first.valid) and np.allclose(ref.position, first.position)):
@@ -70,7 +72,8 @@ class Frame:
         self.irradiance = {r: smod.disc_irradiance(scenes[r].light, self.position, self.normal) for r in refs}
         self.norm = {r: se.lit_normaliser(refs[r].radiance[self.valid], refs[r].visibility[self.valid])
                      for r in refs}
-        self.flip_noise = {r: se.flip_noise_floor(refs[r].radiance, refs[r].uncertainty) for r in refs}
+        self.flip_noise = {r: se.flip_noise_floor(refs[r].radiance, refs[r].uncertainty) if r in flip_radii
+                           else float("nan") for r in refs}
 
     def image(self, values: np.ndarray, fill: float = 0.0) -> np.ndarray:
         """Valid-pixel values (N, …) → a full (H, W, …) image."""
@@ -84,11 +87,12 @@ class Frame:
         return ref.radiance[self.valid], ref.uncertainty[self.valid], ref.visibility[self.valid]
 
 
-def build_frame(s: Settings, radii: tuple[float, ...], seed: int, progress: Any = iter) -> Frame:
-    """References (cached) for every radius and the frame they share."""
+def build_frame(s: Settings, radii: tuple[float, ...], seed: int, progress: Any = iter,
+                flip_radii: tuple[float, ...] | None = None) -> Frame:
+    """References (cached) for every radius and the frame they share (FLIP for ``s.flip_radii`` unless given)."""
     scenes = {r: ss.shadow_scene(r, s.width, s.height) for r in radii}
     refs = {r: sr.reference_shadows(scenes[r], s.spp, s.passes, seed, s.visibility_side) for r in progress(radii)}
-    return Frame(refs, scenes)
+    return Frame(refs, scenes, s.flip_radii if flip_radii is None else flip_radii)
 
 
 def technique_visibility(tech: Technique | str, sm: smod.ShadowMap, frame: Frame, radius: float) -> np.ndarray:
@@ -146,7 +150,7 @@ def measure_resolution(m: Measurements, sm: smod.ShadowMap) -> None:
         m.sweep[res][r] = {}
         for tech in m.techniques:
             vis = technique_visibility(tech, sm, m.frame, r)
-            err, approx = evaluate(m.frame, r, vis, flip=res == s.default_resolution)
+            err, approx = evaluate(m.frame, r, vis, flip=res == s.default_resolution and r in s.flip_radii)
             m.sweep[res][r][tech.name] = err
             if res == s.default_resolution or (r == m.r_pt and res in (ress[0], ress[-1])):
                 m.images[(res, r, tech.name)] = approx

@@ -38,7 +38,7 @@ def data(m: Measurements) -> dict[str, Any]:
             "bias_sweep": m.bias, "kernel_sweep": m.kernels, "convergence_rate": m.rate,
             "band_test": {k: v for k, v in m.band.items() if not k.startswith("_")},
             "pcss_without_receiver_plane_largest_light": m.pcss_flat.to_json() if m.pcss_flat else None,
-            "flip_noise_floor": {f"{r:g}": m.frame.flip_noise[r] for r in m.radii},
+            "flip_noise_floor": {f"{r:g}": m.frame.flip_noise[r] for r in m.settings.flip_radii if r in m.frame.refs},
             "shadow_map_build_s": {str(k): v for k, v in m.build_seconds.items()}}
 
 
@@ -172,7 +172,8 @@ def comparison_table(m: Measurements) -> Table:
                  f"Every registered shadow technique at {m.settings.default_resolution}², per light radius (|ΔY| / "
                  "L_norm ± the reference's mean σ / L_norm; false shadow: share of the lit area with V′ < ½; false "
                  "light: share of the umbra with V′ > ½, ± binomial standard error; light leak: mean V′ over the "
-                 "umbra; FLIP: mean HDR-FLIP ± the reference's own noise floor).")
+                 "umbra; FLIP: mean HDR-FLIP ± the reference's own noise floor, at r = "
+                 f"{', '.join(f'{r:g}' for r in m.settings.flip_radii)} m).")
 
 
 def resolution_table(m: Measurements) -> Table:
