@@ -222,3 +222,24 @@ def test_near_matches_of_paper_probes_say_why_not_compared(load_probe: Callable[
     assert "not the Debevec angular map grace_probe.hdr" in r["published_note"]
     m = Measurements(sh9_exp.SETTINGS["quick"], {"ict_grace_256x128": r})
     assert any("ict_grace_256x128.hdr" in f for f in sh9_claims.findings(m))
+
+
+def _stats(v: float) -> dict[str, dict[str, float]]:
+    return {metric: {"mean": v, "max": v, "rms": v, "mean_uncertainty": 0.0, "max_uncertainty": 0.0}
+            for metric in METRIC_NAMES}
+
+
+@pytest.mark.parametrize("mirrored, expect", [(0.5, "mirrored"), (0.04, "error × 1.5")])
+def test_technique_power_mirror_or_error_growth(mirrored: float, expect: str) -> None:
+    """The mirror x → −x is the technique claims' perturbation; where it hides the bug (a technique or
+    environments symmetric in x) the error × 1.5 is used instead. Both fail a 5 % claim measured at 4 %."""
+    from validate.experiments.techniques import technique_claims
+    from validate.local_models.registry import Technique
+
+    tech = Technique("fake", "irradiance", sh.sh9, "fake", {"flux_luminance.max": 0.05})
+    env = {"models": {"fake": _stats(0.04)}, "models_mirrored": {"fake": _stats(mirrored)}}
+    m = Measurements(sh9_exp.SETTINGS["quick"], {"two_tone": env})
+    (c,) = technique_claims("sh9", tech, sh9_claims.technique_measured(m, "fake", ["two_tone"]))
+    assert c.id == "sh9.technique.fake.flux_luminance.max" and c.passed
+    assert expect in c.power.perturbation and c.power.fails
+    assert c.power.measured == pytest.approx(max(mirrored, 0.06))
