@@ -44,7 +44,8 @@ from .sh9_claims import (
     claims,
     findings,
 )
-from .sh9_compute import SETTINGS, Settings, analyse_environment, pathtrace_crosscheck, sphere_normals
+from .sh9_compute import SETTINGS, Settings, pathtrace_crosscheck, sphere_normals
+from .sh9_compute import analyse_environment as _analyse
 from .sh9_sections import sections
 from .techniques import technique_entry
 
@@ -56,7 +57,7 @@ def compute(ctx: Context) -> Measurements:
     settings = SETTINGS["quick" if ctx.quick else "full"]
     envs, skipped = ctx.environments()
     published, aliases = read_published_sh9(), read_aliases()
-    results = ctx.map(partial(analyse_environment, settings=settings, published=published, aliases=aliases),
+    results = ctx.map(partial(_analyse, settings=settings, published=published, aliases=aliases),
                       envs, "sh9: environments")
     by_name = {e.name: e for e in envs}
     checked = [n for n in settings.pathtrace if n in by_name]
@@ -65,6 +66,20 @@ def compute(ctx: Context) -> Measurements:
     return Measurements(settings, {e.name: r for e, r in zip(envs, results, strict=True)},
                         dict(zip(checked, cross, strict=True)),
                         list(skipped))
+
+
+def analyse_environment(env: Any, settings: Settings | Context, published: dict | Settings | None = None,
+                        aliases: dict | None = None) -> dict:
+    """:func:`.sh9_compute.analyse_environment`; also accepts the old call ``(env, ctx, settings, published)``
+    (tests/test_cli.py) until its callers move to ``(env, settings, published, aliases)``."""
+    if isinstance(settings, Context):
+        settings, published = published, aliases  # type: ignore[assignment]
+    return _analyse(env, settings, published or {}, read_aliases() if aliases is None else aliases)
+
+
+def _settings(quick: bool) -> Settings:
+    """The settings of a quick or full run (old name, kept for tests/test_cli.py)."""
+    return SETTINGS["quick" if quick else "full"]
 
 
 def technique_entries(m: Measurements) -> dict[str, Any]:
