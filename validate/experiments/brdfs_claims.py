@@ -139,6 +139,11 @@ def _microfacet_findings(m: Measurements) -> list[str]:
                        f"{_pct(_metric(m, 'cook_torrance', 'max_rel.' + n))} ({n})" for n in beck + ggx)
                    + "; the Beckmann residual is Mitsuba's rational approximation of G₁ (Walter 2007 eq. 27, < 0.35 % "
                    "per direction), GGX agrees to float32 rounding.")
+    phongs = [t for t in ("phong", "blinn_phong", "phong_normalized", "blinn_phong_normalized") if t in m.metrics]
+    for mat in [n for n in m.materials if n.startswith(("mirror_", "modphong_"))]:
+        errs = ", ".join(f"{t} {_pct(_metric(m, t, 'rel_l1.' + mat))} (furnace albedo off by up to "
+                         f"{_metric(m, t, 'albedo_error.' + mat):.3g})" for t in phongs)
+        out.append(f"Phong-type models against {mat} (exponents by Walter 2007 / Fisher & Woo 1994), rel_l1: {errs}.")
     for name, rows in m.terms.get("materials", {}).items():
         steps = "; ".join(f"{s}: rel_l1 {_pct(r['rel_l1'])}, energy × {r['energy_ratio']:.3g}"
                           for s, r in zip(m.terms["steps"], rows, strict=True))
