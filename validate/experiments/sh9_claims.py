@@ -218,7 +218,7 @@ def all_technique_claims(m: Measurements) -> list[Claim]:
     for tech in irradiance_family:
         if not tech.thresholds:
             continue
-        envs = technique_scope(dict(tech.meta), names)
+        envs = [e for e in technique_scope(dict(tech.meta), names) if tech.name in m.environments[e]["models"]]
         if not envs:
             continue
         scope = f"worst over {len(envs)} environment{'s' if len(envs) > 1 else ''}"
