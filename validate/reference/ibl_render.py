@@ -61,6 +61,7 @@ Checks of the reference BSDFs (:func:`furnace`, :func:`chi2_bsdf`)
 
 from __future__ import annotations
 
+import functools
 import json
 from dataclasses import asdict, dataclass
 from typing import Any
@@ -163,6 +164,12 @@ def register_phong_bsdf() -> str:
     return PHONG_PLUGIN
 
 
+@functools.lru_cache(maxsize=8)
+def gauss_legendre(nodes: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss–Legendre nodes and weights on [−1, 1] (memoised: the eigenvalue solve costs O(n³))."""
+    return np.polynomial.legendre.leggauss(nodes)
+
+
 def phong_albedo(s: float, cos_theta_v: float, nodes: int = 256) -> float:
     """Directional albedo of the modified-Phong BRDF (k_s = 1) by independent quadrature:
     a(θ_v) = ∫_{H(n)} (s + 2)/(2π) max(0, r·ω)^s cos θ_ω dω, over a lobe-centred (α, φ) Gauss–Legendre
@@ -173,11 +180,11 @@ def phong_albedo(s: float, cos_theta_v: float, nodes: int = 256) -> float:
     e1 = np.array([mu, 0.0, sv])  # ⟂ r, in the plane of incidence
     e2 = np.array([0.0, 1.0, 0.0])
     # α-nodes concentrated where cos^s α lives: substitute α = β·min(π/2, 8/√s), then the tail to π/2
-    xa, wa = np.polynomial.legendre.leggauss(nodes)
+    xa, wa = gauss_legendre(nodes)
     amax = min(np.pi / 2, 8.0 / np.sqrt(s))
     alpha = 0.5 * (xa + 1.0) * amax
     walpha = 0.5 * amax * wa
-    xp, wp = np.polynomial.legendre.leggauss(2 * nodes)
+    xp, wp = gauss_legendre(2 * nodes)
     phi = (xp + 1.0) * np.pi
     wphi = np.pi * wp
     a, p = np.meshgrid(alpha, phi, indexing="ij")
