@@ -113,14 +113,21 @@ def _alpha_section(m: dict[str, Any], ctx: Context) -> Section:
 def _distance_section(m: dict[str, Any], ctx: Context) -> Section:
     pts = m["point_lights"]
     q = np.asarray(pts["d_over_r"])
-    series = {k: np.maximum(np.asarray(v), FLOOR) for k, v in pts["techniques"].items()}
-    series["inverse square, disc, θ = 0"] = np.maximum(np.asarray(pts["inverse_square_disc_normal_incidence"]), FLOOR)
-    series["sphere as disc, tan α = r/d"] = np.asarray(pts["sphere_as_disc_tan"])
-    p_p, r_p = ctx.figure_path(NAME, "techniques_vs_distance.png")
-    plots.save_line_plot(p_p, q, series, xlabel="distance / radius d/r", ylabel="max_θ |E′ − E| / E(0)",
-                         title="Every technique vs distance", logx=True, logy=True, percent=True,
-                         hlines={"1 %": 0.01})
+    figs = []
+    for shape in ("sphere", "disc"):
+        series = {k.replace(f" ({shape})", ""): np.maximum(np.asarray(v), FLOOR)
+                  for k, v in pts["techniques"].items() if k.endswith(f"({shape})")}
+        if shape == "disc":
+            series["inverse square, θ = 0 only"] = np.maximum(np.asarray(pts["inverse_square_disc_normal_incidence"]),
+                                                             FLOOR)
+        else:
+            series["as a disc with tan α = r/d"] = np.asarray(pts["sphere_as_disc_tan"])
+        p, r = ctx.figure_path(NAME, f"techniques_vs_distance_{shape}.png")
+        plots.save_line_plot(p, q, series, xlabel="distance / radius d/r", ylabel="max_θ |E′ − E| / E(0)",
+                             title=f"{shape} light: every technique vs distance", logx=True, logy=True,
+                             percent=True, hlines={"1 %": 0.01})
+        figs.append(Figure(r, f"{shape} light: every technique vs d/r", 420))
     return Section("Point-light shortcuts and the disc-for-sphere substitution vs distance", [
         "Error = max over normals θ ∈ [0°, 180°] of |E′ − E| relative to the exact irradiance at normal incidence "
         "E(0). Point lights carry I = π r² L (a sphere's power / 4π, a disc's on-axis intensity); OpenGL "
-        "(a, b, c) = (r², 0, 1) is 1/(r² + d²)."], figures=[Figure(r_p, "every technique vs d/r", 420)])
+        "(a, b, c) = (r², 0, 1) is 1/(r² + d²). The disc faces the receiver on its axis."], figures=figs)
