@@ -22,7 +22,8 @@ class Counter:
 
 
 def _entries(root: Path) -> list[Path]:
-    return sorted(p for p in root.rglob("*") if p.is_file())
+    """Cache files, without the per-key lock files under ``.locks/``."""
+    return sorted(p for p in root.rglob("*") if p.is_file() and ".locks" not in p.parts)
 
 
 @pytest.fixture
@@ -99,3 +100,52 @@ def test_array_digest_sees_values_shape_and_dtype() -> None:
     b = a.copy()
     b[3] += 1e-12
     assert cache.array_digest(a) != cache.array_digest(b)
+
+
+# Two processes that want the same five entries at the same time. Each compute sleeps 0.2 s (long
+# enough that both processes are inside `cached` together) and appends its key to a log.
+_WRITER = """
+import sys, time, numpy as np
+from validate.reference import cache
+if sys.argv[2] == "nolock":
+    import contextlib
+    cache.key_lock = lambda root, key: contextlib.nullcontext()
+log = open(sys.argv[1], "a")
+def compute(k):
+    def f():
+        time.sleep(0.2)
+        log.write(f"{k}\\n"); log.flush()
+        return {"v": np.full(1000, float(k))}
+    return f
+for k in range(5):
+    r = cache.cached("race", {"k": k}, compute(k))
+    assert r["v"].shape == (1000,) and (r["v"] == k).all()
+print("ok")
+"""
+
+
+@pytest.mark.parametrize("mode", ["lock", "nolock"])
+def test_two_concurrent_writers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, mode: str) -> None:
+    """With the per-key lock each entry is computed once in all; without it (no fcntl) both processes
+    compute and rename — still every read is whole and no temporary file is left behind."""
+    import os
+    import subprocess
+    import sys
+
+    cache_root = tmp_path / "cache"
+    monkeypatch.setenv("VALIDATE_CACHE", str(cache_root))
+    log = tmp_path / "computed.log"
+    env = dict(os.environ, VALIDATE_CACHE=str(cache_root))
+    procs = [subprocess.Popen([sys.executable, "-c", _WRITER, str(log), mode], env=env, stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, text=True) for _ in range(2)]
+    outs = [p.communicate(timeout=120) for p in procs]
+    assert all(p.returncode == 0 for p in procs), outs
+    computed = log.read_text().split()
+    if mode == "lock":
+        assert sorted(computed) == [str(k) for k in range(5)]  # each key once, across both processes
+    else:
+        assert sorted(set(computed)) == [str(k) for k in range(5)]
+    entries = _entries(cache_root)
+    assert len(entries) == 5 and not any(p.name.startswith(".") for p in entries)
+    for k in range(5):
+        assert np.array_equal(cache.cached("race", {"k": k}, Counter())["v"], np.full(1000, float(k)))

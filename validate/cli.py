@@ -5,23 +5,74 @@ Work is staged in a temporary folder inside ``--out`` and moved into place only 
 experiment succeeded, so a failure leaves the previous report untouched. ``run NAME`` updates that
 experiment's entry in an existing ``results.json`` and re-renders the page; other entries are kept.
 
-Exit status: 0 success; 1 a claim failed and ``--strict`` was given; 2 bad input (one-line error).
+Exit status: 0 success; 1 a claim failed and ``--strict`` was given; 2 bad input or a failed task
+(one-line error, nothing written); 130 / 143 interrupted by SIGINT / SIGTERM (one line; the previous
+report is untouched, and every reference finished before the signal is in the cache for the rerun).
+
+Scale-out: ``--workers N`` (N > 1) runs the per-environment tasks of every experiment on an embedded
+``dask.distributed.LocalCluster`` of N processes; ``--scheduler ADDRESS`` on an existing Dask cluster
+(its workers must see ``--out`` and the probes on a shared file system). ``--workers 1`` (default)
+runs in-process. The numbers are the same in every mode.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import datetime as _dt
+import functools
 import importlib
 import importlib.util
 import os
 import shutil
+import signal
 import sys
 import tempfile
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 from .errors import ValidateError
+
+
+class Interrupted(BaseException):
+    """Raised in the main thread by SIGINT or SIGTERM (a BaseException, like KeyboardInterrupt, so that
+    no `except Exception` on the way swallows it)."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+_DEFERRED: list[int] | None = None  # while the finished report is being moved into place
+
+
+def _on_signal(signum: int, frame: object) -> None:
+    if _DEFERRED is not None:
+        _DEFERRED.append(signum)
+        return
+    raise Interrupted(signum)
+
+
+def _install_signal_handlers() -> None:
+    """SIGTERM behaves like SIGINT: unwind (the staging folder is removed), exit with one line."""
+    import threading
+
+    if threading.current_thread() is threading.main_thread():
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(sig, _on_signal)
+
+
+@contextlib.contextmanager
+def _signals_deferred() -> Iterator[list[int]]:
+    """Hold SIGINT/SIGTERM while the finished outputs are renamed into place, so that the report is
+    either the previous one or the new one, never a mix."""
+    global _DEFERRED
+    _DEFERRED = []
+    try:
+        yield _DEFERRED
+    finally:
+        _DEFERRED = None
 
 EPILOG = """examples:
   python -m validate list
@@ -54,6 +105,11 @@ def _parser() -> argparse.ArgumentParser:
     common.add_argument("--plugin", action="append", default=[], metavar="FILE|MODULE",
                         help="import a Python file or module that registers approximations (repeatable)")
     common.add_argument("--no-progress", action="store_true", help="no progress bars")
+    common.add_argument("--workers", type=_positive_int, default=1, metavar="N",
+                        help="run per-environment tasks on a local Dask cluster of N processes (default 1: "
+                             "in-process)")
+    common.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                        help="run the tasks on an existing Dask cluster (e.g. tcp://host:8786)")
 
     p = argparse.ArgumentParser(prog="python -m validate", epilog=EPILOG,
                                 formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -69,6 +125,22 @@ def _parser() -> argparse.ArgumentParser:
     b = sub.add_parser("bench", help="benchmarks: drjit local models vs numpy, reference cost")
     b.add_argument("--out", type=Path, default=Path("reports"), metavar="DIR")
     return p
+
+
+def _positive_int(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        n = 0
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a positive integer")
+    return n
+
+
+def load_plugins(specs: tuple[str, ...]) -> None:
+    """Import every plug-in (the setup each Dask worker runs once, see ``Context.worker_setup``)."""
+    for spec in specs:
+        load_plugin(spec)
 
 
 def load_plugin(spec: str) -> None:
@@ -140,7 +212,7 @@ def _run(args: argparse.Namespace, names: list[str] | None) -> int:
     from . import backend
     from .atomic import refuse_input_overwrite
     from .experiments import Context, discover
-    from .report.html import load_results, write_report, write_results_json
+    from .report.html import load_results
     from .scenes.probes import default_probes_dir
 
     t0 = time.perf_counter()
@@ -161,12 +233,18 @@ def _run(args: argparse.Namespace, names: list[str] | None) -> int:
 
     out.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix=".staging-", dir=out))
+    ctx = Context(out_dir=staging, quick=args.quick, probes_dir=probes_dir, probe_files=list(args.probe),
+                  layout=args.layout, clamp_negative=args.clamp_negative,
+                  show_progress=not args.no_progress and sys.stderr.isatty(),
+                  workers=args.workers, scheduler=args.scheduler,
+                  worker_setup=functools.partial(load_plugins, tuple(args.plugin)) if args.plugin else None)
     try:
-        ctx = Context(out_dir=staging, quick=args.quick, probes_dir=probes_dir, probe_files=list(args.probe),
-                      layout=args.layout, clamp_negative=args.clamp_negative,
-                      show_progress=not args.no_progress and sys.stderr.isatty())
         envs, skipped = ctx.environments()  # validate every input before any work
         print(f"environments: {len(envs)} ({len(skipped)} skipped)")
+        if ctx.distributed:
+            client = ctx.client()
+            where = args.scheduler or f"local Dask cluster, {args.workers} processes"
+            print(f"workers: {len(client.scheduler_info()['workers'])} ({where})", flush=True)
         done = {}
         for n in todo:
             print(f"running {n} ...", flush=True)
@@ -184,32 +262,46 @@ def _run(args: argparse.Namespace, names: list[str] | None) -> int:
                             "wall_time_s": round(time.perf_counter() - t0, 2),
                             "skipped_inputs": [list(s) for s in skipped]},
                    "experiments": experiments}
-        # move figures into place, then the JSON and the page (each atomically)
-        for n in done:
-            src, dst = staging / "figures" / n, out / "figures" / n
-            if src.exists():
-                old = None
-                if dst.exists():
-                    old = dst.with_name(f".old-{n}-{os.getpid()}")
-                    dst.rename(old)
-                dst.parent.mkdir(parents=True, exist_ok=True)
-                src.rename(dst)
-                if old is not None:
-                    shutil.rmtree(old, ignore_errors=True)
-        write_results_json(out, results)
-        page = write_report(out, results)
+        # move figures into place, then the JSON and the page (each atomically); signals wait
+        with _signals_deferred() as held:
+            page = _commit(out, staging, done, results)
     finally:
+        ctx.close()
         shutil.rmtree(staging, ignore_errors=True)
     failed = _print_claims(results)
     print(f"\nwrote {page} and {out / 'results.json'} in {time.perf_counter() - t0:.1f} s")
+    if held:
+        name = signal.Signals(held[0]).name
+        print(f"validate: {name} arrived while the report was being written; it is complete", file=sys.stderr)
+        return 128 + held[0]
     if failed:
         print(f"{failed} claim(s) failed" + ("" if args.strict else " (use --strict to exit non-zero)"))
     return 1 if failed and args.strict else 0
 
 
+def _commit(out: Path, staging: Path, done: dict, results: dict) -> Path:
+    """Rename each experiment's figures into ``out``, then write results.json and the page."""
+    from .report.html import write_report, write_results_json
+
+    for n in done:
+        src, dst = staging / "figures" / n, out / "figures" / n
+        if src.exists():
+            old = None
+            if dst.exists():
+                old = dst.with_name(f".old-{n}-{os.getpid()}")
+                dst.rename(old)
+            dst.parent.mkdir(parents=True, exist_ok=True)
+            src.rename(dst)
+            if old is not None:
+                shutil.rmtree(old, ignore_errors=True)
+    write_results_json(out, results)
+    return write_report(out, results)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = _parser()
     args = parser.parse_args(argv)
+    _install_signal_handlers()
     try:
         if args.command is None:
             parser.print_help()
@@ -227,7 +319,11 @@ def main(argv: list[str] | None = None) -> int:
     except ValidateError as exc:
         print(f"validate: error: {exc}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("validate: interrupted; nothing was written", file=sys.stderr)
+    except Interrupted as exc:
+        print(f"validate: interrupted by {exc}; the previous report is untouched (finished references are "
+              "cached: rerun to resume)", file=sys.stderr)
+        return 128 + exc.signum
+    except KeyboardInterrupt:  # SIGINT before the handlers were installed
+        print("validate: interrupted; the previous report is untouched", file=sys.stderr)
         return 130
     return 0

@@ -15,7 +15,7 @@ import time
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any, ClassVar, TypeVar
 
 T = TypeVar("T")
 
@@ -135,7 +135,19 @@ class ExperimentResult:
 
 @dataclass
 class Context:
-    """Everything an experiment may use: where to write, how hard to try, which inputs."""
+    """Everything an experiment may use: where to write, how hard to try, which inputs, and where the
+    per-environment tasks run.
+
+    Scale-out: :meth:`map` runs ``fn`` over items in this process (``workers == 1``, no scheduler), on
+    an embedded ``dask.distributed.LocalCluster`` of ``workers`` processes (one thread each), or on an
+    existing Dask cluster (``scheduler`` = its address). Tasks are pure functions of their item and of
+    the context (seeds come from ``seed`` and the item, never from the worker), so every mode returns
+    the same numbers. Workers choose their Mitsuba variant with the same subprocess probe
+    (:func:`validate.backend.init`, which reuses the parent's result through the environment), then
+    run ``worker_setup`` (the CLI passes "load these plug-ins") once per process. Figures written by a
+    task go to ``out_dir``, the run's staging folder, which workers must see: the local cluster shares
+    the file system; a remote cluster needs ``--out`` on a shared one.
+    """
 
     out_dir: Path
     quick: bool = False
@@ -146,7 +158,18 @@ class Context:
     show_progress: bool = True
     seed: int = 1234
     log: Callable[[str], None] = print
+    workers: int = 1
+    scheduler: str | None = None
+    worker_setup: Callable[[], None] | None = None  # picklable; run once per worker process
     _env_cache: dict[str, Any] = field(default_factory=dict)
+    _client: Any = field(default=None, repr=False)
+    _ready: ClassVar[set[str]] = set()  # worker_setup already run in this process (by repr)
+
+    def __getstate__(self) -> dict[str, Any]:
+        """Tasks capture the context: ship it without the loaded environments or the Dask client."""
+        state = dict(self.__dict__)
+        state["_env_cache"], state["_client"] = {}, None
+        return state
 
     def figure_dir(self, experiment: str) -> Path:
         d = self.out_dir / "figures" / experiment
@@ -164,11 +187,99 @@ class Context:
         yield from tqdm(items, desc=desc, total=total, disable=not self.show_progress, leave=False,
                         dynamic_ncols=True)
 
+    @property
+    def distributed(self) -> bool:
+        return self.scheduler is not None or self.workers > 1
+
     def map(self, fn: Callable[[Any], T], items: Iterable[Any], desc: str) -> list[T]:
-        """``[fn(x) for x in items]`` with a progress bar. Experiments express per-environment work
-        through this one call so that it can run as independent tasks (serial here; see scale-out)."""
+        """``[fn(x) for x in items]`` with a progress bar counting finished tasks, in this process or
+        as Dask tasks (see the class docstring); results keep the order of ``items``. A task that
+        fails on a worker raises :class:`~validate.errors.ValidateError` naming ``desc`` and the item
+        (its ``name``, e.g. the environment)."""
         items = list(items)
-        return [fn(x) for x in self.progress(items, desc, total=len(items))]
+        if not self.distributed or not items:
+            return [fn(x) for x in self.progress(items, desc, total=len(items))]
+        from dask.distributed import as_completed
+
+        client = self.client()
+        [fn_future] = client.scatter([fn], broadcast=True, hash=False)
+        item_futures = client.scatter(items, hash=False)
+        futures = [client.submit(Context._run_task, fn_future, it, self.worker_setup, pure=False)
+                   for it in item_futures]
+        index = {f.key: k for k, f in enumerate(futures)}
+        try:
+            for fut in self.progress(as_completed(futures), desc, total=len(futures)):
+                if fut.status == "error":
+                    raise self._task_error(desc, items[index[fut.key]], fut.exception())
+            return [f.result() for f in futures]
+        finally:
+            client.cancel(futures + item_futures + [fn_future])
+
+    @staticmethod
+    def _run_task(fn: Callable[[Any], T], item: Any, setup: Callable[[], None] | None) -> T:
+        """One task on a worker: choose the variant (probe), run the setup once, then ``fn(item)``."""
+        from ..backend import init
+
+        init()
+        if setup is not None and repr(setup) not in Context._ready:
+            setup()
+            Context._ready.add(repr(setup))
+        return fn(item)
+
+    @staticmethod
+    def _task_error(desc: str, item: Any, exc: BaseException | None) -> Exception:
+        from ..errors import ValidateError
+
+        def label(x: Any) -> str:
+            if hasattr(x, "name"):
+                return str(x.name)
+            if isinstance(x, (tuple, list)) and any(hasattr(y, "name") for y in x):
+                return ", ".join(str(y.name) for y in x if hasattr(y, "name"))
+            return repr(x)[:60]
+
+        text = str(exc).strip().splitlines()[0] if exc is not None and str(exc).strip() else ""
+        if isinstance(exc, ValidateError):
+            return ValidateError(f"{text} (task {desc!r}, environment {label(item)})")
+        kind = type(exc).__name__ if exc is not None else "unknown error"
+        return ValidateError(f"task {desc!r} failed on environment {label(item)}: {kind}: {text}"[:400])
+
+    def client(self) -> Any:
+        """The Dask client: connected to ``scheduler``, else to an embedded LocalCluster (started once)."""
+        if self._client is None:
+            import logging
+
+            import dask
+            from dask.distributed import Client, LocalCluster
+
+            from ..errors import ValidateError
+
+            if self.scheduler is not None:
+                try:
+                    self._client = Client(self.scheduler, timeout="20s")
+                except (OSError, TimeoutError) as exc:
+                    raise ValidateError(f"--scheduler {self.scheduler}: cannot connect ({exc})") from None
+            else:
+                # Dask pins BLAS/OpenMP to one thread in its workers; a BLAS product then sums in
+                # another order than in this process (measured: 1 ulp in the reference's float32
+                # kernel product). Workers inherit this process's thread settings instead, so the
+                # numbers are identical to the serial run's.
+                environ = {k: v for k, v in dask.config.get("distributed.nanny.pre-spawn-environ", {}).items()
+                           if not k.endswith("_NUM_THREADS")}
+                with dask.config.set({"distributed.nanny.pre-spawn-environ": environ}):
+                    cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True,
+                                           memory_limit=0, dashboard_address=None, silence_logs=logging.CRITICAL)
+                self._client = Client(cluster)
+        return self._client
+
+    def close(self) -> None:
+        """Disconnect from the cluster; an embedded LocalCluster is shut down."""
+        client, self._client = self._client, None
+        if client is None:
+            return
+        cluster = client.cluster if self.scheduler is None else None
+        client.close()
+        if cluster is not None:
+            cluster.close()
 
     def environments(self) -> tuple[list[Any], list[tuple[str, str]]]:
         """Built-in environments plus every probe found (probes dir and explicit files).

@@ -1,0 +1,229 @@
+"""Scale and safety (issue 14): interrupted runs leave the previous report alone and resume from the
+reference cache with identical numbers; ``--workers 2`` (a Dask LocalCluster) writes the same numbers
+as the serial run; a failing task is reported, one line, with its environment; the reference
+quadrature streams (memory independent of the map beyond a few row blocks).
+
+The quick end-to-end runs use a small plug-in experiment of the same shape as the real ones (work per
+environment through ``Context.map``, references from the cache); the slow test runs ``sh9 --quick``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+from types import SimpleNamespace
+from typing import Any
+
+import numpy as np
+import pytest
+
+from validate.errors import ValidateError
+from validate.experiments.base import Context
+
+REPO = Path(__file__).resolve().parents[1]
+VOLATILE = {"wall_time_s", "generated", "command"}  # keys that differ between runs by nature
+
+
+def _numbers(obj: Any) -> Any:
+    """results.json without wall times, timestamps and the command line."""
+    if isinstance(obj, dict):
+        return {k: _numbers(v) for k, v in obj.items() if k not in VOLATILE}
+    if isinstance(obj, list):
+        return [_numbers(v) for v in obj]
+    return obj
+
+
+def _cli(args: list[str], cache: Path, **extra_env: str) -> subprocess.Popen:
+    env = dict(os.environ, VALIDATE_CACHE=str(cache), **extra_env)
+    env.pop("VALIDATE_PROBES", None)
+    return subprocess.Popen([sys.executable, "-m", "validate", *args], cwd=REPO, env=env, text=True,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+
+
+def _entries(cache: Path) -> dict[str, tuple[int, int]]:
+    """Cache entry → (inode, mtime): a reused entry keeps both; a recomputed one is a new file."""
+    return {str(p.relative_to(cache)): (p.stat().st_ino, p.stat().st_mtime_ns)
+            for p in cache.rglob("*.npz") if not p.name.startswith(".")}
+
+
+def _previous_report(out: Path) -> dict[str, bytes]:
+    out.mkdir(parents=True)
+    (out / "results.json").write_text(json.dumps({"meta": {}, "experiments": {}}))
+    (out / "index.html").write_text("<html>previous report</html>")
+    return {p.name: p.read_bytes() for p in out.iterdir()}
+
+
+# A small experiment, registered by a plug-in file, with the shape of the real ones: per-environment
+# work through ctx.map, references from the cache. Each task sleeps SCALE_TEST_SLEEP seconds so that a
+# signal reliably lands mid-run; SCALE_TEST_FAIL names an environment whose task raises.
+PLUGIN = """
+import os, time
+import numpy as np
+from validate.experiments import Claim, ExperimentResult, register_experiment
+from validate.reference.irradiance import reference_irradiance
+from validate.scenes import latlong, procedural
+
+def measure(env):
+    if env.name == os.environ.get("SCALE_TEST_FAIL"):
+        raise ZeroDivisionError("deliberate failure")
+    r = reference_irradiance(env, latlong.fibonacci_sphere(300), cells=8)
+    time.sleep(float(os.environ.get("SCALE_TEST_SLEEP", "0")))
+    return {"mean": r.irradiance.mean(axis=0).tolist(), "convergence": r.convergence}
+
+@register_experiment("scale_probe", "scale probe", "references of six small maps", order=999)
+def run(ctx):
+    envs = [procedural.two_tone(h) for h in (16, 24, 32, 40, 48, 56)]
+    envs = [type(e)(f"two_tone_{e.height}", e.radiance) for e in envs]
+    found = ctx.map(measure, envs, "scale_probe: environments")
+    worst = max(f["convergence"] for f in found)
+    claim = Claim("scale_probe.convergence", "reference converged", "convergence", 1e-2, worst, 0.0,
+                  source="test").with_power("x 100", 100 * worst + 1e-2)
+    return ExperimentResult("scale_probe", "scale probe", "", claims=[claim],
+                            data={"environments": {e.name: f for e, f in zip(envs, found)}})
+"""
+
+
+@pytest.fixture(scope="module")
+def plugin(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    path = tmp_path_factory.mktemp("plugin") / "scale_probe_plugin.py"
+    path.write_text(PLUGIN)
+    return path
+
+
+def _probe_args(plugin: Path, out: Path, *extra: str) -> list[str]:
+    return ["run", "scale_probe", "--quick", "--no-progress", "--plugin", str(plugin), "--out", str(out), *extra]
+
+
+@pytest.fixture(scope="module")
+def resumed_run(plugin: Path, tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
+    """SIGTERM a serial run once two references are cached, then rerun it."""
+    root = tmp_path_factory.mktemp("resume")
+    cache, out = root / "cache", root / "out"
+    before = _previous_report(out)
+    proc = _cli(_probe_args(plugin, out), cache, SCALE_TEST_SLEEP="1.0")
+    deadline = time.monotonic() + 300
+    while len(_entries(cache)) < 2 and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert proc.poll() is None, "the run finished before it could be interrupted"
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=120)
+    state = {"rc": proc.returncode, "stderr": err, "before": before,
+             "after": {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()},
+             "leftovers": [p.name for p in out.iterdir() if p.name.startswith(".")],
+             "finished": _entries(cache)}
+    rerun = _cli(_probe_args(plugin, out), cache)
+    _, err2 = rerun.communicate(timeout=600)
+    assert rerun.returncode == 0, err2
+    state["cache_after"] = _entries(cache)
+    state["results"] = json.loads((out / "results.json").read_text())
+    return state
+
+
+def test_sigterm_leaves_previous_report_untouched(resumed_run: dict[str, Any]) -> None:
+    assert resumed_run["rc"] == 128 + signal.SIGTERM
+    lines = resumed_run["stderr"].strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("validate: interrupted by SIGTERM"), lines
+    assert "Traceback" not in resumed_run["stderr"]
+    assert resumed_run["after"] == resumed_run["before"]  # byte for byte, nothing else written
+    assert resumed_run["leftovers"] == []  # the staging folder is gone
+
+
+def test_rerun_reuses_every_finished_reference(resumed_run: dict[str, Any]) -> None:
+    finished, after = resumed_run["finished"], resumed_run["cache_after"]
+    assert len(finished) >= 2
+    for name, stamp in finished.items():
+        assert after[name] == stamp, f"{name} was recomputed"
+    assert len(after) == 6  # one entry per environment, all present in the end
+
+
+def test_workers_2_write_the_numbers_of_the_serial_run(resumed_run: dict[str, Any], plugin: Path,
+                                                        tmp_path: Path) -> None:
+    """A cold ``--workers 2`` run (LocalCluster, 2 processes; the plug-in loaded in each worker)
+    equals the interrupted-and-resumed serial run: the same JSON apart from wall times."""
+    out = tmp_path / "out"
+    proc = _cli(_probe_args(plugin, out, "--workers", "2"), tmp_path / "c")
+    stdout, err = proc.communicate(timeout=600)
+    assert proc.returncode == 0, err
+    assert "workers: 2" in stdout
+    dask_run = json.loads((out / "results.json").read_text())
+    assert _numbers(dask_run["experiments"]) == _numbers(resumed_run["results"]["experiments"])
+    assert len(_entries(tmp_path / "c")) == 6  # the workers filled one cache
+
+
+def test_failed_task_on_a_worker_is_one_line_naming_the_environment(plugin: Path, tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    before = _previous_report(out)
+    proc = _cli(_probe_args(plugin, out, "--workers", "2"), tmp_path / "c", SCALE_TEST_FAIL="two_tone_32")
+    _, err = proc.communicate(timeout=600)
+    assert proc.returncode == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("validate: error: task ") and "two_tone_32" in lines[0]
+    assert "ZeroDivisionError" in lines[0]
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+
+
+def test_sigint_mid_run(plugin: Path, tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    before = _previous_report(out)
+    proc = _cli(_probe_args(plugin, out), tmp_path / "c", SCALE_TEST_SLEEP="1.0")
+    assert proc.stdout is not None
+    for line in proc.stdout:  # wait until the experiment has started
+        if line.startswith("running scale_probe"):
+            break
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 128 + signal.SIGINT
+    assert err.strip().splitlines()[-1].startswith("validate: interrupted by SIGINT")
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+
+
+@pytest.mark.slow
+def test_sh9_quick_on_two_workers_equals_serial(tmp_path: Path) -> None:
+    """The real experiment: ``run sh9 --quick`` (built-ins) serial vs ``--workers 2``, cold caches."""
+    runs = []
+    for k, extra in enumerate(([], ["--workers", "2"])):
+        out = tmp_path / f"out{k}"
+        proc = _cli(["run", "sh9", "--quick", "--no-progress", "--out", str(out), *extra], tmp_path / f"c{k}")
+        _, err = proc.communicate(timeout=900)
+        assert proc.returncode == 0, err
+        runs.append(json.loads((out / "results.json").read_text())["experiments"])
+    assert _numbers(runs[0]) == _numbers(runs[1])
+
+
+# --- Context.map on a LocalCluster -----------------------------------------------------------------
+
+def _square_or_fail(item: SimpleNamespace) -> float:
+    if item.name == "bad_env":
+        raise ZeroDivisionError("texel rows")
+    return item.value ** 2
+
+
+def test_map_on_two_workers_keeps_order_and_names_the_failed_environment(tmp_path: Path) -> None:
+    ctx = Context(out_dir=tmp_path, workers=2, show_progress=False)
+    try:
+        items = [SimpleNamespace(name=f"env{k}", value=float(k)) for k in range(6)]
+        offset = 0.5  # a closure, shipped to the workers with cloudpickle
+        assert ctx.map(lambda it: _square_or_fail(it) + offset, items, "squares") == \
+            [k * k + 0.5 for k in range(6)]
+        with pytest.raises(ValidateError) as info:
+            ctx.map(_square_or_fail, items[:2] + [SimpleNamespace(name="bad_env", value=0.0)], "squares")
+        msg = str(info.value)
+        assert "bad_env" in msg and "ZeroDivisionError" in msg and "squares" in msg and "\n" not in msg
+    finally:
+        ctx.close()
+    assert ctx._client is None
+
+
+def test_context_pickles_without_client_or_environments(tmp_path: Path) -> None:
+    import pickle
+
+    ctx = Context(out_dir=tmp_path, workers=3)
+    ctx._env_cache["envs"] = ([np.zeros(10)], [])
+    ctx._client = object()
+    back = pickle.loads(pickle.dumps(ctx))
+    assert back._env_cache == {} and back._client is None and back.workers == 3 and back.out_dir == tmp_path
