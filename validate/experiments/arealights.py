@@ -81,8 +81,8 @@ def compute(ctx: Context) -> dict[str, Any]:
     s = settings(ctx.quick)
     seed = ctx.seed % 2048
     scenes = ac.scene_table(ALPHA20)
-    checks = [ac.reference_check(n, sc, s, (seed + i) % 2048)
-              for i, (n, sc) in enumerate(ctx.progress(scenes.items(), "arealights: Mitsuba", total=len(scenes)))]
+    checks = ctx.map(lambda item: ac.reference_check(item[1][0], item[1][1], s, (seed + item[0]) % 2048),
+                     list(enumerate(scenes.items())), "arealights: Mitsuba")  # independent seeds per scene
     th = _thetas(s)
     return {"settings": s, "scenes": scenes, "reference_checks": checks,
             "cap_quadrature": {"max": ac.cap_quadrature_check(np.cos(np.radians(th))),

@@ -171,7 +171,8 @@ def compute(ctx: Context) -> dict[str, Any]:
     skies = [two_tone, *suns]
     return {"settings": s, "weights": weight_curves(np.arange(0.0, 180.0 + 1e-9, 0.25)),
             "two_tone": two_tone_analysis(two_tone, ctx, s),
-            "skies": {env.name: sky_analysis(env, s) for env in ctx.progress(skies, "hemisphere: skies")}}
+            "skies": dict(zip([e.name for e in skies], ctx.map(lambda env: sky_analysis(env, s), skies,
+                                                               "hemisphere: skies"), strict=True))}
 
 
 def technique_measured(m: dict[str, Any], name: str, skies: list[str] | None = None) -> dict[str, Measured]:
