@@ -147,10 +147,10 @@ def test_rectangle_closed_form_agrees_with_mitsuba():
     exact = lr.rectangle_irradiance(scene.lights[0], ref.position[v], ref.normal[v])
     ok = np.isfinite(exact)
     pred = ref.albedo[v][ok] / math.pi * exact[ok, None]
-    a = lm.agreement(ref.radiance[v][ok], ref.uncertainty[v][ok], pred, 0.0, ref.passes)
+    a = lm.agreement(ref.pass_images[:, v][:, ok], pred)
     assert a.consistent, a.to_json()
-    p = lm.agreement(ref.radiance[v][ok], ref.uncertainty[v][ok], 1.01 * pred, 0.0, ref.passes)
-    assert abs(p.mean_z) > p.bias_bound
+    p = lm.agreement(ref.pass_images[:, v][:, ok], 1.01 * pred)
+    assert abs(p.pooled_z) > p.bias_bound
 
 
 def test_light_validation():

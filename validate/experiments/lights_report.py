@@ -36,7 +36,8 @@ def techniques_section(m: Any, ctx: Context, name: str) -> Section:
     rows = []
     for tech, d in m.data["techniques"].items():
         for kind, met in d["metrics"].items():
-            rows.append([tech, kind, _pm(met["mean"]), _pm(met["max"]), _pm(met["bias"])])
+            rows.append([tech, kind, _pm(met["mean"]), _pm(met["max"]), _pm(met["bias"]),
+                         _pct(met["mismatch"]["value"], 3)])
     figs = []
     for tech, (kind, err) in m.images.get("error", {}).items():
         path, rel = ctx.figure_path(name, f"error_{tech}.png")
@@ -44,10 +45,12 @@ def techniques_section(m: Any, ctx: Context, name: str) -> Section:
         figs.append(Figure(rel, f"{tech} ({kind})", 300))
     text = ["Every registered light technique shades the G-buffer (L = ρ/π · E, with the scene's own shadow rays) for "
             "each light it models. mean = mean |ΔY| / L_norm, max = max |ΔY| / L_norm (L_norm = mean lit reference "
-            "luminance), bias = Σ ΔY / Σ Y(r); each ± its Monte Carlo uncertainty. Area lights use the n = "
+            "luminance; over pixels both images light or both leave black), bias = Σ ΔY / Σ Y(r), each ± its Monte "
+            "Carlo uncertainty; mismatch = fraction of pixels black in exactly one image (a shadow ray answered "
+            "differently). Area lights use the n = "
             f"{m.settings['technique_grid']} grid; the spot's cos^f uses the fitted f = "
             f"{m.data['spot']['fitted_exponent']:.1f}; windowed falloffs use range = {m.settings['range']:g} m."]
-    table = Table(["technique", "light", "mean", "max", "bias"], rows)
+    table = Table(["technique", "light", "mean", "max", "bias", "mismatch"], rows)
     return Section("Techniques against Mitsuba", text, tables=[table],
                    gallery=[figs[i:i + 3] for i in range(0, len(figs), 3)])
 
@@ -111,16 +114,16 @@ def grid_section(m: Any, ctx: Context, name: str) -> Section:
         v, z = gs[k], gs[k]["mitsuba"]
         rows.append([k, *[_pct(v[r][-1], 3) for r in ("lit", "penumbra", "umbra", "total")],
                      "n/a" if v["slopes"]["penumbra"] is None else f"{v['slopes']['penumbra']:.2f}",
-                     v["pixels"]["penumbra"], f"{z['mean_z']:+.3f} / {z['max_abs_z']:.2f}"])
+                     v["pixels"]["penumbra"], f"{z['pooled_z']:+.2f} / {z['max_abs_z']:.2f}"])
     return Section("Area lights as n×n point lights", [
         f"Unshadowed: slope {g['midpoint_slope']:.2f} (midpoint rule, theory −2), {g['corner_slope']:.2f} "
         "(corner rule, theory −1), against Lambert's formula. Shadowed: the grid with one shadow ray per point "
         f"against the {gs['reference_n']}×{gs['reference_n']} grid (noise-free), split into lit / penumbra / umbra by "
         "the visible fraction of the light (as in the shadows experiment); the fine grid itself is tested against "
-        "Mitsuba's render (mean z / max |z|)."],
+        "Mitsuba's render (pooled z / max |z|)."],
         figures=[Figure(rel, "unshadowed convergence", 520), Figure(rel2, "shadowed convergence", 520)],
         tables=[Table(["light", "lit", "penumbra", "umbra", "total", "penumbra slope", "penumbra px",
-                       "fine grid vs Mitsuba: mean z / max |z|"], rows, f"errors at n = {gs['n'][-1]}")])
+                       "fine grid vs Mitsuba: pooled z / max |z|"], rows, f"errors at n = {gs['n'][-1]}")])
 
 
 def spot_section(m: Any, ctx: Context, name: str) -> Section:
@@ -149,9 +152,9 @@ def linearity_section(m: Any, ctx: Context, name: str) -> Section:
     plots.save_heatmap(path, m.images["linearity_z"], "all lights vs sum of single renders", "z")
     t = lin["test"]
     return Section("Lights add linearly", [
-        f"Per-pixel z of the four-light render against the sum of the single renders: mean {t['mean_z']:+.3f} (bound "
-        f"±{t['bias_bound']:.3f}), max |z| {t['max_abs_z']:.2f} (Šidák critical {t['critical_z']:.2f}, α = 0.01, "
-        f"{t['pixels']} pixels)."], figures=[Figure(rel, "z map", 420)])
+        "Per-pixel z of the four-light render against the sum of the single renders; pooled z of the image "
+        f"total {t['pooled_z']:+.2f} (bound ±{t['bias_bound']:g}), max |z| {t['max_abs_z']:.2f} (Šidák critical "
+        f"{t['critical_z']:.2f}, α = 0.01, {t['pixels']} pixels)."], figures=[Figure(rel, "z map", 420)])
 
 
 def sections(m: Any, ctx: Context, name: str) -> list[Section]:

@@ -46,6 +46,7 @@ from .classic_lights import Visible, as_points, light, require, shadow, to_dr
 AREA_KINDS = ("rectangle", "disk", "sphere")
 DEFAULT_GRID = 8
 MAX_GRID = 64
+CHUNK_TERMS = 1 << 21  # receiver × grid-point terms per drjit pass (bounds memory)
 
 
 def grid_parameters(n: int, offset: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
@@ -110,15 +111,23 @@ def emitter_points(light_map: Mapping[str, Any], x: np.ndarray, n: int, offset: 
 
 def grid_irradiance(light_map: Mapping[str, Any], points: Any, normals: Any, visible: Visible | None,
                     shadowed: bool) -> np.ndarray:
-    """E_n(x) of the module docstring; drjit evaluates the N×n² point-light terms in one pass."""
-    import drjit as dr
-
+    """E_n(x) of the module docstring; drjit evaluates the N×n² point-light terms, in chunks of receivers."""
     require(light_map, "position", "radiance", kinds=AREA_KINDS)
     n = int(light_map.get("grid", DEFAULT_GRID))
     offset = float(light_map.get("grid_offset", 0.5))
     if not 1 <= n <= MAX_GRID:
         raise ValidateError(f"light grid n = {n}: accepted range 1…{MAX_GRID}")
     x, nx = as_points(points, normals)
+    step = max(1, CHUNK_TERMS // (n * n))
+    parts = [_grid_chunk(light_map, x[i:i + step], nx[i:i + step], n, offset, visible if shadowed else None)
+             for i in range(0, x.shape[0], step)]
+    return np.concatenate(parts) if parts else np.zeros(0)
+
+
+def _grid_chunk(light_map: Mapping[str, Any], x: np.ndarray, nx: np.ndarray, n: int, offset: float,
+                visible: Visible | None) -> np.ndarray:
+    import drjit as dr
+
     q, nl, area = emitter_points(light_map, x, n, offset)
     k = q.shape[1]
     v = q - x[:, None, :]  # (N, K, 3) receiver → emitter point
@@ -129,7 +138,7 @@ def grid_irradiance(light_map: Mapping[str, Any], points: Any, normals: Any, vis
              + vz * to_dr(np.repeat(nx[:, 2], k))) * inv_r
     cos_l = -(vx * to_dr(nl[..., 0]) + vy * to_dr(nl[..., 1]) + vz * to_dr(nl[..., 2])) * inv_r
     term = np.array(dr.maximum(cos_r, 0.0) * dr.maximum(cos_l, 0.0) / r2, dtype=np.float64).reshape(-1, k)
-    if shadowed and visible is not None:
+    if visible is not None:
         lit = term > 0
         vis = np.zeros_like(term)
         rows = np.nonzero(lit)

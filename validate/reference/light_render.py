@@ -1,10 +1,14 @@
 """Reference renders of the classic-lights scene, the shadow-ray test, and the exact rectangle light.
 
-Renders (:func:`render_lights`) reuse the shadow experiment's machinery
+Renders (:func:`render_lights`) use the shadow experiment's pixel-centre rays and G-buffer
 (:mod:`validate.reference.shadow_render`): Mitsuba's ``direct`` integrator (the path tracer's direct
 term, ``path`` with max_depth 2, with one emitter and one BSDF sample combined by MIS) on
-pixel-centre camera rays, P independent ``ldsampler`` passes → per-pixel mean ± standard error
-s/√P (P − 1 dof); the ``aov`` G-buffer (position, geometric normal, albedo) on the same rays.
+pixel-centre camera rays, P passes → per-pixel mean ± standard error s/√P (P − 1 dof); the ``aov``
+G-buffer (position, geometric normal, albedo) on the same rays. The passes use Mitsuba's
+``independent`` sampler, pass k seeded ``seed + 7919 k``: every pixel and every pass is an
+independent stream, so the per-pass image *totals* are independent too and a bias summed over the
+image can be tested with P − 1 dof (a scrambled low-discrepancy sampler shares its scramble across
+the pixels of a pass, which correlates their errors). The pass images are kept (``passes``).
 
 * Delta lights (``point``, ``spot``, ``directional``) alone in a scene make the estimate
   deterministic: the emitter sample is the light itself and a BSDF sample never hits a delta
@@ -42,11 +46,13 @@ from typing import Any
 import numpy as np
 
 from ..errors import ValidateError
+from ..metrics.stats import mean_and_stderr
 from ..scenes.light_scenes import Light, LightScene
 from .cache import cached
-from .shadow_render import render_direct, render_gbuffer, segment_visible
+from .shadow_render import pixel_centre_positions, render_gbuffer, segment_visible
 
-CODE_VERSION = "light_render/2"
+CODE_VERSION = "light_render/3"
+PASS_SEED_STRIDE = 7919
 SAME_HIT = 1e-4  # m: a pixel is a receiver when the light-free scene's camera ray hits the same point
 
 
@@ -60,12 +66,13 @@ class LightRender:
     normal: np.ndarray
     albedo: np.ndarray
     valid: np.ndarray  # (H, W) bool: the pixel-centre ray hits the ground/sphere/box (not an emitter)
+    pass_images: np.ndarray  # (P, H, W, 3) the independent passes
     spp: int
     passes: int
     seed: int
 
     def settings(self) -> dict[str, Any]:
-        return {"integrator": "direct (path max_depth 2: 1 emitter + 1 BSDF sample, MIS)", "sampler": "ldsampler",
+        return {"integrator": "direct (path max_depth 2: 1 emitter + 1 BSDF sample, MIS)", "sampler": "independent",
                 "spp_per_pass": self.spp, "passes": self.passes, "seed": self.seed, "pixel_sampling": "pixel centres"}
 
 
@@ -88,6 +95,24 @@ def receiver_mask(scene: LightScene, gbuffer: dict[str, np.ndarray]) -> np.ndarr
     return gbuffer["valid"] & bare["valid"] & same
 
 
+def render_passes(mi_scene: Any, width: int, height: int, spp: int, passes: int, seed: int) -> np.ndarray:
+    """(P, H, W, 3) pass images of the ``direct`` integrator on pixel-centre rays, ``independent`` sampler."""
+    import mitsuba as mi
+
+    if spp < 1 or passes < 2:
+        raise ValidateError(f"light render spp={spp}, passes={passes}: need spp ≥ 1 and passes ≥ 2")
+    integrator = mi.load_dict({"type": "direct", "emitter_samples": 1, "bsdf_samples": 1})
+    rays, _ = mi_scene.sensors()[0].sample_ray(0.0, 0.5, pixel_centre_positions(width, height, spp),
+                                               mi.Point2f(0.5, 0.5))
+    images = []
+    for k in range(passes):
+        sampler = mi.load_dict({"type": "independent"})
+        sampler.seed(seed + PASS_SEED_STRIDE * k, width * height * spp)
+        spec, _, _ = integrator.sample(mi_scene, sampler, rays)
+        images.append(np.array(spec).T.reshape(height, width, spp, 3).mean(axis=2, dtype=np.float64))
+    return np.stack(images)
+
+
 def render_lights(scene: LightScene, spp: int = 16, passes: int = 8, seed: int = 1234) -> LightRender:
     """The cached reference render of ``scene`` (module docstring)."""
     cam = scene.camera
@@ -96,13 +121,14 @@ def render_lights(scene: LightScene, spp: int = 16, passes: int = 8, seed: int =
         lit = load(scene)
         g = render_gbuffer(lit, cam.width, cam.height)
         g["valid"] = receiver_mask(scene, g)
-        mean, err = render_direct(lit, cam.width, cam.height, spp, passes, seed)
-        return {**g, "radiance": mean, "uncertainty": err}
+        return {**g, "passes": render_passes(lit, cam.width, cam.height, spp, passes, seed).astype(np.float32)}
 
     r = cached("light_render", {"code": CODE_VERSION, "scene": scene.parts(), "spp": spp, "passes": passes,
                                 "seed": seed}, compute)
-    return LightRender(r["radiance"], r["uncertainty"], r["position"], r["normal"], r["albedo"],
-                       r["valid"].astype(bool), spp, passes, seed)
+    imgs = r["passes"].astype(np.float64)
+    mean, err = mean_and_stderr(imgs, axis=0)
+    return LightRender(mean, err, r["position"], r["normal"], r["albedo"], r["valid"].astype(bool), imgs, spp,
+                       passes, seed)
 
 
 def shadow_tester(scene: LightScene, light_index: int = 0) -> Callable[[np.ndarray, np.ndarray, np.ndarray],
