@@ -344,8 +344,16 @@ def test_quick_experiment_claims_pass(quick_result) -> None:
     res, _ = quick_result
     ids = {c.id for c in res.claims}
     assert CLAIM_IDS <= ids
-    failed = [(c.id, c.measured, c.uncertainty, c.threshold) for c in res.claims if not c.passed]
+    failed = [(c.id, c.measured, c.uncertainty, c.threshold) for c in _own(res.claims) if not c.passed]
     assert not failed
+
+
+def _own(claims: list) -> list:
+    """The suite's claims: leaves out declared-threshold claims of plug-ins other test files registered."""
+    from validate.local_models import shadow
+
+    foreign = {t.name for t in shadow if not t.builtin}
+    return [c for c in claims if not any(c.id.startswith(f"shadows.technique.{n}.") for n in foreign)]
 
 
 @pytest.mark.parametrize("claim_id", sorted(CLAIM_IDS))
@@ -361,8 +369,8 @@ def test_power_check_of_each_claim_fails(quick_result, claim_id: str) -> None:
 
 def test_every_claim_carries_power(quick_result) -> None:
     res, _ = quick_result
-    assert all(c.power is not None and c.power.fails for c in res.claims), [c.id for c in res.claims
-                                                                            if c.power is None or not c.power.fails]
+    weak = [c.id for c in _own(res.claims) if c.power is None or not c.power.fails]
+    assert not weak
 
 
 def test_quick_experiment_outputs(quick_result) -> None:

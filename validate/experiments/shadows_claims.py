@@ -157,9 +157,9 @@ def pcss_claim(m: Measurements) -> list[Claim]:
               f"the best fixed PCF kernel of the sweep ({best})",
               f"mean over {kd['pixels']} penumbra pixels of e(best PCF) − e(PCSS), |ΔY|/L_norm (one-sided 99 % "
               "bound of the paired difference)", 0.0, kd["difference"], unc, ">", "%",
-              "Fernando 2005 (PCSS): a penumbra width from the blocker distance should beat any single fixed kernel "
-              "on a scene with blockers at several heights; the best kernel is the run's own minimum over "
-              f"{len(m.kernels['kernels'])} sizes × 2 depth modes (measured: PCSS "
+              "Fernando 2005 (PCSS): the filter width follows the penumbra w_p = r (z_r − z_b)/z_b, which no single "
+              "fixed kernel can on a scene with blockers at several heights; the best kernel is the run's own "
+              f"minimum over {len(m.kernels['kernels'])} sizes × 2 depth modes (measured: PCSS "
               f"{pct(kd['pcss_penumbra'])} vs {pct(kd['best_penumbra'])})")
     perturbed = kd["best_penumbra"] - ERROR_SCALE * kd["pcss_penumbra"]
     return [c.with_power(f"PCSS's penumbra error × {ERROR_SCALE:g}", perturbed)]
