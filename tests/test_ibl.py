@@ -287,8 +287,11 @@ def test_phong_sphere_white_furnace_render() -> None:
 
 
 def test_claim_phong_map_at_normal_incidence(disc) -> None:
-    """Claim ibl.phong.normal_incidence (s = 100): the s+1 map reproduces the modified-Phong render at
-    θ_v ≤ 5° within its documented 2 % (measured 0.8 % ± 0.15 %)."""
+    """Claim ibl.phong.normal_incidence (s = 100): over the θ_v ≤ 5° crop, Σ|ΔY| of the s + 1 map stays
+    within the independent per-pixel bound Σ Y(U) of ibl_checks.phong_bound (measured 0.21 ± 0.07 of it at
+    48², 8k spp), and the bound is not vacuous: U is below 5 % of the rendered luminance on average."""
+    from validate.experiments import ibl_checks as chk
+
     key = procedural.direction_from_elevation(35.0, 30.0)
     cam = rr.camera_towards(key, 6.0, 48)
     spec = rr.RenderSpec("sphere", {"type": rr.PHONG_PLUGIN, "exponent": 100.0}, cam, spp=8 * 1024, passes=8,
@@ -297,10 +300,10 @@ def test_claim_phong_map_at_normal_incidence(disc) -> None:
     n, v = r.normal[r.mask], r.view[r.mask]
     assert r.mask.sum() >= 8
     m = ps.prefilter_phong_cube(disc.radiance, ps.map_exponent_for_brdf(100.0), needed=ps.reflect(n, v))
-    approx = np.full(r.mean.shape, np.nan)
-    approx[r.mask] = ps.shade_phong_map(m, n, v)
-    st = ie.relative_error(r.mean, r.stderr_y, approx, r.mask).stats
-    assert st.mean + st.mean_uncertainty < ps.PHONG_NORMAL_INCIDENCE_ERROR
+    y_app, y_ref = Y(ps.shade_phong_map(m, n, v)), Y(r.mean[r.mask])
+    u = Y(chk.phong_bound(disc.radiance, 100.0, n, v))
+    assert (np.sum(np.abs(y_app - y_ref)) + np.sum(r.stderr_y[r.mask])) / np.sum(u) < 1.0
+    assert np.sum(u) / np.sum(y_ref) < 0.05
 
 
 # ------------------------------------------------------------------------------------------------
@@ -451,23 +454,3 @@ def test_flip_zero_for_identical_and_masked() -> None:
     worse2 = ref.copy()
     worse2[:16] *= 3.0
     assert ie.flip_error(ref, worse2, mask).mean == pytest.approx(0.0, abs=1e-7)
-
-
-# ------------------------------------------------------------------------------------------------
-# The experiment
-# ------------------------------------------------------------------------------------------------
-
-@pytest.mark.slow
-def test_experiment_quick(tmp_path) -> None:
-    """``validate run ibl --quick`` end to end (≈ 20 s cold): every claim passes and figures exist."""
-    from validate.experiments import Context, run_experiment
-
-    res = run_experiment("ibl", Context(out_dir=tmp_path, quick=True, show_progress=False))
-    assert {c.id for c in res.claims} >= {"ibl.diffuse_map.within_1pct", "ibl.sh_vs_convolution.bound",
-                                          "ibl.phong.normal_incidence", "ibl.phong.white_furnace"}
-    failed = [c.id for c in res.claims if not c.passed]
-    assert not failed, failed
-    for sec in res.sections:
-        for fig in sec.figures:
-            assert (tmp_path / fig.path).is_file()
-    assert res.data["reported_face"] is not None

@@ -19,17 +19,17 @@ whose reflected radiance is L_o(v) = ∫_{H(n)} L(ω) f_r cos θ_ω dω:
   exact there but for its discretisation; a map of the BRDF's own exponent s — the usual practice —
   is a slightly wider lobe (see the ``ibl`` experiment for the measured cost).
 
-Documented error at (near-)normal incidence, θ_v ≤ :data:`NORMAL_INCIDENCE_DEG`, relative, for the
-map of exponent s + 1 built with the default rules (:data:`PHONG_NORMAL_INCIDENCE_ERROR` = 2 %):
+Error at (near-)normal incidence, θ_v ≤ :data:`NORMAL_INCIDENCE_DEG`, for the map of exponent s + 1
+built with the default rules (largest texel 2/N ≤ σ_s/:data:`TEXELS_PER_LOBE`, σ_s = 1/√s): the map is
+exact at v = n but for its discretisation (bilinear interpolation, node merging) and, once v ≠ n, for
+the cosine and the horizon. This module states no error budget of its own: the ``ibl`` experiment
+bounds it per pixel from textbook theorems computed on the environment
+(:func:`validate.experiments.ibl_checks.phong_bound`: h²/8 interpolation bound with the lobe's second
+derivatives, |cos θ_ω − cos α| ≤ θ_v sin(α + θ_v), the horizon) and claims the measured error stays
+within that bound (claim ``ibl.phong.normal_incidence``).
 
-* bilinear interpolation: the rule N ≥ 2·:data:`TEXELS_PER_LOBE`/σ_s (σ_s = 1/√s, the lobe's angular
-  standard deviation: cos^s α ≈ exp(−sα²/2)) makes the largest texel (2/N rad, at a face centre)
-  h ≤ σ/4; for a lobe-filtered point source |f''| ≤ f_peak/σ², so |error| ≤ h²|f''|/8 ≤ 1/128 = 0.8 %;
-* node merging with blocks β ≤ σ/4: ≈ β²/(24σ²) ≤ 0.3 %;
-* off-normal view (cos θ_ω ≠ r·ω once v ≠ n): ≤ 1 − cos 5° = 0.4 % for narrow lobes; for broad lobes
-  (s ≲ 10) the difference is first order in θ_v times the lighting's gradient across the lobe
-  (measured ≤ 1.0 % for s = 1 under a 4° disc 400× its sky);
-* total ≤ 1.5 %, rounded up to 2 %.
+Registered techniques (family ``specular``, BRDF model ``phong``): ``phong_prefiltered`` (map of
+exponent s + 1) and ``phong_prefiltered_s`` (map of the BRDF's own exponent, the usual practice).
 
 References
   [1] G. Miller, C. R. Hoffman, "Illumination and Reflection Maps", SIGGRAPH 1984 course notes.
@@ -59,7 +59,6 @@ TEXELS_PER_LOBE = 4  # largest texel ≤ σ/4 (module docstring)
 MIN_FACE, MAX_FACE = 8, 256
 SUPPORT_EPS = 1e-7  # K_s < 1e-7 · K_s(1) is dropped: cos^s α < 1e-7
 NORMAL_INCIDENCE_DEG = 5.0  # "normal incidence": view within 5° of the normal
-PHONG_NORMAL_INCIDENCE_ERROR = 0.02  # documented relative error at θ_v ≤ 5° (module docstring)
 
 
 def _check_exponent(s: float) -> float:

@@ -41,6 +41,9 @@ plastic (:func:`shade_plastic`) uses P_α(r)(F0 A + B) with F0 = ((η − 1)/(η
 for the base, takes t(μ_l) out of the integral as its cosine-weighted mean t̄ = 2∫ t(μ) μ dμ:
 ρ/(1 − F_int) η⁻² t(μ_v) t̄ E(n)/π with E from an irradiance map.
 
+Registered technique (family ``specular``): ``split_sum_ggx`` for BRDF models ``ggx`` (conductor,
+Schlick F0; F0 = 1 is Mitsuba's default ``roughconductor``) and ``ggx_plastic`` (the plastic above).
+
 References
   [1] B. Karis, "Real Shading in Unreal Engine 4", SIGGRAPH 2013 course notes (split sum, eq. 7;
       prefilter and environment-BRDF listings).
