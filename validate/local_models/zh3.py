@@ -1,0 +1,87 @@
+"""ZH3: linear SH plus one quadratic zonal harmonic along the linear SH's axis [1].
+
+Radiance model (real SH without the Condon–Shortley phase, :mod:`.sh` conventions):
+
+    L(ω) ≈ L00 Y00 + Σ_m L1m Y1m(ω) + z2 Y20(a·ω),   Y20(t) = √(5/16π) (3t² − 1),
+
+with a = the unit vector of the *luminance* L1 coefficients (L11, L1m1, L10) ↔ (x, y, z) — one axis
+shared by the three channels, the variant [1] recommends for shaders (a zero L1 vector falls back to
+a = +y and z2 = 0). By the Funk–Hecke theorem (R&H 2001 [2], eq. 8; A_l of R&H JOSA 2001 [3] eq. 19)
+the irradiance is
+
+    E(n) = A0 L00 Y00 + A1 Σ_m L1m Y1m(n) + A2 z2 Y20(a·n),   A0 = π, A1 = 2π/3, A2 = π/4.
+
+Two ways to get z2 (both registered):
+
+* ``zh3_stored`` — the projection of the radiance on the zonal harmonic about a (one extra number per
+  channel): z2 = ∫ L(ω) Y20(a·ω) dω = √(4π/5) Σ_m Y2m(a) L2m (addition theorem), from the order-2
+  coefficients.
+* ``zh3_hallucinated`` — from L1 alone, [1] §3.4.3's curve fit: with r = |L1·a| / L00 (per channel),
+  z2 = L00 (0.08 r + 0.6 r²). For a directional light (r = √3) this gives 0.547 Y00-units against the
+  exact Y20(1) = 0.631: the fit targets measured probes, not the extreme.
+
+Both parts are irradiance E (not E/π): the zonal term carries A2 = π/4, the linear part A0, A1.
+
+References
+  [1] T. Roughton, P.-P. Sloan, A. Silvennoinen, M. Iwanicki, P. Shirley, "ZH3: Quadratic Zonal
+      Harmonics", Proc. ACM Comput. Graph. Interact. Tech. (i3D) 2024.
+  [2] R. Ramamoorthi, P. Hanrahan, "An Efficient Representation for Irradiance Environment Maps",
+      SIGGRAPH 2001.
+  [3] R. Ramamoorthi, P. Hanrahan, "On the relationship between radiance and irradiance", JOSA A 18(10), 2001.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import sh
+from .families import irradiance as _irradiance
+
+LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
+Y20_NORM = math.sqrt(5.0 / (16.0 * math.pi))
+A2 = math.pi / 4.0
+HALLUCINATE_LINEAR, HALLUCINATE_QUADRATIC = 0.08, 0.6  # [1] §3.4.3 curve fit
+
+
+def zonal_axis(coeffs: np.ndarray) -> np.ndarray:
+    """Unit axis of the luminance L1 vector (L11, L1m1, L10) → (x, y, z); +y when it vanishes."""
+    v = np.array([coeffs[3] @ LUMINANCE, coeffs[1] @ LUMINANCE, coeffs[2] @ LUMINANCE])
+    n = float(np.linalg.norm(v))
+    return v / n if n > 1e-12 * max(abs(float(coeffs[0] @ LUMINANCE)), 1e-30) else np.array([0.0, 1.0, 0.0])
+
+
+def stored_z2(coeffs: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """z2 = √(4π/5) Σ_m Y2m(a) L2m per channel (3,), from order-2 coefficients (9, 3)."""
+    y2 = sh.eval_basis_numpy(axis[None, :], 2)[0, 4:9]
+    return math.sqrt(4.0 * math.pi / 5.0) * (y2 @ coeffs[4:9])
+
+
+def hallucinated_z2(coeffs: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """[1] §3.4.3: r = |L1·a| / L00, z2 = L00 (0.08 r + 0.6 r²) per channel (0 where L00 ≤ 0)."""
+    l00 = coeffs[0]
+    l1 = np.stack([coeffs[3], coeffs[1], coeffs[2]], axis=0)  # (3 xyz, 3 channels)
+    r = np.abs(axis @ l1) / np.where(l00 > 0, l00, 1.0)
+    return np.where(l00 > 0, l00 * (HALLUCINATE_LINEAR * r + HALLUCINATE_QUADRATIC * r * r), 0.0)
+
+
+def render_zh3(coeffs: np.ndarray, axis: np.ndarray, z2: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """E(n) = A0 L00 Y00 + A1 L1·Y1(n) + A2 z2 Y20(a·n) at normals (N, 3) → (N, 3)."""
+    linear = sh.render_irradiance(coeffs[:4], normals, 1)
+    t = normals @ axis
+    return linear + A2 * Y20_NORM * (3.0 * t * t - 1.0)[:, None] * z2[None, :]
+
+
+@_irradiance.register("zh3_stored", "ZH3: L1 SH + stored zonal L2 along the luminance L1 axis (Roughton et al. 2024)")
+def zh3_stored(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    coeffs = sh.project_environment(radiance, 2)
+    axis = zonal_axis(coeffs)
+    return render_zh3(coeffs, axis, stored_z2(coeffs, axis), normals)
+
+
+@_irradiance.register("zh3_hallucinated", "ZH3 hallucinated from L1 (Roughton et al. 2024 §3.4.3 curve fit)")
+def zh3_hallucinated(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    coeffs = sh.project_environment(radiance, 1)
+    axis = zonal_axis(coeffs)
+    return render_zh3(coeffs, axis, hallucinated_z2(coeffs, axis), normals)
