@@ -64,7 +64,10 @@ def test_every_claim_on_builtin_environments_passes(quick_result) -> None:
                    "sh9.worst_case.near_directional.max", "sh9.worst_case.near_directional.mean",
                    f"sh9.technique.{PLUGIN_BOUND}.flux_rgb.max", f"sh9.technique.{PLUGIN_EXACT}.flux_luminance.max"):
         assert needed in ids
-    failed = [(c.id, c.measured, c.uncertainty, c.threshold) for c in res.claims if not c.passed]
+    # every claim of the experiment and of this test's plug-ins (other techniques' thresholds are theirs)
+    ours = [c for c in res.claims if not c.id.startswith("sh9.technique.") or c.id.split(".")[2] in
+            (PLUGIN_BOUND, PLUGIN_EXACT)]
+    failed = [(c.id, c.measured, c.uncertainty, c.threshold) for c in ours if not c.passed]
     assert not failed
 
 
