@@ -131,7 +131,8 @@ def test_vgroove_reference_is_lambert_at_small_slope() -> None:
 
 TINY = dataclasses.replace(bm.QUICK, grid=10, furnace=(24, 48), furnace_views_deg=(0.0, 60.0), sweep_alphas=(0.2, 0.5),
                            sigmas_deg=(2.0, 30.0), thetas_deg=(0.0, 45.0, 70.0), dphis_deg=(0.0, 180.0), n_slope=3,
-                           n_orient=4, paths=64, depth=6, image=16)
+                           n_orient=4, paths=64, depth=6, image=16, gouraud_image=32, gouraud_exponents=(20.0,),
+                           env_image=12, env_nodes=8, env_spp=16)
 
 
 def test_experiment_claims_pass_and_every_power_check_fails(tmp_path) -> None:

@@ -50,6 +50,7 @@ def compute(ctx: Context, s: bm.Settings | None = None) -> bm.Measurements:
     bm.energy_sweep(m)
     bm.vgroove_metrics(m, ctx.seed)
     bm.gouraud_analysis(m, LIGHT_DIR)
+    bm.env_analysis(m, mats)
     for mat in mats[:1] + [x for x in mats if x.name.startswith("diffuse")]:
         m.images[mat.name] = bm.sphere_images(m, mat, LIGHT_DIR)
     return m
@@ -63,7 +64,9 @@ def entries(m: bm.Measurements) -> dict[str, Any]:
 def data(m: bm.Measurements) -> dict[str, Any]:
     """The JSON-able numbers (no images)."""
     return {"materials": m.materials, "furnace": m.furnace, "energy_sweep": m.sweep, "cook_torrance_terms": m.terms,
-            "gouraud": m.gouraud, "vgroove": {k: {kk: vv for kk, vv in v.items() if kk not in ("techniques",)}
+            "gouraud": m.gouraud,
+            "environment": {k: {"reference_noise": v["reference_noise"]} for k, v in m.env.items()},
+            "vgroove": {k: {kk: vv for kk, vv in v.items() if kk != "techniques"}
                         for k, v in m.vgroove.get("sigmas", {}).items()}}
 
 

@@ -101,7 +101,17 @@ def _vgroove_claims(m: Measurements) -> list[Claim]:
 
 
 def findings(m: Measurements) -> list[str]:
-    return [*_microfacet_findings(m), *_energy_findings(m), *_vgroove_findings(m), *_gouraud_findings(m)]
+    return [*_microfacet_findings(m), *_env_findings(m), *_energy_findings(m), *_vgroove_findings(m),
+            *_gouraud_findings(m)]
+
+
+def _env_findings(m: Measurements) -> list[str]:
+    out = []
+    for name, r in m.env.items():
+        errs = ", ".join(f"{t.name} {_pct(_metric(m, t.name, 'env_rel_l1.' + name))}" for t in m.techniques)
+        out.append(f"Sphere under two_tone, {name} (reference noise Σse/ΣY = {_pct(r['reference_noise'])}): "
+                   f"Σ|ΔY|/ΣY {errs}.")
+    return out
 
 
 def _gouraud_findings(m: Measurements) -> list[str]:

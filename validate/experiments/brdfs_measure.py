@@ -14,6 +14,11 @@ Metrics (luminance Y of the (N, 3) cosine-weighted BRDF q = f_r·cos θ_l; the r
   interpolated, renormalised normal per pixel (per-fragment), against the same technique evaluated with the
   smooth sphere's exact normal at each pixel (orthographic view from +z, directional light; pixels where the
   tessellated sphere is hit). Deterministic: uncertainty 0.
+* ``env_rel_l1.<material>``: a unit sphere under the ``two_tone`` environment (sky above, ground below),
+  Σ_pixels |Y − Y_Mitsuba| / Σ Y_Mitsuba, with Y the technique integrated over the hemisphere of each pixel's normal
+  (Gauss–Legendre in cos θ × uniform φ, the map looked up bilinearly as Mitsuba's envmap does) and Y_Mitsuba the
+  path-traced sphere with the material's BSDF (:func:`validate.reference.ibl_render.render`, 4 passes);
+  ± = Σ se_Y / Σ Y + |value(n nodes) − value(n/2 nodes)|.
 * ``albedo_error.<material>`` (Mitsuba materials) = max over view angles θ_v of |W − W_ref|, where the
   white-furnace albedo W(v) = ∫ q(l, v) dω_l is the radiance seen under a unit white sky; both by the same
   quadrature (:func:`~validate.scenes.brdf_scenes.hemisphere_quadrature`); uncertainty |Δ| between n and n/2.
@@ -60,6 +65,9 @@ class Settings:
     gouraud_levels: tuple[int, ...] = (1, 2, 3)  # icosphere subdivisions (80 … 1280 triangles)
     gouraud_exponents: tuple[float, ...] = (5.0, 20.0, 100.0)  # modified-Phong exponents of the sweep
     gouraud_image: int = 80
+    env_image: int = 20  # sphere under an environment: pixels across
+    env_nodes: int = 12  # local quadrature: Gauss–Legendre cos θ nodes (× 2·nodes φ) about each normal
+    env_spp: int = 64  # Mitsuba path-traced spp (4 passes)
     albedo: float = 0.8
     image: int = 64
     minnaert_ks: tuple[float, ...] = tuple(float(k) for k in np.round(np.arange(0.5, 1.51, 0.05), 2))
@@ -74,7 +82,8 @@ FULL = Settings(grid=40, furnace=(128, 256), furnace_views_deg=(0.0, 30.0, 45.0,
                 sweep_alphas=(0.05, 0.1, 0.2, 0.3, 0.5, 0.8, 1.0), sigmas_deg=(2.0, 10.0, 20.0, 30.0, 40.0),
                 thetas_deg=(0.0, 20.0, 40.0, 60.0, 75.0, 85.0), dphis_deg=(0.0, 45.0, 90.0, 135.0, 180.0),
                 n_slope=8, n_orient=8, paths=512, depth=12, image=96, gouraud_levels=(1, 2, 3, 4, 5, 6),
-                gouraud_exponents=(5.0, 20.0, 100.0, 500.0), gouraud_image=192)
+                gouraud_exponents=(5.0, 20.0, 100.0, 500.0), gouraud_image=192, env_image=48, env_nodes=48,
+                env_spp=256)
 
 
 def materials(s: Settings) -> list[bs.Material]:
@@ -102,6 +111,7 @@ class Measurements:
     vgroove: dict[str, Any] = field(default_factory=dict)
     images: dict[str, Any] = field(default_factory=dict)
     gouraud: dict[str, Any] = field(default_factory=dict)
+    env: dict[str, Any] = field(default_factory=dict)
 
 
 def _normals(n: int) -> np.ndarray:
@@ -390,3 +400,65 @@ def call_world(tech: str, params: dict[str, Any], normals: np.ndarray, lights: n
     if tech not in family("brdf"):
         return np.zeros((len(normals), 3))
     return family("brdf").call(tech, params, normals, lights, views)
+
+
+# Spheres under an environment
+ENV_MATERIALS = ("conductor_beckmann_a0.5", "diffuse_r0.8")
+ENV_CHUNK = 1 << 17  # (pixel, direction) pairs per technique call
+
+
+def _frames(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    a = np.where(np.abs(n[:, 1:2]) > 0.9, np.array([[1.0, 0.0, 0.0]]), np.array([[0.0, 1.0, 0.0]]))
+    t = np.cross(n, a)
+    t /= np.linalg.norm(t, axis=-1, keepdims=True)
+    return t, np.cross(n, t)
+
+
+def env_radiance_local(fn: Any, radiance: np.ndarray, normals: np.ndarray, views: np.ndarray,
+                       nodes: int) -> np.ndarray:
+    """L_o(n, v) = Σ_m w_m L(ω_m) q(ω_m, v; n) over a Gauss–Legendre (cos θ) × uniform φ grid of ``nodes`` × 2·nodes
+    directions on the hemisphere about each normal, L by Mitsuba's bilinear envmap lookup; (P, 3)."""
+    from ..scenes import latlong
+
+    local, w = bs.hemisphere_quadrature(nodes, 2 * nodes)
+    t, b = _frames(normals)
+    out = np.zeros((len(normals), 3))
+    per = max(1, ENV_CHUNK // len(local))
+    for s0 in range(0, len(normals), per):
+        sl = slice(s0, s0 + per)
+        d = (local[None, :, :1] * t[sl, None] + local[None, :, 1:2] * b[sl, None]
+             + local[None, :, 2:3] * normals[sl, None]).reshape(-1, 3)
+        k = len(d) // len(local)
+        q = fn(np.repeat(normals[sl], len(local), 0), d, np.repeat(views[sl], len(local), 0))
+        lrad = latlong.bilinear_lookup(radiance, d)
+        out[sl] = np.sum((w[None, :, None] * (q * lrad).reshape(k, len(local), 3)), axis=1)
+    return out
+
+
+def env_analysis(m: Measurements, mats: list[bs.Material]) -> None:
+    """Every technique on a sphere under ``two_tone`` vs Mitsuba's path-traced sphere, per material."""
+    from ..reference import ibl_render as ir
+    from ..scenes import procedural
+
+    s = m.settings
+    env = procedural.two_tone()
+    cam = ir.camera_towards(np.array([0.0, 0.3, 1.0]), 0.0, s.env_image)
+    out: dict[str, Any] = {}
+    for mat in [x for x in mats if x.name in ENV_MATERIALS]:
+        r = ir.render(env, ir.RenderSpec("sphere", mat.bsdf, cam, spp=s.env_spp, passes=4, seed=11))
+        mask = r.mask.reshape(-1)
+        n, v = r.normal.reshape(-1, 3)[mask], r.view.reshape(-1, 3)[mask]
+        ref = luminance(r.mean.reshape(-1, 3)[mask])
+        noise = float(np.sum(r.stderr_y.reshape(-1)[mask]) / np.sum(ref))
+        images: dict[str, Any] = {"mitsuba": r.mean}
+        for tech in m.techniques:
+            vals = [env_radiance_local(lambda nn, ll, vv, t=tech, p=mat.params: family("brdf").call(t, p, nn, ll, vv),
+                                       env.radiance, n, v, k) for k in (s.env_nodes, s.env_nodes // 2)]
+            e = [_err(luminance(x), ref) for x in vals]
+            m.metrics.setdefault(tech.name, {})[f"env_rel_l1.{mat.name}"] = _entry(
+                e[0], noise + abs(e[0] - e[1]), _err(BIAS * luminance(vals[0]), ref))
+            img = np.full((s.env_image * s.env_image, 3), np.nan)
+            img[mask] = vals[0]
+            images[tech.name] = img.reshape(s.env_image, s.env_image, 3)
+        out[mat.name] = {"images": images, "reference_noise": noise}
+    m.env = out

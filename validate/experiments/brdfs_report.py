@@ -24,7 +24,27 @@ def _metric_table(m: Measurements, metric: str, mats: list[str], caption: str) -
 
 
 def sections(m: Measurements, ctx: Context) -> list[Section]:
-    return [_mitsuba_section(m, ctx), _energy_section(m, ctx), _vgroove_section(m, ctx), _gouraud_section(m, ctx)]
+    return [_mitsuba_section(m, ctx), _env_section(m, ctx), _energy_section(m, ctx), _vgroove_section(m, ctx),
+            _gouraud_section(m, ctx)]
+
+
+def _env_section(m: Measurements, ctx: Context) -> Section:
+    if not m.env:
+        return Section("Spheres under an environment")
+    names = list(m.env)
+    table = _metric_table(m, "env_rel_l1", names, "env_rel_l1 = Σ_pixels |Y − Y_Mitsuba| / Σ Y_Mitsuba on a unit "
+                          "sphere under two_tone; ± = Σ se / Σ Y of the path-traced reference + quadrature "
+                          "(n vs n/2 nodes).")
+    figs = []
+    for name, r in m.env.items():
+        p, rel = ctx.figure_path(NAME, f"env_{name}.png")
+        keys = ["mitsuba"] + [t.name for t in m.techniques]
+        plots.save_image_grid(p, [np.nan_to_num(r["images"][k]) for k in keys], keys)
+        figs.append(Figure(rel, f"{name} under two_tone: Mitsuba path traced (first), then every technique", None))
+    return Section("Spheres under an environment", [
+        "Each technique integrated over the environment at every pixel of a unit sphere (per-pixel hemisphere "
+        "quadrature of L(ω)·q(ω, v)) against Mitsuba's path-traced sphere with the material's own BSDF."],
+        figures=figs, tables=[table])
 
 
 def _gouraud_section(m: Measurements, ctx: Context) -> Section:

@@ -105,8 +105,9 @@ def dielectric_interface(alpha: float, eta: float = PLASTIC_ETA) -> Material:
 
 
 def diffuse(albedo: float = 0.8) -> Material:
-    """Mitsuba ``diffuse`` of albedo ρ (every rough-diffuse model at σ = 0)."""
-    p = {**specular_params(0.3, "beckmann", 0.0, 1.0), "albedo": albedo, "ks": 0.0, "sigma": 0.0}
+    """Mitsuba ``diffuse`` of albedo ρ (every rough-diffuse model at σ = 0; η = 1, k = 0: no specular interface,
+    F = 0 for the microfacet models)."""
+    p = {**specular_params(0.3, "beckmann", 1.0, 0.0), "albedo": albedo, "ks": 0.0, "sigma": 0.0}
     return Material(f"diffuse_r{albedo:g}", f"Mitsuba diffuse, ρ = {albedo:g}", p,
                     {"type": "diffuse", "reflectance": _rgb(albedo)})
 
@@ -121,7 +122,7 @@ def modified_phong(s: float, plugin: str) -> Material:
 
 def vgroove_material(sigma_deg: float, albedo: float) -> Material:
     """A rough diffuse surface of facet-slope deviation σ: parameters only (the reference is the V-grooves)."""
-    p = {**specular_params(0.3, "beckmann", 0.0, 1.0), "albedo": albedo, "ks": 0.0,
+    p = {**specular_params(0.3, "beckmann", 1.0, 0.0), "albedo": albedo, "ks": 0.0,
          "sigma": float(np.radians(sigma_deg))}
     return Material(f"vgroove_s{sigma_deg:g}", f"V-groove microsurface, σ = {sigma_deg:g}°, facet ρ = {albedo:g}", p)
 
