@@ -48,6 +48,7 @@ from .shadows_measure import (
     Settings,
     band_test,
     bias_sweep,
+    bleeding_case,
     build_frame,
     evaluate,
     fit_rate,
@@ -94,6 +95,7 @@ def compute(ctx: Context, s: Settings | None = None) -> Measurements:
         del sm
     if counts:
         m.rate = _rate(counts, s.rate_grid, int(grid_p.shape[0]))
+    m.bleeding = bleeding_case(m.techniques)
     return m
 
 

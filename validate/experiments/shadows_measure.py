@@ -123,6 +123,7 @@ class Measurements:
     rate: dict[str, Any] = field(default_factory=dict)
     pcss_flat: se.ShadowErrors | None = None
     bounds: dict[str, dict[str, Any]] = field(default_factory=dict)  # upper-bound techniques (VSM, ESM, MSM)
+    bleeding: dict[str, Any] = field(default_factory=dict)  # synthetic two-occluder leak case
     build_seconds: dict[int, float] = field(default_factory=dict)
 
     @property
@@ -279,6 +280,40 @@ def fit_rate(resolutions: list[int], counts: list[int]) -> tuple[float, float]:
     return float((k * (x - xb) * y).sum() / sxx), float(1.0 / np.sqrt(sxx))
 
 
+BLEED_RES = 64  # texels per side of the synthetic two-occluder map
+BLEED_NEAR, BLEED_FAR, BLEED_RECEIVER = 1.0, 4.0, 3.0  # view depths (m): near/far planes, receiver plane
+BLEED_OCCLUDERS = {"far apart": (1.5, 2.0), "contact": (1.5, 2.9)}  # (left, right) occluder depths
+
+
+def bleeding_case(techniques: list[Technique]) -> dict[str, Any]:
+    """Light bleeding where every filter sees two occluders at different depths: a synthetic map looking
+    down +z (window [0, 1]², near 1, far 4) holds occluder A over the left half and B over the right half;
+    receivers on the plane z = 3 behind both are fully shadowed (V = 0), so any V′ > 0 is a leak. Per
+    technique and case: mean V′ (``leak``) and the fraction of receivers with V′ > 0.1 (``leak_area``)."""
+    import mitsuba as mi
+
+    from ..backend import init
+
+    init()
+    view = smod.LightView(np.zeros(3), np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0]),
+                          np.array([0.0, 1.0, 0.0]), 0.0, 0.0, 1.0, BLEED_NEAR, BLEED_FAR)
+    i = np.tile(np.arange(BLEED_RES), BLEED_RES)
+    x = np.linspace(0.25, 0.75, 201)  # receivers across the A/B boundary, away from the window's border
+    p = np.c_[x * BLEED_RECEIVER, np.full_like(x, 0.5 * BLEED_RECEIVER), np.full_like(x, BLEED_RECEIVER)]
+    n = np.tile([0.0, 0.0, -1.0], (x.size, 1))
+    light = ss.DiscLight((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 0.02, 1.0)
+    out: dict[str, Any] = {"receivers": int(x.size), "resolution": BLEED_RES, "receiver_depth": BLEED_RECEIVER}
+    for case, (za, zb) in BLEED_OCCLUDERS.items():
+        z = np.where(i < BLEED_RES // 2, za, zb)
+        depth = smod.quantise_depth(mi.Float((view.depth_scale * (1 - BLEED_NEAR / z)).astype(np.float32)))
+        sm = smod.ShadowMap(view, BLEED_RES, depth, mi.Float(np.zeros(BLEED_RES**2, np.float32)))
+        out[case] = {"depths": [za, zb]}
+        for tech in techniques:
+            v = shadow.call(tech, sm, light, p, n)
+            out[case][tech.name] = {"leak": float(v.mean()), "leak_area": float((v > 0.1).mean())}
+    return out
+
+
 __all__ = ["BAND_TEST_ALPHA", "FULL", "QUICK", "Frame", "Measurements", "Settings", "band_test", "bias_sweep",
-           "build_frame", "evaluate", "fit_rate", "ground_grid", "kernel_sweep", "measure_resolution",
-           "rate_counts", "technique_visibility", "upper_bounds"]
+           "bleeding_case", "build_frame", "evaluate", "fit_rate", "ground_grid", "kernel_sweep",
+           "measure_resolution", "rate_counts", "technique_visibility", "upper_bounds"]

@@ -38,6 +38,7 @@ def data(m: Measurements) -> dict[str, Any]:
             "bias_sweep": m.bias, "kernel_sweep": m.kernels, "convergence_rate": m.rate,
             "band_test": {k: v for k, v in m.band.items() if not k.startswith("_")},
             "pcss_without_receiver_plane_largest_light": m.pcss_flat.to_json() if m.pcss_flat else None,
+            "light_bleeding_case": m.bleeding,
             "flip_noise_floor": {f"{r:g}": m.frame.flip_noise[r] for r in m.settings.flip_radii if r in m.frame.refs},
             "shadow_map_build_s": {str(k): v for k, v in m.build_seconds.items()}}
 
@@ -52,7 +53,8 @@ def sections(m: Measurements, ctx: Context) -> list[Section]:
                 "Error against shadow-map resolution, polygon-offset bias, PCF kernel and light radius. The penumbra "
                 "'share' is the penumbra pixels' summed error divided by all valid pixels (it grows with the "
                 "penumbra's area); the penumbra 'mean' is the average over penumbra pixels."], figures=_curves(m, ctx)),
-            Section("Tables", _table_notes(m), tables=[comparison_table(m), resolution_table(m), *_bias_table(m)])]
+            Section("Tables", _table_notes(m), tables=[comparison_table(m), resolution_table(m), *_bias_table(m),
+                                                          *_bleeding_table(m)])]
 
 
 def _error_map(m: Measurements, ctx: Context, r: float, approx: np.ndarray, title: str, filename: str) -> Figure:
@@ -193,6 +195,18 @@ def _bias_table(m: Measurements) -> list[Table]:
             zip(b["factor"], b["units"], b["total"], b["false_shadow"], b["false_light"], strict=True)]
     return [Table(["glPolygonOffset(factor, units)", "total error", "false shadow (lit area)", "false light (umbra)"],
                   rows, f"Hard shadows, {b['resolution']}², r = {b['radius']:g} m")]
+
+
+def _bleeding_table(m: Measurements) -> list[Table]:
+    b = m.bleeding
+    cases = [c for c in ("far apart", "contact") if c in b]
+    if not cases:
+        return []
+    rows = [[t.name] + [f"{pct(b[c][t.name]['leak'], 3)} / {pct(b[c][t.name]['leak_area'], 1)}" for c in cases]
+            for t in m.techniques if all(t.name in b[c] for c in cases)]
+    return [Table(["technique"] + [f"{c}: occluders at {b[c]['depths'][0]:g} / {b[c]['depths'][1]:g} m" for c in cases],
+                  rows, f"Light bleeding on a synthetic {b['resolution']}² map: mean V′ / share of receivers with "
+                        f"V′ > 0.1, receivers at {b['receiver_depth']:g} m behind both occluders (exact V = 0).")]
 
 
 def _table_notes(m: Measurements) -> list[str]:
