@@ -9,7 +9,8 @@ BSDF evaluation
 V-groove microsurface (Oren & Nayar's V-cavity surface [1], path traced)
   For facet slope θ_a: the mesh of :func:`validate.scenes.brdf_scenes.vgroove_mesh` (Lambertian facets of
   albedo ρ, many grooves in the measured footprint), a directional light of unit perpendicular irradiance
-  from l and an orthographic viewer along v. The groove orientation φ_a is applied by rotating l and v by
+  from l and an orthographic viewer along v (all slopes of a σ in one scene, the meshes side by side, so that
+  every bounce is one wavefront). The groove orientation φ_a is applied by rotating l and v by
   −φ_a about z. A path starts at a uniform point p of the central footprint square of the mean plane (an
   orthographic pixel averages radiance over the projected area, i.e. uniformly over the mean plane), is
   traced along −v from above, and at each facet hit x (normal n_f) adds next-event estimation
@@ -44,7 +45,7 @@ from ..scenes import brdf_scenes as bs
 from .cache import cached
 from .ibl_render import PHONG_PLUGIN, register_phong_bsdf
 
-VGROOVE_VERSION = 1
+VGROOVE_VERSION = 2
 RAY_EPS = 1e-6
 
 
@@ -81,16 +82,25 @@ def eval_bsdf(bsdf: dict[str, Any], lights: np.ndarray, views: np.ndarray) -> np
 # ---------------------------------------------------------------------------------------------
 # V-grooves
 
-def _mesh_scene(slope: float) -> Any:
+SLOPE_SPACING = 3.0  # x offset between the groove meshes of different slopes in one scene (mesh side 1)
+
+
+def _mesh_scene(slopes: np.ndarray) -> Any:
+    """One scene holding a V-groove mesh per slope, the k-th shifted by k·SLOPE_SPACING along x (no ray leaves one
+    mesh for another: all geometry lies below z = 0 and the meshes are 2 units apart)."""
     import mitsuba as mi
 
-    verts, faces = bs.vgroove_mesh(slope)
-    mesh = mi.Mesh("vgrooves", len(verts), len(faces), has_vertex_normals=False)
-    params = mi.traverse(mesh)
-    params["vertex_positions"] = mi.Float(verts.astype(np.float32).ravel())
-    params["faces"] = mi.UInt32(faces.astype(np.uint32).ravel())
-    params.update()
-    return mi.load_dict({"type": "scene", "grooves": mesh})
+    shapes: dict[str, Any] = {"type": "scene"}
+    for k, slope in enumerate(slopes):
+        verts, faces = bs.vgroove_mesh(float(slope))
+        verts = verts + np.array([k * SLOPE_SPACING, 0.0, 0.0])
+        mesh = mi.Mesh(f"vgrooves{k}", len(verts), len(faces), has_vertex_normals=False)
+        params = mi.traverse(mesh)
+        params["vertex_positions"] = mi.Float(verts.astype(np.float32).ravel())
+        params["faces"] = mi.UInt32(faces.astype(np.uint32).ravel())
+        params.update()
+        shapes[f"grooves{k}"] = mesh
+    return mi.load_dict(shapes)
 
 
 def _intersect(scene: Any, origins: np.ndarray, dirs: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -128,17 +138,18 @@ def _cosine_about(n: np.ndarray, u1: np.ndarray, u2: np.ndarray) -> np.ndarray:
     return local[:, :1] * t + local[:, 1:2] * b + local[:, 2:3] * n
 
 
-def trace_vgrooves(slope: float, lights: np.ndarray, views: np.ndarray, albedo: float, paths: int,
-                   depth: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
-    """Macroscopic f_r·cos θ_l of one V-groove set (grooves along y, slope θ_a) for each (l, v) pair:
-    (mean (M,), standard error (M,)) over ``paths`` paths per pair (see the module docstring)."""
-    scene = _mesh_scene(slope)
+def trace_vgrooves(scene: Any, mesh_index: np.ndarray, lights: np.ndarray, views: np.ndarray, albedo: float,
+                   paths: int, depth: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """Macroscopic f_r·cos θ_l of V-groove sets (grooves along y; pair m on mesh ``mesh_index[m]`` of
+    :func:`_mesh_scene`) for each (l, v) pair: (mean (M,), standard error (M,)) over ``paths`` paths per pair
+    (see the module docstring)."""
     rng = np.random.default_rng(seed)
     m = len(views)
     k = np.repeat(np.arange(m), paths)
     v, lgt = views[k], lights[k]
     half = 0.5 * bs.VGROOVE_FOOTPRINT
-    p0 = np.stack([rng.uniform(-half, half, len(k)), rng.uniform(-half, half, len(k)), np.zeros(len(k))], -1)
+    p0 = np.stack([rng.uniform(-half, half, len(k)) + SLOPE_SPACING * mesh_index[k],
+                   rng.uniform(-half, half, len(k)), np.zeros(len(k))], -1)
     origin = p0 + 2.0 * v / np.maximum(v[:, 2:3], 1e-3)
     direction = -v
     throughput = np.ones(len(k))
@@ -179,15 +190,15 @@ def vgroove_brdf(sigma: float, lights: np.ndarray, views: np.ndarray, albedo: fl
     def compute() -> dict[str, Any]:
         init()
         slopes, orients, w = bs.vgroove_quadrature(sigma, n_slope, n_orient)
-        total = np.zeros(len(views))
-        var = np.zeros(len(views))
-        for i, slope in enumerate(slopes):
-            ls = np.concatenate([_rotate_z(lights, -a) for a in orients])
-            vs = np.concatenate([_rotate_z(views, -a) for a in orients])
-            mean, se = trace_vgrooves(float(slope), ls, vs, albedo, paths, depth, seed + 7919 * i)
-            mean, se = mean.reshape(len(orients), -1), se.reshape(len(orients), -1)
-            total += np.sum(w[i][:, None] * mean, axis=0)
-            var += np.sum((w[i][:, None] * se) ** 2, axis=0)
+        ls = np.concatenate([_rotate_z(lights, -a) for a in orients])
+        vs = np.concatenate([_rotate_z(views, -a) for a in orients])
+        idx = np.repeat(np.arange(len(slopes)), len(ls))
+        mean, se = trace_vgrooves(_mesh_scene(slopes), idx, np.tile(ls, (len(slopes), 1)),
+                                  np.tile(vs, (len(slopes), 1)), albedo, paths, depth, seed)
+        mean = mean.reshape(len(slopes), len(orients), -1)
+        se = se.reshape(len(slopes), len(orients), -1)
+        total = np.sum(w[..., None] * mean, axis=(0, 1))
+        var = np.sum((w[..., None] * se) ** 2, axis=(0, 1))
         return {"value": total, "stderr": np.sqrt(var), "slopes": slopes, "orientations": orients}
 
     r = cached("brdf_vgroove", key, compute)
