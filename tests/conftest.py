@@ -6,7 +6,7 @@
   read (or pollute) a user's cache, while tests within one session still share expensive results.
 * ``probes_dir`` / ``reference_dir``: the light probes (``$VALIDATE_PROBES``, default
   ``<repo>/../shared/probes``) and the published figures (``$VALIDATE_REFERENCE``, default
-  ``<repo>/../shared/reference``). A test that needs them is skipped, with the reason, when they are
+  the package's own copy in ``validate/data``). A test that needs them is skipped, with the reason, when they are
   absent; such tests carry the ``probes`` marker.
 * ``load_probe``: loads a probe file from ``probes_dir`` once per session (converting a 1000² angular
   map takes about a second).
@@ -65,9 +65,10 @@ def probes_dir() -> Path:
 
 @pytest.fixture(scope="session")
 def reference_dir() -> Path:
-    """``$VALIDATE_REFERENCE`` or ``<repo>/../shared/reference``; skips the test when absent."""
-    path = Path(os.environ.get("VALIDATE_REFERENCE") or REPO.parent / "shared" / "reference")
-    return _existing_dir(path, "published reference figures", "VALIDATE_REFERENCE")
+    """The published figures: ``$VALIDATE_REFERENCE`` or the package's own copy (``validate/data``)."""
+    from validate.scenes.probes import reference_dir as published_dir
+
+    return _existing_dir(published_dir(), "published reference figures", "VALIDATE_REFERENCE")
 
 
 @pytest.fixture(scope="session")
