@@ -171,3 +171,18 @@ def test_experiment_quick_claims_pass_with_power(tmp_path):
         assert c.passed, (c.id, c.measured, c.threshold)
         assert c.power is not None and c.power.fails, c.id
     assert set(res.techniques) == {t.name for t in light}
+
+
+def test_lens_area_and_lamp_profile():
+    """Two-disc overlap: equal radii closed form, containment, separation, and a 2000² point count."""
+    r = 0.08
+    d = np.array([0.0, 0.03, 0.1, 0.16, 0.2])
+    equal = 2 * r**2 * np.arccos(np.minimum(d / (2 * r), 1)) - 0.5 * d * np.sqrt(np.maximum(4 * r**2 - d**2, 0))
+    np.testing.assert_allclose(sw.lens_area(d, r, r), equal, rtol=1e-12, atol=1e-15)
+    assert sw.lens_area(np.array([0.004]), 0.08, 0.085)[0] == pytest.approx(math.pi * 0.08**2)
+    g = (np.arange(2000) + 0.5) / 2000 * 0.4 - 0.2
+    x, y = np.meshgrid(g, g)
+    count = ((x**2 + y**2 <= 0.08**2) & ((x - 0.1) ** 2 + y**2 <= 0.085**2)).sum() * (0.4 / 2000) ** 2
+    assert sw.lens_area(np.array([0.1]), 0.08, 0.085)[0] == pytest.approx(count, rel=2e-3)
+    prof = sw.lamp_profile(np.array([0.0, 0.5, 40.0]), 0.08, 0.3, 0.085)
+    assert prof[0] == pytest.approx(1.0) and prof[1] == pytest.approx(math.cos(math.radians(0.5))) and prof[2] == 0

@@ -89,6 +89,7 @@ def scenes(s: dict[str, Any]) -> dict[str, tuple[ls.LightScene, int, int]]:
             out[f"sum_{kind}"] = (ls.light_scene((kind,), w, h, blockers=("rectangle",)), s["delta_spp"],
                                   s["delta_passes"])
     out["all"] = (ls.light_scene(SUM_LIGHTS, w, h), s["sum_spp"], s["sum_passes"])
+    out["lamp"] = (ls.light_scene(("lamp",), w, h), s["area_spp"], s["area_passes"])
     out["ground_rectangle"] = (ls.light_scene(("rectangle",), w, h, occluders=False), s["ground_spp"],
                                s["ground_passes"])
     return out
@@ -254,6 +255,28 @@ def model_sum(frames: dict[str, Frame], s: dict[str, Any]) -> dict[str, Any]:
     return lm.image_errors(al.radiance, al.uncertainty, al.shade(e)).to_json() | {"techniques": names}
 
 
+def lamp_comparison(frames: dict[str, Frame], m: Measurements) -> dict[str, Any]:
+    """A real lamp (disc behind an aperture) against the spot models fitted to its far-field profile, and
+    against the 16×16 grid over its disc with the tube's shadow rays."""
+    f = frames["lamp"]
+    lamp = f.scene.lights[0]
+    fit = sw.fit_lamp(*lamp.size)
+    base = {"type": "spot", "position": np.asarray(lamp.position), "direction": lamp.frame()[2],
+            "intensity": lamp.power * math.pi * lamp.size[0] ** 2}
+    models = {"spot_cos_f": dict(base, exponent=fit["cos_f_exponent"], cutoff_angle=fit["edge_deg"]),
+              "spot_mitsuba": dict(base, beam_width=fit["mitsuba_beam_deg"], cutoff_angle=fit["mitsuba_cutoff_deg"]),
+              "area_grid_shadowed": dict(lamp.lamp_disc().as_mapping(), grid=16)}
+    out: dict[str, Any] = {"fit": fit, "radius": lamp.size[0], "depth": lamp.size[1], "aperture": lamp.size[2],
+                           "models": {}}
+    m.images["lamp"] = {"Mitsuba lamp": f.ref.radiance}
+    for name, lmap in models.items():
+        approx = f.shade(family.call(name, lmap, f.position, f.normal, visible=f.visible))
+        out["models"][name] = lm.image_errors(f.radiance, f.uncertainty, approx).to_json()
+        out["models"][name]["agreement"] = lm.agreement(f.passes, approx).to_json()
+        m.images["lamp"][name] = f.image(approx)
+    return out
+
+
 def spot_profile() -> dict[str, Any]:
     spot = ls.STANDARD_LIGHTS["spot"]
     f, rms = sw.fit_spot_exponent(spot.beam_deg, spot.cutoff_deg)
@@ -274,6 +297,7 @@ def compute(ctx: Context) -> Measurements:
     m.data["closed_form"] = closed_form_check(frames)
     m.data["linearity"] = linearity(frames, m)
     m.data["model_sum"] = model_sum(frames, s)
+    m.data["lamp"] = lamp_comparison(frames, m)
     m.data["references"] = {k: f.ref.settings() for k, f in frames.items()}
     m.images["references"] = {k: f.ref.radiance for k, f in frames.items()}
     return m
@@ -351,6 +375,22 @@ def grid_findings(m: Measurements) -> list[str]:
     return out
 
 
+def lamp_finding(lamp: dict[str, Any]) -> str:
+    fit, mod = lamp["fit"], lamp["models"]
+    z = mod["area_grid_shadowed"]["agreement"]
+    return (f"A real lamp (disc r = {lamp['radius'] * 100:g} cm at the end of a {lamp['depth'] * 100:g} cm black tube "
+            f"of radius {lamp['aperture'] * 100:g} cm, "
+            f"beam edge {fit['edge_deg']:.1f}°): its far-field profile is matched by cos^f α with f = "
+            f"{fit['cos_f_exponent']:.1f} (rms {fit['cos_f_rms']:.1%} of the peak) or by Mitsuba's linear spot with "
+            f"beam {fit['mitsuba_beam_deg']:.1f}°, cutoff {fit['mitsuba_cutoff_deg']:.1f}° (rms "
+            f"{fit['mitsuba_rms']:.1%}); rendered, the fitted cos^f spot is off by {mod['spot_cos_f']['mean']:.1%} on "
+            f"average (max {mod['spot_cos_f']['max']:.0%}), the fitted linear spot by "
+            f"{mod['spot_mitsuba']['mean']:.1%} "
+            f"(max {mod['spot_mitsuba']['max']:.0%}), the 16² grid through the tube by "
+            f"{mod['area_grid_shadowed']['mean']:.2%} ± {mod['area_grid_shadowed']['mean_uncertainty']:.2%} "
+            f"(pooled z {z['pooled_z']:+.2f}).")
+
+
 def findings(m: Measurements) -> list[str]:
     out = attenuation_findings(m)
     st = m.data["standin"]
@@ -366,6 +406,7 @@ def findings(m: Measurements) -> list[str]:
                f"with f = {sp['fitted_exponent']:.1f} (rms {sp['fit_rms']:.1%} of the peak over the cone)"
                + (f"; rendered, that cos^f spot is off by {cos_f['mean']['value']:.1%} on average and "
                   f"{cos_f['max']['value']:.0%} at worst (of the mean lit radiance)." if cos_f else "."))
+    out.append(lamp_finding(m.data["lamp"]))
     two = tech.get("point_two_sided", {}).get("metrics", {}).get("point", {})
     if two:
         out.append(f"Two-sided lighting on this closed geometry with shadow rays: max difference from Mitsuba "

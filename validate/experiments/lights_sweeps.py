@@ -171,3 +171,54 @@ def fit_spot_exponent(beam_deg: float, cutoff_deg: float, nodes: int = 2000) -> 
 
     res = minimize_scalar(cost, bounds=(0.0, 2000.0), method="bounded", options={"xatol": 1e-3})
     return float(res.x), float(math.sqrt(res.fun))
+
+
+# -- a real lamp: a disc behind a circular aperture -------------------------------------------------------
+def lens_area(delta: np.ndarray, r1: float, r2: float) -> np.ndarray:
+    """Overlap area of two discs of radii r1 and r2 whose centres are ``delta`` apart."""
+    d = np.maximum(np.asarray(delta, dtype=np.float64), 0.0)
+    small, big = min(r1, r2), max(r1, r2)
+    inside = d <= big - small
+    apart = d >= big + small
+    dd = np.where(inside | apart, 0.5 * (big + small), d)  # a safe value where the general branch is unused
+    a1 = small**2 * np.arccos(np.clip((dd**2 + small**2 - big**2) / (2 * dd * small), -1, 1))
+    a2 = big**2 * np.arccos(np.clip((dd**2 + big**2 - small**2) / (2 * dd * big), -1, 1))
+    k = (-dd + small + big) * (dd + small - big) * (dd - small + big) * (dd + small + big)
+    general = a1 + a2 - 0.5 * np.sqrt(np.maximum(k, 0.0))
+    return np.where(inside, math.pi * small**2, np.where(apart, 0.0, general))
+
+
+def lamp_profile(alpha_deg: np.ndarray, radius: float, depth: float, aperture: float) -> np.ndarray:
+    """Far-field I(α)/I₀ of a disc of ``radius`` at ``depth`` behind a circular mouth of radius ``aperture``:
+    cos α · A(depth · tan α) / (π r²) (see :mod:`validate.scenes.light_scenes`, kind ``lamp``)."""
+    a = np.radians(np.asarray(alpha_deg, dtype=np.float64))
+    inside = a < math.pi / 2
+    t = np.where(inside, np.tan(np.where(inside, a, 0.0)), 1e30)
+    return np.where(inside, np.cos(a) * lens_area(depth * t, radius, aperture) / (math.pi * radius**2), 0.0)
+
+
+def fit_lamp(radius: float, depth: float, aperture: float, nodes: int = 1500) -> dict[str, float]:
+    """Least-squares (solid-angle weighted) cos^f spot (cutoff = the lamp's beam edge) and Mitsuba spot
+    (beam width and cutoff) matching :func:`lamp_profile`; rms of each fit relative to the peak."""
+    from scipy.optimize import minimize, minimize_scalar
+
+    edge = math.degrees(math.atan((radius + aperture) / depth))
+    a = np.linspace(0.0, edge * 1.1, nodes)
+    w = np.sin(np.radians(a)) + 1e-12
+    target = lamp_profile(a, radius, depth, aperture)
+
+    def rms(model: np.ndarray) -> float:
+        return float(math.sqrt(np.sum(w * (model - target) ** 2) / np.sum(w)))
+
+    cos_a = np.cos(np.radians(a))
+    res = minimize_scalar(lambda f: rms(np.where(a < edge, cos_a**f, 0.0)), bounds=(0.0, 500.0), method="bounded")
+    def mitsuba(p: np.ndarray) -> np.ndarray:  # beam width in [0, cutoff]
+        cut = max(float(p[1]), 1e-3)
+        return mitsuba_spot_profile(a, float(np.clip(p[0], 0.0, cut - 1e-6)), cut)
+
+    mit = minimize(lambda p: rms(mitsuba(p)), x0=[0.3 * edge, edge], method="Nelder-Mead",
+                   options={"xatol": 1e-4, "fatol": 1e-9})
+    cut = max(float(mit.x[1]), 1e-3)
+    beam = float(np.clip(mit.x[0], 0.0, cut - 1e-6))
+    return {"edge_deg": edge, "cos_f_exponent": float(res.x), "cos_f_rms": rms(np.where(a < edge, cos_a**res.x, 0.0)),
+            "mitsuba_beam_deg": beam, "mitsuba_cutoff_deg": cut, "mitsuba_rms": float(mit.fun)}

@@ -18,7 +18,15 @@ Light kinds and their Mitsuba emitters (Mitsuba 3 plugin documentation [2]):
   normal +z) mapped by ``look_at(position, target, up)`` and scaled by the half sizes / the radius,
   with an ``area`` emitter of radiance L (one-sided: it emits on the side its normal points to);
 * ``sphere``: a ``sphere`` shape of ``radius`` at ``position`` with an ``area`` emitter (emits
-  outward everywhere).
+  outward everywhere);
+* ``lamp``: a real spot lamp — a ``disk`` emitter of radius r at the closed end of a black open
+  ``cylinder`` (the aperture) of radius a ≥ r and depth h, whose mouth is centred at ``position`` and
+  faces ``target`` (``size`` = (r, h, a)). Seen from far away it is a spot whose intensity is the
+  emitter's area visible through the mouth (a ray from a disc point leaves through the mouth circle
+  or is stopped by the wall): I(α) = L cos α · A(h tan α), A(δ) the overlap of a disc of radius r and
+  one of radius a whose centres are δ apart; flat to tan α = (a − r)/h, zero beyond (a + r)/h.
+  (a slightly larger than r keeps the disc's rim off the wall, where Mitsuba's shadow rays to rim
+  points grazing the wall would leak.)
 
 ``look_at`` frame (Mitsuba's ``Transform4f.look_at``): forward f = normalise(target − origin),
 left l = normalise(up × f), up' = f × l; local x → l, y → up', z → f. :meth:`Light.frame` computes
@@ -42,8 +50,9 @@ import numpy as np
 
 from ..errors import ValidateError
 
-KINDS = ("point", "spot", "directional", "rectangle", "disk", "sphere")
+KINDS = ("point", "spot", "directional", "rectangle", "disk", "sphere", "lamp")
 AREA_KINDS = ("rectangle", "disk", "sphere")
+SHAPED_KINDS = AREA_KINDS + ("lamp",)  # lights with geometry (they cast shadows on the others)
 
 GROUND_HALF_SIZE = 3.0
 SPHERE = {"center": (-0.7, 0.5, 0.3), "radius": 0.5}
@@ -73,12 +82,15 @@ class Light:
             raise ValidateError(f"{where}: unknown kind; accepted: {', '.join(KINDS)}")
         if not (np.isfinite(self.power) and self.power > 0):
             raise ValidateError(f"{where}: power {self.power} must be a finite number > 0")
-        need = {"rectangle": 2, "disk": 1, "sphere": 1}.get(self.kind, 0)
+        need = {"rectangle": 2, "disk": 1, "sphere": 1, "lamp": 3}.get(self.kind, 0)
         if len(self.size) != need or not all(np.isfinite(s) and s > 0 for s in self.size):
             raise ValidateError(f"{where}: size {self.size} must be {need} finite number(s) > 0")
         if self.kind == "spot" and not 0 < self.beam_deg <= self.cutoff_deg < 90:
             raise ValidateError(f"{where}: need 0 < beam_width {self.beam_deg}° ≤ cutoff {self.cutoff_deg}° < 90°")
-        if self.kind in ("spot", "rectangle", "disk") and np.linalg.norm(np.subtract(self.target, self.position)) <= 0:
+        if self.kind == "lamp" and self.size[2] < self.size[0]:
+            raise ValidateError(f"{where}: aperture radius {self.size[2]} must be ≥ the disc's radius {self.size[0]}")
+        facing = ("spot", "rectangle", "disk", "lamp")
+        if self.kind in facing and np.linalg.norm(np.subtract(self.target, self.position)) <= 0:
             raise ValidateError(f"{where}: position and target coincide; the facing direction is undefined")
 
     # -- geometry -------------------------------------------------------------------------------
@@ -129,6 +141,9 @@ class Light:
                 m["radius"], m["axes"] = float(self.size[0]), np.stack([left, up])
         if self.kind == "sphere":
             m["radius"] = float(self.size[0])
+        if self.kind == "lamp":  # the mouth's centre, the axis, the disc's radius, its depth, the aperture
+            m.update(direction=self.frame()[2], radius=float(self.size[0]), depth=float(self.size[1]),
+                     aperture=float(self.size[2]))
         return m
 
     # -- Mitsuba ----------------------------------------------------------------------------------
@@ -164,8 +179,33 @@ class Light:
             raise ValidateError(f"light {self.kind!r}: a delta light has no shape to block with")
         d = dict(self.mitsuba())
         d.pop("emitter")
-        d["bsdf"] = {"type": "diffuse", "reflectance": {"type": "rgb", "value": 0.0}}
+        d["bsdf"] = BLACK
         return d
+
+    def lamp_disc(self) -> Light:
+        """A lamp's emitting disc: radius r, at depth h behind the mouth, facing the same way."""
+        if self.kind != "lamp":
+            raise ValidateError(f"light {self.kind!r}: not a lamp")
+        back = np.asarray(self.position) - self.size[1] * self.frame()[2]
+        return Light("disk", self.power, tuple(back.tolist()), tuple((back + self.frame()[2]).tolist()),
+                     size=(self.size[0],))
+
+    def shapes(self, mode: str) -> dict[str, dict[str, Any]]:
+        """Mitsuba entries (suffix → dict) of this light: ``emit`` (emitter, and a lamp's tube), ``block``
+        (its shapes, black), ``self`` (what its own shadow rays see: a lamp's tube only)."""
+        tube: dict[str, dict[str, Any]] = {}
+        if self.kind == "lamp":
+            disc = self.lamp_disc()
+            tube = {"_tube": {"type": "cylinder", "p0": list(disc.position), "p1": list(self.position),
+                              "radius": float(self.size[2]), "bsdf": BLACK}}
+            main = disc.mitsuba() if mode == "emit" else disc.blocker()
+        elif mode == "emit":
+            main = self.mitsuba()
+        else:
+            main = self.blocker() if self.kind in AREA_KINDS else {}
+        if mode == "self":
+            return tube
+        return ({"": main} if main else {}) | tube
 
 
 @dataclass(frozen=True)
@@ -223,15 +263,17 @@ class LightScene:
             raise ValidateError(f"light scene: lights={lights!r}; accepted: emit, block, none")
         d: dict[str, Any] = {"type": "scene", **geometry_shapes(self.occluders)}
         if lights != "none":
-            d.update({f"blocker{i}": b.blocker() for i, b in enumerate(self.blockers) if b.kind in AREA_KINDS})
+            for i, b in enumerate(self.blockers):
+                d.update({f"blocker{i}{k}": v for k, v in b.shapes("block").items()})
             for i, light in enumerate(self.lights):
-                if lights == "emit":
-                    d[f"light{i}"] = light.mitsuba()
-                elif i != exclude and light.kind in AREA_KINDS:
-                    d[f"light{i}"] = light.blocker()
+                mode = "emit" if lights == "emit" else ("self" if i == exclude else "block")
+                d.update({f"light{i}{k}": v for k, v in light.shapes(mode).items()})
         if with_sensor:
             d["sensor"] = self.camera.mitsuba()
         return d
+
+
+BLACK = {"type": "diffuse", "reflectance": {"type": "rgb", "value": 0.0}}
 
 
 def _diffuse(name: str) -> dict[str, Any]:
@@ -263,6 +305,7 @@ STANDARD_LIGHTS: dict[str, Light] = {
     "rectangle": Light("rectangle", 30.0, position=(1.0, 2.2, 1.1), target=(0.0, 0.0, 0.0), size=(0.6, 0.35)),
     "disk": Light("disk", 30.0, position=(1.0, 2.2, 1.1), target=(0.0, 0.0, 0.0), size=(0.45,)),
     "sphere": Light("sphere", 30.0, position=(1.0, 2.2, 1.1), size=(0.3,)),
+    "lamp": Light("lamp", 2000.0, position=(-0.2, 3.0, 0.9), target=(0.0, 0.0, -0.2), size=(0.08, 0.3, 0.085)),
 }
 
 
