@@ -5,11 +5,11 @@ The reference integrates Mitsuba's envmap radiance: bilinear in (φ, θ) between
 texel's solid angle*, L_texel = ∫_texel L dω / Ω_texel, so that a face carries the map's flux and a
 sun keeps its energy whatever the face size. The map is split as L = L₀ + D:
 
-* D is the bilinear radiance of the *hot* texels alone (each holding more than ``HOT_FRACTION`` =
-  10⁻⁴ of the luminance flux and brighter than 50 × the mean radiance: a sun, a lamp): every
-  bilinear patch it touches gets a 16 × 16 Gauss–Legendre rule (weights Δθ Δφ w_a w_b sin θ), each
-  node's flux D w goes to the cube texel its direction falls in, and the texel gains that flux over
-  its exact solid angle Ω_texel — exact to ~10⁻⁶ of the flux, placed to 1/16 of a lat-long texel.
+* D is the bilinear radiance of the *hot* texels alone (each brighter than 50 × the mean radiance
+  Φ_Y/4π: a sun, a lamp, a bright zenith row): every bilinear patch it touches gets a g × g
+  Gauss–Legendre rule (weights Δθ Δφ w_a w_b sin θ; g ∈ [4, 16], two nodes per cube texel across a
+  lat-long row), each node's flux D w goes to the cube texel its direction falls in, and the texel
+  gains that flux over its exact solid angle Ω_texel — exact to ~10⁻⁶ of the flux.
 * L₀ (the map with the hot texels zeroed) is smooth enough for a midpoint rule: s × s sub-texel points
   on the face plane, weighted by dω/dA = r⁻³, L₀_texel = Σ L₀(ω_k) r_k⁻³ / Σ r_k⁻³, with s such that the
   sub-texel spacing is no wider than the lat-long row spacing π/(H − 1) (2 ≤ s ≤ 4).
@@ -41,10 +41,9 @@ from .. import sh as shm
 from ..irradiance_map import cube_texel_directions, cube_texel_solid_angles, face_coords, face_direction
 
 MAX_SUPERSAMPLE = 4
-HOT_FRACTION = 1e-4  # a texel above this share of the luminance flux is splatted exactly
-HOT_CONTRAST = 50.0  # … and brighter than 50 × the mean radiance Φ_Y/4π (a peak, not a small map)
-MAX_HOT = 4096  # at most this many hot texels (the brightest)
-HOT_NODES = 16  # Gauss–Legendre nodes per patch axis for the hot part
+HOT_CONTRAST = 50.0  # a texel brighter than 50 × the mean radiance Φ_Y/4π is splatted exactly
+MAX_HOT = 16384  # at most this many hot texels (those holding the most flux)
+MIN_HOT_NODES, MAX_HOT_NODES = 4, 16  # Gauss–Legendre nodes per patch axis for the hot part
 
 
 def supersample_for(height: int, face_size: int) -> int:
@@ -55,16 +54,21 @@ def supersample_for(height: int, face_size: int) -> int:
 
 
 def hot_texels(radiance: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(rows, cols) of the texels above ``HOT_FRACTION`` of the luminance flux and ``HOT_CONTRAST`` × the
-    mean radiance (at most ``MAX_HOT``, the brightest)."""
-    f = latlong.luminance(radiance.astype(np.float64)) * latlong.texel_solid_angles(*radiance.shape[:2])
-    flat = f.ravel()
-    y = latlong.luminance(radiance.astype(np.float64)).ravel()
-    mean_y = flat.sum() / (4.0 * np.pi)
-    idx = np.flatnonzero((flat > HOT_FRACTION * max(flat.sum(), 1e-300)) & (y > HOT_CONTRAST * mean_y))
+    """(rows, cols) of the texels brighter than ``HOT_CONTRAST`` × the mean radiance Φ_Y/4π (at most
+    ``MAX_HOT``, those holding the most flux)."""
+    y = latlong.luminance(radiance.astype(np.float64))
+    f = y * latlong.texel_solid_angles(*radiance.shape[:2])
+    idx = np.flatnonzero(y.ravel() > HOT_CONTRAST * f.sum() / (4.0 * np.pi))
     if len(idx) > MAX_HOT:
-        idx = idx[np.argsort(flat[idx])[::-1][:MAX_HOT]]
-    return np.unravel_index(idx, f.shape)
+        idx = idx[np.argsort(f.ravel()[idx])[::-1][:MAX_HOT]]
+    return np.unravel_index(idx, y.shape)
+
+
+def hot_nodes_for(height: int, face_size: int) -> int:
+    """Gauss nodes per patch axis for the hot part: two per cube texel across a lat-long row spacing,
+    ⌈2 · (π/(H − 1)) / (2/N)⌉, clipped to [4, 16]."""
+    g = math.ceil(2.0 * (math.pi / max(height - 1, 1)) / (2.0 / face_size))
+    return int(min(max(g, MIN_HOT_NODES), MAX_HOT_NODES))
 
 
 @functools.lru_cache(maxsize=8)
@@ -102,7 +106,7 @@ def _supersampled(radiance: np.ndarray, n: int, s: int) -> np.ndarray:
     return acc.reshape(6, n, s, n, s, 3).sum(axis=(2, 4))
 
 
-def _splat_hot(d_map: np.ndarray, rows: np.ndarray, cols: np.ndarray, n: int) -> np.ndarray:
+def _splat_hot(d_map: np.ndarray, rows: np.ndarray, cols: np.ndarray, n: int, g: int) -> np.ndarray:
     """Flux of the bilinear function ``d_map`` (non-zero only at the hot texels) per cube texel."""
     h, w = d_map.shape[:2]
     pi = np.concatenate([rows - 1, rows - 1, rows, rows])
@@ -114,7 +118,7 @@ def _splat_hot(d_map: np.ndarray, rows: np.ndarray, cols: np.ndarray, n: int) ->
         return flux
     i, j = patches[:, 0], patches[:, 1]
     j1 = (j + 1) % w
-    xg, wg = np.polynomial.legendre.leggauss(HOT_NODES)
+    xg, wg = np.polynomial.legendre.leggauss(g)
     xg, wg = (xg + 1.0) / 2.0, wg / 2.0
     a, b = np.meshgrid(xg, xg, indexing="ij")
     wab = np.outer(wg, wg)
@@ -147,8 +151,8 @@ def render_faces(radiance: np.ndarray, face_size: int, supersample: int | None =
     faces = _supersampled(smooth, n, supersample or supersample_for(rad.shape[0], n))
     if len(rows):
         hot = rad - smooth
-        faces += (_splat_hot(hot, rows, cols, n) / cube_texel_solid_angles(n).reshape(1, n * n).repeat(6, 0)
-                  .reshape(-1, 1)).reshape(6, n, n, 3)
+        flux = _splat_hot(hot, rows, cols, n, hot_nodes_for(rad.shape[0], n)).reshape(6, n, n, 3)
+        faces += flux / cube_texel_solid_angles(n)[None, :, :, None]
     return faces.astype(np.float32)
 
 
@@ -174,4 +178,5 @@ def render_sh9(coeffs: np.ndarray, normals: np.ndarray) -> np.ndarray:
     return shm.eval_basis_numpy(np.asarray(normals, dtype=np.float64), 2) @ (al[:, None] * coeffs[:9])
 
 
-__all__ = ["render_faces", "face_flux", "project_faces_sh9", "render_sh9", "supersample_for", "hot_texels"]
+__all__ = ["render_faces", "face_flux", "project_faces_sh9", "render_sh9", "supersample_for", "hot_texels",
+           "hot_nodes_for"]
