@@ -4,7 +4,8 @@ Scene (:mod:`validate.scenes.light_scenes`): a diffuse ground plane, a sphere an
 turn by Mitsuba ``point``, ``spot`` and ``directional`` emitters and by ``rectangle``, ``disk`` and
 ``sphere`` area emitters, physical units; plus one render with point + spot + directional +
 rectangle together (and the three delta lights again with the rectangle's shape present but dark,
-since an area light's shape casts shadows too), and the rectangle over the bare ground.
+since an area light's shape casts shadows too), the rectangle over the bare ground, and a real lamp
+(a disc at the end of a black tube: a spot beam with a physical edge).
 
 Reference (:mod:`validate.reference.light_render`): Mitsuba's direct lighting at the pixel centres,
 P independent passes → mean ± standard error; the G-buffer of the same rays.
