@@ -1,23 +1,48 @@
 """``python -m validate bench``: speed and memory, measured side by side in one run.
 
-* SH projection (order 2 and 8) of a 512×1024 lat-long map: the drjit local model vs a plain numpy
-  einsum over the same texels — the ratio, not the absolute time, is the figure to compare.
-* SH9 irradiance at 100k normals: drjit vs numpy.
-* The reference quadrature for one environment (10k normals, default cells) and its peak memory.
+Kernels (this process; best of ``repeats`` runs after one warm-up, JIT compilation excluded):
 
-Each timing is the best of ``repeats`` runs after one warm-up (JIT compilation excluded). Results go
-to ``<out>/bench.json`` (atomic) and are printed.
+* SH projection (l ≤ 2 and l ≤ 8) of a 512×1024 lat-long map — the separable projection
+  (:func:`validate.local_models.sh.project_environment`) beside a *plain reduction over the same
+  texels*, Σ_i Ω_i Σ_j L_ij, computed the fastest way we know (the same row-block matrix product
+  with a single row of ones), and beside the direct per-texel sum in drjit
+  (:func:`~validate.local_models.sh.project_samples`). The ratio to the plain reduction is the figure:
+  the memory-bound limit is one pass over the texels.
+* SH9 irradiance at 100k normals: drjit vs numpy.
+
+Map sizes (one child process per size and task, so that each peak RSS is clean): an H×2H map
+(H = 1024, 2048, 4096, 8192 by default: "1k" … "8k" name the rows), a smooth sky with a 0.5° sun,
+built in the child row block by row block (not timed: it stands for reading the file). Tasks:
+
+* ``reference`` — :func:`~validate.reference.irradiance.reference_irradiance` at 10k normals,
+  default cells, cache off: seconds, peak RSS, the doubling change (convergence).
+* ``sh9`` — SH9 at 10k normals (projection + R&H eq. 12) and, in the same process, the plain
+  reduction over the same texels: seconds, their ratio, peak RSS.
+
+A size whose estimated peak (:func:`validate.scenes.loaders.estimated_peak_bytes`) exceeds the
+memory available is skipped with the reason. Results go to ``<out>/bench.json`` (atomic): ``tables``
+(headers, rows, caption — what the report shows) and the raw ``kernels`` and ``sizes`` records.
 """
 
 from __future__ import annotations
 
+import datetime as _dt
 import json
+import os
 import resource
+import subprocess
+import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+
+DEFAULT_SIZES = (1024, 2048, 4096, 8192)
+N_NORMALS = 10_000
+SUN_HALF_ANGLE_DEG = 0.5
+SUN_ELEVATION_DEG = 35.0
 
 
 def _best(fn: Callable[[], object], repeats: int = 3) -> float:
@@ -30,59 +55,183 @@ def _best(fn: Callable[[], object], repeats: int = 3) -> float:
     return min(times)
 
 
-def run_bench(out: Path) -> int:
+def plain_reduction(radiance: np.ndarray) -> np.ndarray:
+    """Σ_i Ω_i Σ_j L_ij (3,): the same row-block matrix product as the SH projection, with one row of
+    ones instead of the 2·lmax+1 Fourier columns — the floor a projection can approach."""
+    from .local_models.sh import ROW_BLOCK_BYTES
+    from .scenes import latlong
+
+    h, w = radiance.shape[:2]
+    ones = np.ones((1, 1, w), dtype=np.float32)
+    rows = np.empty((h, 1, 3), dtype=np.float32)
+    step = max(1, ROW_BLOCK_BYTES // max(1, radiance[0].nbytes))
+    for s in range(0, h, step):
+        np.matmul(ones, radiance[s:s + step], out=rows[s:s + step])
+    return latlong.row_solid_angles(h, w) @ rows[:, 0, :].astype(np.float64)
+
+
+def sky_with_sun(height: int) -> np.ndarray:
+    """A (H, 2H, 3) float32 test map: a smooth sky brighter at the zenith and a 0.5° sun at 35°
+    elevation (radiance 2·10⁴), built in row blocks (no full-size float64 temporaries)."""
+    from .scenes import latlong
+
+    w = 2 * height
+    out = np.empty((height, w, 3), dtype=np.float32)
+    el = np.radians(SUN_ELEVATION_DEG)
+    sun = np.array([0.0, np.sin(el), -np.cos(el)])
+    cos_sun = np.cos(np.radians(SUN_HALF_ANGLE_DEG))
+    sky = np.array([0.35, 0.5, 0.9])
+    ph = latlong.col_phi(w)
+    th_all = latlong.row_theta(height)
+    step = max(1, (16 << 20) // (w * 24))
+    for s in range(0, height, step):
+        d = latlong.spherical_to_direction(th_all[s:s + step, None], ph[None, :])
+        up = np.clip(d[..., 1:2], -1.0, 1.0)
+        val = sky * (1.2 + up) + 2e4 * (d @ sun >= cos_sun)[..., None]
+        out[s:s + step] = val
+    return out
+
+
+def _peak_rss_mib() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # Linux: KiB
+
+
+def child(task: str, height: int) -> dict[str, Any]:
+    """One measurement in a fresh process (see the module docstring); returns a JSON-able record."""
+    os.environ["VALIDATE_CACHE"] = "off"
     from . import backend
-    from .atomic import write_text
     from .local_models import sh
     from .reference.irradiance import reference_irradiance
-    from .scenes import latlong, procedural
+    from .scenes import latlong
+    from .scenes.environment import Environment
 
-    be = backend.init()
-    print(f"backend: {be.describe()}")
+    backend.init()
+    normals = latlong.fibonacci_sphere(N_NORMALS)
+    rad = sky_with_sun(height)
+    rec: dict[str, Any] = {"task": task, "height": height, "width": 2 * height,
+                           "map_mib": rad.nbytes / 2**20, "rss_before_mib": _peak_rss_mib()}
+    if task == "reference":
+        env = Environment(f"bench_{height}", rad)
+        t0 = time.perf_counter()
+        ref = reference_irradiance(env, normals)
+        rec["seconds"] = time.perf_counter() - t0
+        rec["convergence"] = ref.convergence
+    elif task == "sh9":
+        t0 = time.perf_counter()
+        sh.render_irradiance_rh2001(sh.project_environment(rad, 2), normals)
+        rec["seconds"] = time.perf_counter() - t0
+        rec["projection_s"] = _best(lambda: sh.project_environment(rad, 2), repeats=2)
+        rec["plain_reduction_s"] = _best(lambda: plain_reduction(rad), repeats=2)
+    else:
+        raise ValueError(f"unknown bench task {task!r}")
+    rec["peak_rss_mib"] = _peak_rss_mib()
+    return rec
+
+
+def _run_child(task: str, height: int) -> dict[str, Any]:
+    proc = subprocess.run([sys.executable, "-m", "validate.bench", task, str(height)], capture_output=True,
+                          text=True, timeout=3600)
+    if proc.returncode != 0:
+        last = (proc.stderr.strip().splitlines() or [f"exit status {proc.returncode}"])[-1]
+        return {"task": task, "height": height, "width": 2 * height, "error": last[:200]}
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def kernel_rows() -> list[dict[str, Any]]:
+    """The in-process kernel comparisons (module docstring)."""
+    from .local_models import sh
+    from .scenes import latlong
+
     rng = np.random.default_rng(7)
     rad = rng.uniform(0.0, 1.0, (512, 1024, 3)).astype(np.float32)
     d = latlong.texel_directions(512, 1024).reshape(-1, 3)
     dw = latlong.texel_solid_angles(512, 1024).reshape(-1)
-    normals = latlong.fibonacci_sphere(100_000)
     rows = []
+    t_plain = _best(lambda: plain_reduction(rad))
     for lmax in (2, 8):
-        t_dr = _best(lambda lm=lmax: sh.project_environment(rad, lm))
-        t_np = _best(lambda lm=lmax: np.einsum("nk,nc->kc", sh.eval_basis_numpy(d, lm),
-                                               rad.reshape(-1, 3) * dw[:, None]))
-        rows.append({"task": f"SH projection l≤{lmax}, 512×1024 texels", "drjit_s": t_dr, "numpy_s": t_np,
-                     "speedup": t_np / t_dr})
+        t_sep = _best(lambda lm=lmax: sh.project_environment(rad, lm))
+        t_direct = _best(lambda lm=lmax: sh.project_samples(d, dw, rad.reshape(-1, 3).astype(np.float64), lm))
+        rows.append({"task": f"SH projection l≤{lmax}, 512×1024 texels", "projection_s": t_sep,
+                     "plain_reduction_s": t_plain, "ratio_to_plain": t_sep / t_plain,
+                     "direct_drjit_s": t_direct})
+    normals = latlong.fibonacci_sphere(100_000)
     coeffs = sh.project_environment(rad, 2)
+    al = np.array([sh.clamped_cosine_al(sh.degree_of(k)) for k in range(9)])[:, None]
     t_dr = _best(lambda: sh.render_irradiance_rh2001(coeffs, normals))
-    t_np = _best(lambda: np.einsum("nk,kc->nc", sh.eval_basis_numpy(normals, 2),
-                                   coeffs * np.array([sh.clamped_cosine_al(sh.degree_of(k))
-                                                      for k in range(9)])[:, None]))
+    t_np = _best(lambda: np.einsum("nk,kc->nc", sh.eval_basis_numpy(normals, 2), coeffs * al))
     rows.append({"task": "SH9 irradiance, 100k normals", "drjit_s": t_dr, "numpy_s": t_np, "speedup": t_np / t_dr})
+    return rows
 
-    import os
-    cache = os.environ.get("VALIDATE_CACHE")
-    os.environ["VALIDATE_CACHE"] = "off"
-    try:
-        env = procedural.disc_on_sky()
-        n10k = latlong.fibonacci_sphere(10_000)
-        rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-        t0 = time.perf_counter()
-        reference_irradiance(env, n10k)
-        t_ref = time.perf_counter() - t0
-        rss1 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    finally:
-        if cache is None:
-            os.environ.pop("VALIDATE_CACHE", None)
-        else:
-            os.environ["VALIDATE_CACHE"] = cache
-    result = {"backend": be.variant, "rows": rows,
-              "reference": {"task": "reference quadrature, disc_on_sky 256×512, 10k normals",
-                            "seconds": t_ref, "peak_rss_mib": rss1 / 1024, "rss_growth_mib": (rss1 - rss0) / 1024}}
-    print(f"\n{'task':44s} {'drjit':>10s} {'numpy':>10s} {'speed-up':>9s}")
-    for r in rows:
-        print(f"{r['task']:44s} {r['drjit_s'] * 1e3:8.1f}ms {r['numpy_s'] * 1e3:8.1f}ms {r['speedup']:8.1f}×")
-    ref = result["reference"]
-    print(f"{ref['task']}: {ref['seconds']:.2f} s, peak RSS {ref['peak_rss_mib']:.0f} MiB")
+
+def size_records(sizes: tuple[int, ...], log: Callable[[str], None] = print) -> list[dict[str, Any]]:
+    """Reference and SH9 per map size, each in a child process (skipped when memory is short)."""
+    from .scenes.loaders import available_memory, estimated_peak_bytes
+
+    out = []
+    for h in sizes:
+        need, avail = estimated_peak_bytes(h, 2 * h), available_memory()
+        for task in ("reference", "sh9"):
+            if avail is not None and need > avail:
+                rec = {"task": task, "height": h, "width": 2 * h,
+                       "skipped": f"needs ≈ {need / 2**30:.1f} GiB, {avail / 2**30:.1f} GiB available"}
+            else:
+                log(f"  {task} {h}×{2 * h} ...")
+                rec = _run_child(task, h)
+            out.append(rec)
+    return out
+
+
+def tables(kernels: list[dict[str, Any]], sizes: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """The report's tables (headers, rows, caption) from the raw records."""
+    proj = [[k["task"], round(k["projection_s"] * 1e3, 2), round(k["plain_reduction_s"] * 1e3, 2),
+             round(k["ratio_to_plain"], 2), round(k["direct_drjit_s"] * 1e3, 1)]
+            for k in kernels if "projection_s" in k]
+    other = [[k["task"], round(k["drjit_s"] * 1e3, 2), round(k["numpy_s"] * 1e3, 2), round(k["speedup"], 1)]
+             for k in kernels if "drjit_s" in k]
+    by = {(r["height"], r["task"]): r for r in sizes}
+    rows = []
+    for h in sorted({r["height"] for r in sizes}):
+        ref, s9 = by.get((h, "reference"), {}), by.get((h, "sh9"), {})
+
+        def cell(r: dict[str, Any], key: str, scale: float = 1.0, nd: int = 2) -> Any:
+            return round(r[key] * scale, nd) if key in r else (r.get("skipped") or r.get("error") or None)
+
+        rows.append([f"{h // 1024}k ({h}×{2 * h})", round(h * 2 * h * 12 / 2**20),
+                     cell(ref, "seconds"), cell(ref, "peak_rss_mib", nd=0), cell(ref, "convergence", 100, 4),
+                     cell(s9, "seconds"), cell(s9, "peak_rss_mib", nd=0),
+                     round(s9["projection_s"] / s9["plain_reduction_s"], 2) if "projection_s" in s9 else None])
+    return [
+        {"caption": "SH projection vs a plain reduction over the same texels (ms; best of 3)",
+         "headers": ["task", "projection ms", "plain reduction ms", "ratio", "direct drjit ms"], "rows": proj},
+        {"caption": "SH9 irradiance evaluation (ms; best of 3)",
+         "headers": ["task", "drjit ms", "numpy ms", "speed-up"], "rows": other},
+        {"caption": "Reference and SH9 per map size, each in its own process (peak RSS includes the map)",
+         "headers": ["map", "map MiB", "reference s", "reference peak MiB", "reference convergence %",
+                     "SH9 s", "SH9 peak MiB", "SH9 projection / plain reduction"], "rows": rows},
+    ]
+
+
+def run_bench(out: Path, sizes: tuple[int, ...] = DEFAULT_SIZES) -> int:
+    from . import backend
+    from .atomic import write_text
+
+    be = backend.init()
+    print(f"backend: {be.describe()}")
+    kernels = kernel_rows()
+    print("map sizes (child processes):")
+    records = size_records(sizes)
+    doc = {"generated": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"), "backend": be.variant,
+           "tables": tables(kernels, records), "kernels": kernels, "sizes": records}
+    for t in doc["tables"]:
+        print(f"\n{t['caption']}")
+        print(" | ".join(t["headers"]))
+        for r in t["rows"]:
+            print(" | ".join(str(v) for v in r))
     out.mkdir(parents=True, exist_ok=True)
-    write_text(out / "bench.json", json.dumps(result, indent=2))
-    print(f"wrote {out / 'bench.json'}")
+    write_text(out / "bench.json", json.dumps(doc, indent=2))
+    print(f"\nwrote {out / 'bench.json'}")
     return 0
+
+
+if __name__ == "__main__":  # child process: python -m validate.bench TASK HEIGHT
+    print(json.dumps(child(sys.argv[1], int(sys.argv[2]))))

@@ -124,6 +124,8 @@ def _parser() -> argparse.ArgumentParser:
     sub.add_parser("all", parents=[common], help="run every experiment and write the report")
     b = sub.add_parser("bench", help="benchmarks: drjit local models vs numpy, reference cost")
     b.add_argument("--out", type=Path, default=Path("reports"), metavar="DIR")
+    b.add_argument("--sizes", default="1024,2048,4096,8192", metavar="H,H,...",
+                   help="map heights (rows; width 2H) measured in child processes (default: 1k to 8k)")
     return p
 
 
@@ -315,7 +317,11 @@ def main(argv: list[str] | None = None) -> int:
         if args.command == "bench":
             from .bench import run_bench
 
-            return run_bench(args.out)
+            try:
+                sizes = tuple(int(v) for v in args.sizes.split(",") if v.strip())
+            except ValueError:
+                raise ValidateError(f"--sizes {args.sizes}: expected heights like 1024,2048") from None
+            return run_bench(args.out, sizes)
     except ValidateError as exc:
         print(f"validate: error: {exc}", file=sys.stderr)
         return 2

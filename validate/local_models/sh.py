@@ -24,6 +24,7 @@ tests) and drjit arrays of any backend (the model itself).
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any
 
@@ -126,15 +127,68 @@ def _is_jit(a: Any) -> bool:
     return bool(dr.is_jit_v(a))
 
 
+ROW_BLOCK_BYTES = 32 << 20  # rows of the map handled together (~32 MiB of texels)
+
+
+@functools.lru_cache(maxsize=16)
+def fourier_columns(width: int, lmax: int) -> np.ndarray:
+    """T (W, 2·lmax+1): [1, cos φ_j, sin φ_j, …, cos(lmax φ_j), sin(lmax φ_j)] at the column
+    centres φ_j = 2π(j+½)/W of Mitsuba's lat-long convention."""
+    phi = (np.arange(width, dtype=np.float64) + 0.5) * (2.0 * np.pi / width)
+    t = np.empty((width, 2 * lmax + 1))
+    t[:, 0] = 1.0
+    for m in range(1, lmax + 1):
+        t[:, 2 * m - 1], t[:, 2 * m] = np.cos(m * phi), np.sin(m * phi)
+    t.flags.writeable = False  # cached: shared by every caller
+    return t
+
+
+@functools.lru_cache(maxsize=16)
+def row_basis_fourier(height: int, lmax: int) -> np.ndarray:
+    """A (H, 2·lmax+1, K): on the row at polar angle θ_i every basis function is a trigonometric
+    polynomial of degree ≤ lmax in φ (Y_lm is a degree-l polynomial in x = sin φ sin θ, y = cos θ,
+    z = −cos φ sin θ), so Y_k(θ_i, φ) = Σ_q A[i, q, k] T_q(φ) exactly. A is found from the basis at
+    2·lmax+1 equispaced φ per row (exact interpolation of such polynomials). Rows θ_i = iπ/(H−1)."""
+    from ..scenes import latlong
+
+    theta = latlong.row_theta(height)
+    q = 2 * lmax + 1
+    psi = np.arange(q) * (2.0 * np.pi / q)
+    t = np.empty((q, q))
+    t[:, 0] = 1.0
+    for m in range(1, lmax + 1):
+        t[:, 2 * m - 1], t[:, 2 * m] = np.cos(m * psi), np.sin(m * psi)
+    tt, pp = np.meshgrid(theta, psi, indexing="ij")
+    st = np.sin(tt)
+    d = np.stack([np.sin(pp) * st, np.cos(tt), -np.cos(pp) * st], axis=-1)  # latlong convention
+    y = eval_basis_numpy(d, lmax)  # (H, q, K)
+    a = np.einsum("qs,isk->iqk", np.linalg.inv(t), y)
+    a.flags.writeable = False  # cached: shared by every caller
+    return a
+
+
 def project_environment(radiance: np.ndarray, lmax: int = 2) -> np.ndarray:
     """SH coefficients ((lmax+1)², 3) of a lat-long map in Mitsuba's convention, with each texel
-    weighted by its exact cell solid angle (:func:`validate.scenes.latlong.texel_solid_angles`)."""
+    weighted by its exact cell solid angle Ω_i (:func:`validate.scenes.latlong.row_solid_angles`):
+
+        L_k = Σ_i Ω_i Σ_j L_ij Y_k(θ_i, φ_j) = Σ_i Ω_i Σ_q A[i, q, k] R[i, q],   R[i, q] = Σ_j L_ij T_q(φ_j)
+
+    (separable form, :func:`row_basis_fourier`): the map is read once, row block by row block, as one
+    batched matrix product with the 2·lmax+1 Fourier columns — memory-bound like a plain sum, no
+    per-texel directions or basis values, memory independent of the map beyond one block. Equal to
+    the direct sum :func:`project_samples` over the same texels to float32 rounding (tested)."""
     from ..scenes import latlong
 
     h, w = radiance.shape[:2]
-    d = latlong.texel_directions(h, w).reshape(-1, 3)
-    dw = latlong.texel_solid_angles(h, w).reshape(-1)
-    return project_samples(d, dw, radiance.reshape(-1, 3).astype(np.float64), lmax)
+    t_cols = np.ascontiguousarray(fourier_columns(w, lmax).T, dtype=np.float32)  # (q, W)
+    rows = np.empty((h, t_cols.shape[0], 3), dtype=np.float32)
+    step = max(1, ROW_BLOCK_BYTES // max(1, radiance[0].nbytes))
+    for s in range(0, h, step):
+        block = np.asarray(radiance[s:s + step], dtype=np.float32)
+        np.matmul(t_cols[None], block, out=rows[s:s + step])
+    a = row_basis_fourier(h, lmax)  # (H, q, K)
+    weighted = rows.astype(np.float64) * latlong.row_solid_angles(h, w)[:, None, None]
+    return np.einsum("iqc,iqk->kc", weighted, a, optimize=True)
 
 
 def render_irradiance(coeffs: np.ndarray, normals: np.ndarray, lmax: int | None = None) -> np.ndarray:

@@ -20,6 +20,21 @@ Method
      than a cell still sees the max(0, ·) kink of the kernel at node resolution.
   4. E(n) = Σ_c Φ_c max(0, n·ω_c)  (a dense product, chunked, float32 BLAS).
 
+Large maps (H > :data:`TEXEL_PATH_MAX_SMALL` rows: texels ≥ 2× finer than the finest cells) take the
+*texel path* instead of steps 1–3, streaming the map in row blocks so that memory stays at the map
+plus a few blocks (an 8192×16384 map would need 1.7·10⁹ Gauss nodes; its 1.5 GiB map needs 2·10⁹
+bytes more): every texel interval (patch) [θ_i, θ_{i+1}] × [φ_{j−1}, φ_j] of the bilinear radiance
+is integrated *exactly* in closed form from its four corner texels,
+
+    Φ_p = (Δφ/2) [I0_i (L_{i,j−1} + L_{i,j}) + I1_i (L_{i+1,j−1} + L_{i+1,j})],
+    I1_i = ∫ t sin θ dθ = −cos θ_{i+1} + (sin θ_{i+1} − sin θ_i)/Δθ,  I0_i = (cos θ_i − cos θ_{i+1}) − I1_i,
+
+(t = (θ − θ_i)/Δθ), placed at the patch centre; the patches are binned into the same cells (step 2,
+fine grid; the coarse cells are its 2×2 sums) and concentrated cells are kept patch by patch (step 3).
+The radiance function is Mitsuba's: the convention (bilinear in (φ, θ), θ_i = iπ/(H−1),
+φ_j = 2π(j+½)/W) is checked against ``emitter.eval`` on every run (:func:`check_convention`, on a
+subsampled copy of the map, 4096 directions) and a disagreement stops the run.
+
 Convergence is *shown*, not assumed: the quadrature runs at (H_c, g) and at (2H_c, g + 1); the
 second is the reference. Its uncertainty is the largest change over all normals, per channel,
 δ_c = max_n |E_fine − E_coarse|, applied to every normal: a per-normal difference can vanish by
@@ -42,6 +57,12 @@ from .mitsuba_eval import eval_emitter
 DEFAULT_CELLS = 64  # H_c of the coarse grid (the reference uses 2·H_c): converges to < 2e-4 of peak here
 REFINE_FRACTION = 1e-3
 MAX_REFINED_NODES = 1 << 14  # enough for a sun or a small disc (a few cells); bounds the cost
+TEXEL_PATH_MAX_SMALL = 512  # maps with more rows take the streamed texel path (all built-ins have ≤ 512)
+BLOCK_BYTES = 32 << 20  # texel-path row blocks: ~32 MiB of float64 patch data at a time
+# Mitsuba evaluates in float32 (see tests/test_latlong.py: measured 1.8e-6 of the values on random
+# directions); a convention slip is an O(1) difference.
+CONVENTION_TOL = 1e-4
+Nodes = tuple[np.ndarray, np.ndarray]  # (Φ_c (M, 3), ω_c (M, 3))
 
 
 @dataclass
@@ -126,8 +147,10 @@ def cell_nodes(env: Environment, cells: int, g: int) -> tuple[np.ndarray, np.nda
     return flux_out, dir_out
 
 
-def irradiance_at(flux: np.ndarray, nodes: np.ndarray, normals: np.ndarray, chunk: int = 2048) -> np.ndarray:
-    """E(n) = Σ_c Φ_c max(0, n·ω_c) (step 4)."""
+def irradiance_at(flux: np.ndarray, nodes: np.ndarray, normals: np.ndarray, chunk: int | None = None) -> np.ndarray:
+    """E(n) = Σ_c Φ_c max(0, n·ω_c) (step 4), over chunks of normals of ~32 MiB of cosines."""
+    if chunk is None:
+        chunk = int(np.clip((8 << 20) // max(1, nodes.shape[0]), 64, 2048))
     out = np.empty((normals.shape[0], 3), dtype=np.float64)
     nodes32 = nodes.astype(np.float32)
     flux32 = flux.astype(np.float32)
@@ -138,18 +161,159 @@ def irradiance_at(flux: np.ndarray, nodes: np.ndarray, normals: np.ndarray, chun
     return out
 
 
+def uses_texel_path(env: Environment, cells: int) -> bool:
+    """Large maps (more than TEXEL_PATH_MAX_SMALL rows) whose patches are at least as fine as the fine
+    cells (every fine cell holds whole patches) take the streamed texel path."""
+    return env.height > TEXEL_PATH_MAX_SMALL and env.height - 1 >= 2 * cells and env.width >= 4 * cells
+
+
+def check_convention(env: Environment, n: int = 4096, max_rows: int = 256) -> float:
+    """max |L_Mitsuba − L_bilinear| / max L over ``n`` seeded random directions, on the map subsampled
+    to ≤ ``max_rows`` rows (the convention, not the data, is under test); raises past CONVENTION_TOL."""
+    import mitsuba as mi
+
+    step = max(1, -(-env.height // max_rows))
+    thumb = np.ascontiguousarray(env.radiance[::step, ::step], dtype=np.float32)
+    d = np.random.default_rng(20010812).normal(size=(n, 3))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    emitter = mi.load_dict({"type": "envmap", "bitmap": mi.Bitmap(thumb)})
+    diff = float(np.abs(eval_emitter(emitter, d) - latlong.bilinear_lookup(thumb.astype(np.float64), d)).max())
+    rel = diff / max(float(thumb.max()), 1e-30)
+    if rel > CONVENTION_TOL:
+        raise RuntimeError(f"environment {env.name!r}: Mitsuba's envmap differs from the lat-long convention "
+                           f"by {rel:.2g} of the peak (tolerance {CONVENTION_TOL:g})")
+    return rel
+
+
+def _patch_rows(h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per patch row i (H−1): θ at the centre, and the exact weights I0_i, I1_i of the module docstring."""
+    th = latlong.row_theta(h)
+    dth = np.pi / (h - 1)
+    t0, t1 = th[:-1], th[1:]
+    i1 = -np.cos(t1) + (np.sin(t1) - np.sin(t0)) / dth
+    i0 = (np.cos(t0) - np.cos(t1)) - i1
+    return t0 + dth / 2, i0, i1
+
+
+def _patch_block(rad: np.ndarray, s: int, e: int, i0: np.ndarray, i1: np.ndarray) -> np.ndarray:
+    """Φ_p (e−s, W, 3) of patch rows s..e−1; patch column k spans φ_{k−1}..φ_k (centre 2πk/W)."""
+    w = rad.shape[1]
+    block = rad[s:e + 1].astype(np.float64)
+    pair = block + np.roll(block, 1, axis=1)  # L_{·,k−1} + L_{·,k}
+    dph = 2 * np.pi / w
+    return (dph / 2) * (i0[s:e, None, None] * pair[:-1] + i1[s:e, None, None] * pair[1:])
+
+
+def texel_cell_nodes(env: Environment, cells: int) -> tuple[Nodes, Nodes]:
+    """The texel path (module docstring): ((Φ, ω) coarse with H_c = ``cells``, (Φ, ω) fine with 2H_c)."""
+    rad = env.radiance
+    h, w = rad.shape[:2]
+    hf, wf = 2 * cells, 4 * cells
+    th_c, i0, i1 = _patch_rows(h)
+    ph_c = np.arange(w) * (2 * np.pi / w)
+    sin_p, cos_p = np.sin(ph_c), np.cos(ph_c)
+    col_cell = np.minimum((np.arange(w) * wf) // w, wf - 1)
+    starts = np.searchsorted(col_cell, np.arange(wf))
+    row_cell = np.minimum((th_c / np.pi * hf).astype(np.int64), hf - 1)
+    flux = np.zeros((hf, wf, 3))
+    mom = np.zeros((hf, wf, 3))  # Σ Y Φ-weighted direction
+    lum = np.zeros((hf, wf))
+    count = np.zeros((hf, wf), dtype=np.int64)
+    step = max(1, BLOCK_BYTES // (w * 3 * 8 * 4))
+    for s in range(0, h - 1, step):
+        e = min(h - 1, s + step)
+        f = _patch_block(rad, s, e, i0, i1)
+        y = latlong.luminance(f)
+        rc = row_cell[s:e]
+        st, ct = np.sin(th_c[s:e])[:, None], np.cos(th_c[s:e])[:, None]
+        parts = {"f": np.add.reduceat(f, starts, axis=1), "y": np.add.reduceat(y, starts, axis=1),
+                 "ys": np.add.reduceat(y * sin_p, starts, axis=1) * st,
+                 "yc": np.add.reduceat(y * cos_p, starts, axis=1) * st}
+        np.add.at(flux, rc, parts["f"])
+        np.add.at(lum, rc, parts["y"])
+        np.add.at(mom, rc, np.stack([parts["ys"], parts["y"] * ct, -parts["yc"]], axis=-1))
+        np.add.at(count, rc, np.diff(np.append(starts, w))[None, :].repeat(e - s, axis=0))
+    centre = latlong.spherical_to_direction(((np.arange(hf) + 0.5) * np.pi / hf)[:, None],
+                                            ((np.arange(wf) + 0.5) * 2 * np.pi / wf)[None, :])
+    grids = []
+    for k in (2, 1):  # coarse (2×2 sums of the fine cells), then fine
+        fl = flux.reshape(hf // k, k, wf // k, k, 3).sum(axis=(1, 3))
+        mo = mom.reshape(hf // k, k, wf // k, k, 3).sum(axis=(1, 3))
+        ly = lum.reshape(hf // k, k, wf // k, k).sum(axis=(1, 3))
+        ct = count.reshape(hf // k, k, wf // k, k).sum(axis=(1, 3))
+        grids.append(_texel_refine(rad, fl, mo, ly, ct, centre[::k, ::k], (row_cell // k, col_cell // k), 3 - k))
+    return grids[0], grids[1]
+
+
+def _texel_refine(rad: np.ndarray, flux: np.ndarray, mom: np.ndarray, lum: np.ndarray, count: np.ndarray,
+                  centre: np.ndarray, index: tuple[np.ndarray, np.ndarray], sub: int) -> Nodes:
+    """Cell nodes (Φ_c, ω_c) of one grid; cells above REFINE_FRACTION of the luminance flux keep their
+    patches individually, each split into sub × sub exact sub-patches (brightest cells first, within
+    MAX_REFINED_NODES nodes). The coarse grid uses sub = 1, the fine grid sub = 2, so the doubling
+    change also measures the node resolution inside a sun, as g → g + 1 does on the Gauss path."""
+    wc = lum.shape[1]
+    norm = np.linalg.norm(mom, axis=-1, keepdims=True)
+    cen = np.where(norm > 0, mom / np.where(norm > 0, norm, 1.0), centre)
+    keep = count > 0
+    total, budget = lum.sum(), MAX_REFINED_NODES
+    extra: list[Nodes] = []
+    if total > 0:
+        for c_idx in np.argsort(lum.ravel())[::-1]:
+            r, c = divmod(int(c_idx), wc)
+            if lum[r, c] <= REFINE_FRACTION * total or count[r, c] * sub * sub > budget:
+                break
+            budget -= int(count[r, c]) * sub * sub
+            keep[r, c] = False
+            extra.append(subpatch_nodes(rad, np.nonzero(index[0] == r)[0], np.nonzero(index[1] == c)[0], sub))
+    return (np.concatenate([flux[keep]] + [e[0] for e in extra]),
+            np.concatenate([cen[keep]] + [e[1] for e in extra]))
+
+
+def subpatch_nodes(rad: np.ndarray, rows: np.ndarray, cols: np.ndarray, sub: int) -> Nodes:
+    """Exact flux and centre direction of the sub × sub sub-patches of patches (rows × cols): the
+    bilinear radiance restricted to a sub-patch is bilinear with corners interpolated from the
+    patch's four texels, so the closed form of the module docstring applies on the sub-interval."""
+    h, w = rad.shape[:2]
+    dth, dph = np.pi / (h - 1), 2 * np.pi / w
+    r0, r1 = int(rows[0]), int(rows[-1]) + 1
+    block = rad[r0:r1 + 1].astype(np.float64)
+    left, right = np.roll(block, 1, axis=1)[:, cols], block[:, cols]  # texel columns k−1, k
+    fracs = np.arange(sub + 1) / sub
+    fluxes, dirs = [], []
+    for a in range(sub):
+        ta, tb = latlong.row_theta(h)[rows] + fracs[a] * dth, latlong.row_theta(h)[rows] + fracs[a + 1] * dth
+        i1 = -np.cos(tb) + (np.sin(tb) - np.sin(ta)) / (dth / sub)
+        i0 = (np.cos(ta) - np.cos(tb)) - i1
+        for b in range(sub):
+            corners = []
+            for v in (fracs[a], fracs[a + 1]):
+                row = (1 - v) * left[:-1] + v * left[1:], (1 - v) * right[:-1] + v * right[1:]
+                corners.append(sum((1 - u) * row[0] + u * row[1] for u in (fracs[b], fracs[b + 1])))
+            fluxes.append((dph / sub / 2) * (i0[:, None, None] * corners[0] + i1[:, None, None] * corners[1]))
+            ph = (cols - 0.5 + (fracs[b] + fracs[b + 1]) / 2) * dph  # patch k spans φ_{k−1}..φ_k
+            dirs.append(latlong.spherical_to_direction(((ta + tb) / 2)[:, None], ph[None, :]))
+    return np.concatenate([f.reshape(-1, 3) for f in fluxes]), np.concatenate([d.reshape(-1, 3) for d in dirs])
+
+
 def reference_irradiance(env: Environment, normals: np.ndarray, cells: int = DEFAULT_CELLS) -> ReferenceIrradiance:
     """Reference E at ``normals`` (N, 3): the (2·cells, g+1) quadrature, with max_n |E_fine − E_coarse|
     (per channel) as its uncertainty."""
     normals = np.ascontiguousarray(normals, dtype=np.float64)
 
+    texel_path = uses_texel_path(env, cells)
+
     def compute() -> dict[str, np.ndarray]:
+        if texel_path:
+            check_convention(env)
+            coarse_nodes, fine_nodes = texel_cell_nodes(env, cells)
+            return {"fine": irradiance_at(*fine_nodes, normals), "coarse": irradiance_at(*coarse_nodes, normals)}
         g = gauss_order(env, cells)
         coarse = irradiance_at(*cell_nodes(env, cells, g), normals)
         fine = irradiance_at(*cell_nodes(env, 2 * cells, g + 1), normals)
         return {"fine": fine, "coarse": coarse}
 
-    parts = {"env": env.digest, "normals": array_digest(normals), "cells": cells, "method": "gauss-cells"}
+    method = "texel-cells" if texel_path else "gauss-cells"
+    parts = {"env": env.digest, "normals": array_digest(normals), "cells": cells, "method": method}
     r = cached("irradiance", parts, compute)
     delta = np.abs(r["fine"] - r["coarse"]).max(axis=0, initial=0.0)
     return ReferenceIrradiance(r["fine"], np.broadcast_to(delta, r["fine"].shape).copy(), cells)
