@@ -156,11 +156,13 @@ def pi_claims(m: Measurements) -> list[Claim]:
 
 
 def declared_claims(m: Measurements) -> list[Claim]:
-    """Thresholds an engine technique declares (``<metric>.<stat>``), judged on its worst environment;
-    power: the same with band 1's sign flipped."""
+    """Thresholds a technique declares (``<metric>.<stat>``), judged on its worst environment; power: the
+    same with band 1's sign flipped."""
+    from ..local_models import irradiance
+
     claims = []
-    for tech in engine_techniques():
-        if not tech.thresholds:
+    for tech in irradiance:
+        if not tech.thresholds or not any(tech.name in r["techniques"] for r in m.environments.values()):
             continue
         measured = {}
         for metric in ("flux_luminance", "flux_rgb", "relative", "peak"):
@@ -181,7 +183,8 @@ def claims(m: Measurements) -> list[Claim]:
 
 def _errs(m: Measurements, env: str) -> str:
     r = m.environments[env]["techniques"]
-    fl = {name: t["errors"]["flux_luminance"] for name, t in r.items()}
+    focus = ["sh9"] + [t.name for t in engine_techniques()]
+    fl = {name: r[name]["errors"]["flux_luminance"] for name in focus if name in r}
     return "; ".join(f"{name} {pct(st['mean'])} / {pct(st['max'])}" for name, st in fl.items())
 
 

@@ -3,9 +3,9 @@
 Per environment (:func:`measure_environment`, through ``ctx.map``):
 
 * the reference E(n) ± δ(n) (:func:`validate.reference.irradiance.reference_irradiance`) at N
-  spherical-Fibonacci normals, and the suite's ``sh9`` beside every engine technique of the
-  ``irradiance`` family (those registered with ``engine=`` meta), each through ``family.call`` and
-  judged under every metric of :mod:`validate.metrics.irradiance_error`;
+  spherical-Fibonacci normals, and every technique of the ``irradiance`` family — the engines (those
+  registered with ``engine=`` meta) beside the suite's ``sh9`` and any other built-in or plug-in — each
+  through ``family.call`` and judged under every metric of :mod:`validate.metrics.irradiance_error`;
 * the decomposition of each engine's error: the faces it received (their flux against the map's),
   the exact-solid-angle SH9 of those same faces (:func:`cube_faces.project_faces_sh9`) and the engine's
   largest departure from it, ``max_{n,c} |E_engine − E_faces|/Φ_c``;
@@ -68,9 +68,10 @@ def engine_techniques() -> list[Technique]:
 
 
 def compared_techniques() -> list[Technique]:
-    """The suite's own SH9 first, then every engine technique."""
-    base = [irradiance_family[BASELINE]] if BASELINE in irradiance_family else []
-    return base + engine_techniques()
+    """Every registered irradiance technique (the suite's SH9, the engines, any other built-in or plug-in):
+    each gets its row and its results.json entry, as in every experiment of the family."""
+    techs = list(irradiance_family)
+    return sorted(techs, key=lambda t: t.name != BASELINE)  # SH9 first: the others are compared with it
 
 
 def stats_json(stats: dict[str, ErrorStats]) -> dict[str, dict[str, float]]:

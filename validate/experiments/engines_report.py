@@ -17,20 +17,19 @@ def _names(m: Measurements) -> list[str]:
 
 
 def metric_tables(m: Measurements) -> list[Table]:
-    """One table per metric: environment × technique, mean / max (± the reference's uncertainty)."""
+    """One table per metric: environment × technique, mean / max; the reference's uncertainty (the same
+    for every technique of a row) in its own column."""
     names = _names(m)
     tables = []
     for metric in METRICS:
         rows = []
         for env, r in m.environments.items():
-            row: list = [env, f"{r['max_face_texel']:.4g}"]
-            for n in names:
-                st = r["techniques"].get(n, {}).get("errors", {}).get(metric)
-                row.append("—" if st is None else f"{pct(st['mean'])} / {pct(st['max'])} "
-                           f"(± {pct(st['max_uncertainty'])})")
-            rows.append(row)
-        tables.append(Table(["environment", "largest face texel"] + names, rows,
-                            f"{metric}: mean / max over normals (± max uncertainty of the reference)."))
+            sts = [r["techniques"].get(n, {}).get("errors", {}).get(metric) for n in names]
+            unc = max((st["max_uncertainty"] for st in sts if st), default=0.0)
+            rows.append([env, f"{r['max_face_texel']:.4g}", f"± {pct(unc)}"]
+                        + ["—" if st is None else f"{pct(st['mean'])} / {pct(st['max'])}" for st in sts])
+        tables.append(Table(["environment", "largest face texel", "reference ±"] + names, rows,
+                            f"{metric}: mean / max over normals; every registered irradiance technique."))
     return tables
 
 
