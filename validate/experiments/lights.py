@@ -408,6 +408,13 @@ def findings(m: Measurements) -> list[str]:
                + (f"; rendered, that cos^f spot is off by {cos_f['mean']['value']:.1%} on average and "
                   f"{cos_f['max']['value']:.0%} at worst (of the mean lit radiance)." if cos_f else "."))
     out.append(lamp_finding(m.data["lamp"]))
+    grid = {k: tech.get(k, {}).get("metrics", {}) for k in ("area_grid", "area_grid_shadowed")}
+    if all(grid.values()):
+        n = m.settings["technique_grid"]
+        out.append(f"The {n}×{n} grid over the scene, without its shadow rays: bias " + ", ".join(
+            f"{k} {v['bias']['value']:+.1%}" for k, v in grid["area_grid"].items()) + "; with them: " + ", ".join(
+            f"{k} {v['bias']['value']:+.2%} (mean {v['mean']['value']:.2%} ± {v['mean']['uncertainty']:.2%})"
+            for k, v in grid["area_grid_shadowed"].items()) + ".")
     two = tech.get("point_two_sided", {}).get("metrics", {}).get("point", {})
     if two:
         out.append(f"Two-sided lighting on this closed geometry with shadow rays: max difference from Mitsuba "
