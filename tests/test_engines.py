@@ -219,6 +219,15 @@ def test_without_node_nothing_is_registered(tmp_path: Path) -> None:
     assert "Node.js not found" in reason
 
 
+def test_importing_starts_no_node_process() -> None:
+    code = ("import validate.local_models, validate.experiments\nvalidate.experiments.discover()\n"
+            "from validate.local_models.engines import worker\nprint(len(worker._WORKERS))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         cwd=Path(__file__).resolve().parents[1], timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip().splitlines()[-1] == "0"
+
+
 def test_missing_packages_are_named(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(worker, "node_executable", lambda: "/usr/bin/node")
     monkeypatch.setattr(worker, "package_dir", lambda engine: None)

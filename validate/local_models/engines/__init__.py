@@ -2,7 +2,9 @@
 
 Each engine's own, unmodified code runs in one Node process per engine (:mod:`.worker`, runner.mjs);
 the faces it receives are rendered here from the same lat-long radiance the reference integrates
-(:mod:`.cube_faces`, N = ``FACE_SIZE`` = 128 texels per edge, float32, texel-averaged). Three
+(:mod:`.cube_faces`, N = ``FACE_SIZE`` = 64 texels per edge, float32, texel-averaged: SH9 needs no
+more — Babylon.js PR 18186 downsamples to 32–64 for the same reason — and it keeps the engines' cost
+in a full ``sh9`` run to a few seconds; the ``engines`` experiment sweeps N = 16…256). Three
 techniques of the ``irradiance`` family:
 
 * ``three_sh`` — three.js r187: ``LightProbeGenerator.fromCubeRenderTarget`` [1] projects the faces
@@ -25,10 +27,12 @@ the normals are mirrored together — irradiance errors are invariant under that
 projection and the cosine kernel commute with orthogonal maps). Shader arithmetic is float32
 (Math.fround); three.js's CPU ``getIrradianceAt`` is float64, as it runs.
 
-Availability: the techniques are registered only when ``node`` is on PATH and ``npm ci`` has installed
-``three`` and ``@babylonjs/core`` (package.json at the repository root). Importing starts no process;
-the first call does. Without them, nothing is registered and the ``engines`` experiment is skipped
-with the reason (:func:`.worker.unavailable_reason`).
+Availability: the techniques are registered only when ``node`` is on PATH (or ``VALIDATE_NODE`` names
+it; a path that does not exist turns the engines off) and ``npm ci`` has installed ``three`` and
+``@babylonjs/core`` (package.json at the repository root). Importing starts no process; the first
+call does, and that one process per engine serves every later call of the run. Without them nothing
+is registered (the rest of the family and every other experiment are unchanged) and the ``engines``
+experiment is skipped with the reason (:func:`.worker.unavailable_reason`).
 
 References
   [1] three.js r187, examples/jsm/lights/LightProbeGenerator.js (fromCubeRenderTarget).
