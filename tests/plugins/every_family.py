@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from validate.local_models import FAMILIES, arealight, irradiance, shadow, specular
+from validate.local_models import FAMILIES, arealight, family, irradiance, shadow, specular
 
 
 def _sh2_irradiance(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
@@ -69,6 +69,20 @@ def plugin_no_shadow(shadow_map: Any, light: Any, points: np.ndarray, normals: n
     return np.ones(len(points))
 
 
+@family("light").register("plugin_point_linear", "a user's point light with 1/d falloff (a common shader bug)",
+                          lights=("point",))
+def plugin_point_linear(light: Mapping[str, Any], points: np.ndarray, normals: np.ndarray,
+                        visible: Any = None) -> np.ndarray:
+    p, n = np.asarray(points, dtype=np.float64), np.asarray(normals, dtype=np.float64)
+    v = np.asarray(light["position"], dtype=np.float64) - p
+    d = np.linalg.norm(v, axis=1)
+    e = float(light["intensity"]) * np.maximum((v * n).sum(1) / d, 0.0) / d
+    if visible is not None:
+        e = e * visible(p, n, np.broadcast_to(light["position"], p.shape))
+    return e
+
+
 PLUGIN_TECHNIQUES = {"irradiance": "plugin_sh2_numpy", "specular": "plugin_ambient_specular",
-                     "arealight": "plugin_point_shortcut", "shadow": "plugin_no_shadow"}
+                     "arealight": "plugin_point_shortcut", "shadow": "plugin_no_shadow",
+                     "light": "plugin_point_linear"}
 assert set(PLUGIN_TECHNIQUES) <= set(FAMILIES)
