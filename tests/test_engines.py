@@ -239,9 +239,12 @@ def test_experiment_skips_with_the_reason(monkeypatch: pytest.MonkeyPatch, tmp_p
     from validate.experiments.base import Context
 
     monkeypatch.setattr(engines, "UNAVAILABLE", "Node.js not found on PATH")
-    res = engines.run(Context(out_dir=tmp_path, quick=True, show_progress=False))
-    assert res.claims == [] and res.data["skipped"] == "Node.js not found on PATH"
-    assert "Node.js not found" in res.summary
+    ctx = Context(out_dir=tmp_path, quick=True, show_progress=False)
+    ctx._env_cache["envs"] = ([procedural.two_tone(64), procedural.near_directional(256)], [])
+    res = engines.run(ctx)
+    assert res.data["skipped"] == "Node.js not found on PATH" and "Node.js not found" in res.summary
+    assert [c.id for c in res.claims] == ["engines.faces.flux"]  # the faces need no Node
+    assert res.claims[0].passed and res.claims[0].power.fails
 
 
 # -- the experiment's claims --------------------------------------------------------------------------
@@ -253,12 +256,13 @@ def test_claims_pass_and_their_power_checks_fail() -> None:
     from validate.experiments.engines_compute import Settings, measure_environment
 
     settings = Settings(normals=600, cells=32, face_size=worker.FACE_SIZE, sweep_sizes=(32,))
-    envs = [procedural.constant(), procedural.two_tone(64), procedural.bandlimited(), procedural.disc_on_sky(64)]
+    envs = [procedural.constant(), procedural.two_tone(64), procedural.bandlimited(), procedural.disc_on_sky(64),
+            procedural.near_directional(256)]
     m = Measurements(settings, {e.name: measure_environment(e, settings) for e in envs})
     m.named = named_environments(m.environments)
     cs = claims(m)
     ids = {c.id for c in cs}
-    assert {"engines.three_sh.equals_faces_sh9", "engines.babylon_sh.equals_faces_sh9",
+    assert {"engines.faces.flux", "engines.three_sh.equals_faces_sh9", "engines.babylon_sh.equals_faces_sh9",
             "engines.babylon_polynomial.double_lobe", "engines.three_sh.bound.max",
             "engines.babylon_sh.pi_normalisation"} <= ids
     for c in cs:

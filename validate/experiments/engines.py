@@ -17,8 +17,8 @@ from typing import Any
 from ..local_models.engines import UNAVAILABLE
 from ..local_models.engines.worker import package_version
 from .base import Context, ExperimentResult, register_experiment
-from .engines_claims import Measurements, claims, findings
-from .engines_compute import SETTINGS, engine_techniques, measure_environment, measure_face_sizes
+from .engines_claims import Measurements, claims, face_claims, findings
+from .engines_compute import SETTINGS, engine_techniques, measure_environment, measure_face_sizes, measure_faces
 from .engines_report import sections
 from .techniques import technique_entry
 
@@ -69,17 +69,23 @@ def technique_entries(m: Measurements) -> dict[str, Any]:
     return out
 
 
-def skipped_result(reason: str) -> ExperimentResult:
-    return ExperimentResult(name="engines", title=TITLE, summary=f"Skipped: {reason}.",
-                            findings=[f"The engines experiment did not run: {reason}."],
-                            data={"skipped": reason})
+def skipped_result(ctx: Context, reason: str) -> ExperimentResult:
+    """No engine can run: only the faces they would receive are checked (no Node needed)."""
+    settings = SETTINGS["quick" if ctx.quick else "full"]
+    envs, skipped = ctx.environments()
+    faces = ctx.map(partial(measure_faces, settings=settings), envs, "engines: faces")
+    m = Measurements(settings, {e.name: r for e, r in zip(envs, faces, strict=True)}, skipped=list(skipped))
+    return ExperimentResult(name="engines", title=TITLE, summary=f"Skipped: {reason}. Only the cube faces the "
+                            "engines would receive were checked.", claims=face_claims(m),
+                            findings=[f"The engines did not run: {reason}."],
+                            data={"skipped": reason, "environments": m.environments}, settings=settings.to_json())
 
 
 @register_experiment("engines", TITLE, "three.js and Babylon.js SH irradiance (run in Node) beside SH9, "
                      "the engines' conventions, Babylon's 4096 clamp, claims", order=15)
 def run(ctx: Context) -> ExperimentResult:
     if UNAVAILABLE is not None or not engine_techniques():
-        return skipped_result(UNAVAILABLE or "no engine technique is registered")
+        return skipped_result(ctx, UNAVAILABLE or "no engine technique is registered")
     m = compute(ctx)
     data = {"environments": m.environments, "face_size_sweep": m.sweeps, "named": m.named,
             "versions": {"three": package_version("three"), "@babylonjs/core": package_version("babylon")},

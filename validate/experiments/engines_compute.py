@@ -28,7 +28,7 @@ import numpy as np
 from ..local_models import irradiance as irradiance_family
 from ..local_models import sh as shm
 from ..local_models.engines import cube_faces, worker
-from ..local_models.irradiance_map import cube_texel_solid_angles
+from ..local_models.irradiance_map import cube_texel_directions, cube_texel_solid_angles
 from ..local_models.registry import Technique
 from ..metrics.irradiance_error import ErrorStats, irradiance_errors
 from ..reference.irradiance import reference_irradiance
@@ -148,6 +148,22 @@ def _output_of(techs: dict[str, dict], engine: str, path: str) -> np.ndarray | N
     return None
 
 
+def measure_faces(env: Environment, settings: Settings) -> dict:
+    """The faces the engines receive (no Node needed): their flux against the map's, and the same for faces
+    point-sampled at the texel centres (the power check of the flux claim); the largest texel; the clamp."""
+    faces = worker.faces_for(env.radiance, settings.face_size)
+    flux = env.total_flux()
+    point = latlong.bilinear_lookup(env.radiance.astype(np.float64), cube_texel_directions(settings.face_size))
+    ok = flux > 0
+    return {
+        "kind": env.kind, "resolution": [env.width, env.height], "face_size": settings.face_size,
+        "face_flux_error": float(np.max(np.abs(cube_faces.face_flux(faces)[ok] / flux[ok] - 1.0))),
+        "point_sampled_flux_error": float(np.max(np.abs(cube_faces.face_flux(point)[ok] / flux[ok] - 1.0))),
+        "max_face_texel": float(faces.max()), "max_map_texel": float(env.radiance.max()),
+        "above_clamp": bool(faces.max() > BABYLON_CLAMP), "clamp_share": clamp_share(faces),
+    }
+
+
 def measure_environment(env: Environment, settings: Settings) -> dict:
     """Everything the experiment measures on one environment (JSON-able but for ``_``-keys)."""
     normals = latlong.fibonacci_sphere(settings.normals)
@@ -167,13 +183,9 @@ def measure_environment(env: Environment, settings: Settings) -> dict:
     three = _output_of(techs, "three", "getIrradianceAt")
     for t in techs.values():
         t.pop("_irradiance")
-    face_flux = cube_faces.face_flux(faces)
     return {
-        "kind": env.kind, "resolution": [env.width, env.height],
+        **measure_faces(env, settings),
         "flux": flux.tolist(), "flux_luminance": float(latlong.luminance(flux)),
-        "face_size": settings.face_size, "face_flux_error": float(np.max(np.abs(face_flux / flux - 1.0))),
-        "max_face_texel": float(faces.max()), "max_map_texel": float(env.radiance.max()),
-        "above_clamp": bool(faces.max() > BABYLON_CLAMP), "clamp_share": clamp_share(faces),
         "convergence": ref.convergence, "techniques": techs,
         "faces_vs_sh9": deviation(e_faces, e_sh9, flux) if e_sh9 is not None else None,
         **babylon_variants(env, normals, ref.irradiance, ref.uncertainty, flux, coeffs, poly),
@@ -216,5 +228,5 @@ def three_weight_error(n: int) -> float:
 
 
 __all__ = ["SETTINGS", "Settings", "BABYLON_CLAMP", "HALF_MAX", "SCALE_BUG", "BASELINE", "DOUBLE_LOBE",
-           "engine_techniques", "compared_techniques", "measure_environment", "measure_face_sizes",
+           "engine_techniques", "compared_techniques", "measure_environment", "measure_faces", "measure_face_sizes",
            "three_weight_error", "deviation", "clamp_share"]
