@@ -144,7 +144,15 @@ def _mitsuba_bsdf(brdf: Mapping[str, Any]) -> dict:
 
 
 def _environment(env: str | Environment) -> Environment:
-    return env if isinstance(env, Environment) else procedural.builtin_environment(env, quick=True)
+    """An Environment as given, a built-in by name (quick resolution) or a probe by name (found and loaded
+    as :func:`validate.testing.load_named_environment` does; a missing probe raises there)."""
+    if isinstance(env, Environment):
+        return env
+    if env in procedural.BUILTIN_NAMES:
+        return procedural.builtin_environment(env, quick=True)
+    from ..testing import load_named_environment
+
+    return load_named_environment(env)
 
 
 BrdfArg = Mapping[str, Any] | Iterable[Mapping[str, Any]]
@@ -156,7 +164,10 @@ def check_specular(fn: Callable[..., np.ndarray] | Technique | str,
                    passes: int = 4, seed: int = 1234, name: str | None = None) -> CheckResult:
     """Measure a specular technique (a function with the ``specular`` contract, a registered technique or
     its name) against Mitsuba renders of a unit sphere under each environment (a built-in name at quick
-    resolution, or an :class:`Environment`), for each BRDF mapping; camera 6° off the key light.
+    resolution, a probe name as in ``check_irradiance``, or an :class:`Environment`), for each BRDF mapping
+    (``{'model': 'phong', 'exponent': s}``, ``{'model': 'ggx', 'alpha': α}`` = Mitsuba's F = 1
+    ``roughconductor``, ``{'model': 'ggx_plastic', 'alpha': α, 'eta': η, 'rho': ρ}``); orthographic camera
+    6° off the environment's brightest texel, ``size``² pixels, ``spp`` paths in ``passes`` passes.
 
     Returns per ``<environment>`` (one BRDF) or ``<environment>/<model>_<parameter>`` a :class:`Stat` for
     ``relative`` (mean and max over pixels of |Y(A) − Y(R)|/Y(R), ± the Monte Carlo uncertainty) and
