@@ -1,0 +1,253 @@
+"""Measurements of the überlight experiment: projector agreement, barn-door fits, sweeps, falloff.
+
+Definitions (every metric is a fraction; "peak" is the reference's largest receiver radiance):
+
+* projector ``max_rel`` / ``mean_rel``: max / mean over the compared receiver pixels of
+  |L_model − L_ref| / peak. Compared pixels: receivers whose bilinear texture footprint (the 2 × 2
+  texel centres around the lookup point) has one mask value — where the footprint straddles a hard
+  edge Mitsuba blends two texels, a one-texel property of the reference, not of the model (their
+  count is reported). ``scaled_max_rel``: the same after the least-squares scale of L_model.
+  Uncertainty: the largest per-pixel standard error / peak (0 for the delta projector).
+* barn-door ``edge_rms``: beam fraction A_ref = L_ref/U against the fitted A, U = I₀ ρ/π cos/d² the
+  fitted beam without shaping, over the penumbra band (0 < A_fit < 1):
+  edge_rms = √max(0, mean((A_fit − A_ref)²) − mean(σ_A²)) (the noise variance σ_A² = (s/U)² removed),
+  uncertainty √(edge_rms² + SE[mean((A_fit − A_ref)²)]) − edge_rms.
+* falloff: Fore June's I(d)/d-form against E(d) = π L r²/(r² + d²) (relative error over d ∈ [0, 20 r]).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+from scipy.optimize import least_squares, minimize_scalar
+
+from ..local_models import uberlight as ub
+from ..reference import uberlight_render as ur
+from ..scenes import uberlight_scenes as us
+
+
+def light_mapping(lum: us.Luminaire, intensity: float, shape: Mapping[str, float], **extra: float) -> dict[str, Any]:
+    """The technique's light: the luminaire's frame + the überlight shape (no distance shaping by default)."""
+    return {"position": np.asarray(lum.position, dtype=np.float64), "axes": lum.frame(), "intensity": float(intensity),
+            **ub.NO_DISTANCE_SHAPING, **shape, **extra}
+
+
+class Frame:
+    """One reference render's receiver pixels: G-buffer, reference, views and the light's visibility."""
+
+    def __init__(self, scene: us.UberScene, ref: ur.UberRender, shadowed: bool = True):
+        self.scene, self.ref, self.valid = scene, ref, ref.valid
+        v = ref.valid
+        self.position, self.normal, self.albedo = ref.position[v], ref.normal[v], ref.albedo[v]
+        self.radiance, self.uncertainty, self.passes = ref.radiance[v], ref.uncertainty[v], ref.pass_images[:, v]
+        views = np.asarray(scene.camera.origin) - self.position
+        self.views = views / np.linalg.norm(views, axis=1)[:, None]
+        self.shadow = ur.visibility(scene, self.position, self.normal) if shadowed else np.ones(len(self.position))
+        self.peak = float(self.radiance.max())
+
+    def material(self) -> dict[str, Any]:
+        return {"albedo": self.albedo, "ks": 0.0}
+
+    def image(self, values: np.ndarray) -> np.ndarray:
+        out = np.full(self.valid.shape, np.nan)
+        out[self.valid] = values
+        return out
+
+    def unshaped(self, lum: us.Luminaire) -> tuple[np.ndarray, np.ndarray]:
+        """(light coordinates (N, 3), ρ/π · max(0, n·l)/d² · shadow) of every receiver."""
+        lc = ub.light_coordinates({"position": lum.position, "axes": lum.frame()}, self.position)
+        to = np.asarray(lum.position) - self.position
+        d = np.linalg.norm(to, axis=1)
+        cos = np.maximum(np.einsum("nk,nk->n", self.normal, to / d[:, None]), 0.0)
+        return lc, self.albedo / math.pi * cos / d ** 2 * self.shadow
+
+
+# -- projector ---------------------------------------------------------------------------------------------
+def projector_mask(shape: Mapping[str, float], n: int, fov_deg: float) -> np.ndarray:
+    """The überlight's angular mask A at the projector's texel centres (the model's own numpy form)."""
+    x, y = ur.texel_directions(n, fov_deg)
+    return ub.superellipse_shape_np(shape, x, y, np.ones_like(x))
+
+
+def edge_footprint(frame: Frame, shape: Mapping[str, float], n: int, fov_deg: float) -> np.ndarray:
+    """(N,) True where the 2 × 2 bilinear footprint of the lookup spans more than one mask value."""
+    lum = frame.scene.luminaire
+    lc, _ = frame.unshaped(lum)
+    t = math.tan(math.radians(fov_deg) / 2)
+    z = np.where(lc[:, 2] > 0, lc[:, 2], 1.0)
+    fi = (0.5 - 0.5 * lc[:, 0] / (z * t)) * n - 0.5
+    fj = (0.5 - 0.5 * lc[:, 1] / (z * t)) * n - 0.5
+    vals = []
+    for di in (0, 1):
+        for dj in (0, 1):
+            i, j = np.floor(fi) + di, np.floor(fj) + dj
+            x, y = t * (1 - 2 * (i + 0.5) / n), t * (1 - 2 * (j + 0.5) / n)
+            vals.append(ub.superellipse_shape_np(shape, x, y, np.ones_like(x)))
+    v = np.stack(vals)
+    return (v.max(axis=0) != v.min(axis=0)) & (lc[:, 2] > 0)
+
+
+def projector_errors(frame: Frame, approx: np.ndarray, keep: np.ndarray) -> dict[str, float]:
+    """max_rel, mean_rel, scaled_max_rel (± uncertainty) over the ``keep`` pixels (module docstring)."""
+    ref, peak = frame.radiance[keep], frame.peak
+    a = approx[keep]
+    err = np.abs(a - ref) / peak
+    k = float(a @ ref / (a @ a)) if a @ a > 0 else 1.0
+    unc = float(frame.uncertainty[keep].max() / peak)
+    return {"max_rel": float(err.max()), "mean_rel": float(err.mean()),
+            "scaled_max_rel": float((np.abs(k * a - ref) / peak).max()), "scale": k, "uncertainty": unc}
+
+
+# -- barn door -----------------------------------------------------------------------------------------------
+FIT_KEYS = ("width", "height", "width_edge", "height_edge", "roundness")
+
+
+def beam_model(lc: np.ndarray, unshaped: np.ndarray, params: np.ndarray) -> np.ndarray:
+    """I₀ · A(width, height, edges, roundness) · unshaped (params = the 5 shape values + I₀)."""
+    shape = dict(zip(FIT_KEYS, params[:5], strict=True))
+    return params[5] * unshaped * ub.superellipse_shape_np(shape, lc[:, 0], lc[:, 1], lc[:, 2])
+
+
+def fit_beam(frame: Frame) -> dict[str, Any]:
+    """Least squares (scipy, trust-region reflective) of the überlight shape and I₀ to the barn-door render,
+    residuals (L_model − L_ref)/peak over every receiver pixel; start: the geometric penumbra."""
+    lum = frame.scene.luminaire
+    lc, u = frame.unshaped(lum)
+    (ax, ay), h, r = lum.aperture, lum.depth, lum.radius
+    p0 = np.array([(ax - r) / h, (ay - r) / h, 2 * r / h, 2 * r / h, 0.3, lum.intensity()])
+    lo = np.array([1e-3, 1e-3, 0.0, 0.0, 0.05, 0.1 * p0[5]])
+    hi = np.array([2.0, 2.0, 2.0, 2.0, 4.0, 10.0 * p0[5]])
+    res = least_squares(lambda p: (beam_model(lc, u, p) - frame.radiance) / frame.peak, p0, bounds=(lo, hi),
+                        x_scale=np.array([0.1, 0.1, 0.1, 0.1, 0.3, p0[5]]))
+    p = res.x
+    return {"shape": dict(zip(FIT_KEYS, map(float, p[:5]), strict=True)), "intensity": float(p[5]),
+            "rms_residual": float(np.sqrt(np.mean(res.fun ** 2))), "start": p0.tolist(), "params": p.tolist()}
+
+
+def edge_rms(frame: Frame, params: np.ndarray, fitted: np.ndarray, passes: np.ndarray | None = None
+             ) -> tuple[float, float, int]:
+    """(edge_rms, uncertainty, band pixels) of the shape ``params`` against the render (module docstring);
+    the band and U come from the ``fitted`` parameters."""
+    lum = frame.scene.luminaire
+    lc, u = frame.unshaped(lum)
+    uu = fitted[5] * u
+    ok = uu > 0
+    a_fit = np.where(ok, beam_model(lc, u, fitted) / np.where(ok, uu, 1.0), 0.0)
+    band = ok & (a_fit > 0) & (a_fit < 1)
+    a_test = beam_model(lc, u, params)[band] / uu[band]
+    a_ref = frame.radiance[band] / uu[band]
+    sig = frame.uncertainty[band] / uu[band]
+    sq = (a_test - a_ref) ** 2
+    ms = float(sq.mean() - (sig ** 2).mean())
+    m = math.sqrt(max(ms, 0.0))
+    se = float(sq.std(ddof=1) / math.sqrt(len(sq)))
+    return m, math.sqrt(m * m + se) - m, int(band.sum())
+
+
+def segment_fraction(u: np.ndarray) -> np.ndarray:
+    """Fraction of a disc of unit radius with x < u: (π − acos u + u√(1 − u²))/π (the straight-edge penumbra)."""
+    u = np.clip(u, -1.0, 1.0)
+    return (math.pi - np.arccos(u) + u * np.sqrt(1.0 - u * u)) / math.pi
+
+
+def smoothstep01(t: np.ndarray) -> np.ndarray:
+    t = np.clip(t, 0.0, 1.0)
+    return t * t * (3 - 2 * t)
+
+
+def smoothstep_vs_disc() -> dict[str, float]:
+    """Best span 2c (in disc radii) of a smoothstep fitted to the straight-edge disc penumbra, its RMS and max
+    error over the span (dense 1-D minimisation; a property of the two curves, no rendering)."""
+    def rms(c: float) -> float:
+        u = np.linspace(-c, c, 20001)
+        return float(np.sqrt(np.mean((segment_fraction(u) - smoothstep01((u + c) / (2 * c))) ** 2)))
+    c = float(minimize_scalar(rms, bounds=(0.5, 2.0), method="bounded").x)
+    u = np.linspace(-c, c, 20001)
+    return {"span_over_diameter": c, "rms": rms(c),
+            "max": float(np.abs(segment_fraction(u) - smoothstep01((u + c) / (2 * c))).max())}
+
+
+def error_budget(frame: Frame, fitted: np.ndarray, disc: dict[str, float]) -> dict[str, float]:
+    """Claim 2's threshold: the 1-D smoothstep-vs-disc RMS + the penumbra-width change with depth over the band
+    (the smoothstep of mean width against ±half the spread of 1 − h/Z) + the Lambertian cos α the überlight lacks:
+    half its spread across the band along the principal axes, max_i (cos atan w_i − cos atan(w_i + e_i))/2."""
+    lum = frame.scene.luminaire
+    lc, u = frame.unshaped(lum)
+    uu = fitted[5] * u
+    ok = uu > 0
+    a_fit = np.where(ok, beam_model(lc, u, fitted) / np.where(ok, uu, 1.0), 0.0)
+    band = ok & (a_fit > 0) & (a_fit < 1)
+    z = lc[band, 2]
+    k = 1.0 - lum.depth / z
+    spread = float((k.max() - k.min()) / (k.max() + k.min()))
+    t = np.linspace(-1.0, 1.0, 4001)
+    depth_term = float(np.sqrt(np.mean((smoothstep01((t + 1) / 2) - smoothstep01((t * (1 + spread) + 1) / 2)) ** 2)))
+    def cos_a(t: float) -> float:
+        return 1.0 / math.sqrt(1.0 + t * t)
+    cos_term = max(cos_a(fitted[i]) - cos_a(fitted[i] + fitted[i + 2]) for i in (0, 1)) / 2.0
+    return {"disc_shape": disc["rms"], "depth": depth_term, "cos": cos_term,
+            "total": disc["rms"] + depth_term + cos_term, "depth_spread": spread}
+
+
+# -- falloff -------------------------------------------------------------------------------------------------
+def falloff_study(radius: float, radiance: float, d0_values: list[float], alpha: float = 2.0) -> dict[str, Any]:
+    """Fore June's falloff with M = π L (the disc's E(0)) and K = I₀/d₀^α, I₀ = π L r², against the exact
+    on-axis E(d) of the disc over d ∈ [0, 20 r]: max relative error per d₀, and the best d₀."""
+    i0 = math.pi * radiance * radius ** 2
+    m = math.pi * radiance
+    d = np.linspace(0.0, 20.0 * radius, 2001)
+    exact = ur.disc_on_axis_irradiance(d, radiance, radius)
+
+    def err(d0: float) -> float:
+        if i0 / d0 ** alpha >= m:
+            return float("inf")
+        return float(np.max(np.abs(ub.fore_june_falloff(d, i0, d0, alpha, m) / exact - 1.0)))
+    rows = {f"{d0 / radius:g}": err(d0) for d0 in d0_values}
+    best = minimize_scalar(err, bounds=(radius * 1.0001, 10 * radius), method="bounded")
+    inv_sq = np.abs(i0 / np.maximum(d, 1e-12) ** 2 / exact - 1.0)
+    return {"radius": radius, "radiance": radiance, "alpha": alpha, "max_intensity": m, "intensity": i0,
+            "d0_over_r": rows, "best_d0_over_r": float(best.x / radius), "best_max_rel": float(best.fun),
+            "inverse_square_rel_at": {f"{k:g}r": float(np.interp(k * radius, d, inv_sq)) for k in (1, 2, 5, 10)},
+            "curve_d_over_r": (d / radius).tolist()[::50], "curve_exact": exact.tolist()[::50],
+            "curve_best": ub.fore_june_falloff(d, i0, float(best.x), alpha, m).tolist()[::50]}
+
+
+def distance_shaping_fit(z: np.ndarray, d: np.ndarray) -> dict[str, Any]:
+    """How close the listing's distance shaping (no falloff) comes to 1/d² over the beam's receivers:
+    least squares of the relative error K·D(z)·d² − 1 over (K, far, far_edge) with near = near_edge = 0 (a
+    cuton only rises, 1/d² only falls); also the best constant K alone (the listing with D = 1)."""
+    def rel(p: np.ndarray) -> np.ndarray:
+        shape = {"near": 0.0, "near_edge": 0.0, "far": p[1], "far_edge": p[2]}
+        return p[0] * ub.distance_shape_np(shape, z) * d ** 2 - 1.0
+    zmin, zmax = float(z.min()), float(z.max())
+    k0 = 1.0 / float(np.mean(d ** 2))
+    res = least_squares(rel, np.array([k0 * 2, zmin, 2 * (zmax - zmin)]),
+                        bounds=([0.0, 0.0, 1e-3], [np.inf, zmax, 20 * (zmax - zmin)]))
+    k_const = float(np.sum(d ** 2) / np.sum(d ** 4))  # least squares of K d² − 1
+    e_const = k_const * d ** 2 - 1.0
+    e_fit = rel(res.x)
+    return {"depth_range": [zmin, zmax], "K": float(res.x[0]), "far": float(res.x[1]), "far_edge": float(res.x[2]),
+            "rms_rel": float(np.sqrt(np.mean(e_fit ** 2))), "max_rel": float(np.abs(e_fit).max()),
+            "constant_rms_rel": float(np.sqrt(np.mean(e_const ** 2))),
+            "constant_max_rel": float(np.abs(e_const).max()), "constant_K": k_const}
+
+
+def fore_june_physical(radius: float, radiance: float, alpha: float = 2.0) -> dict[str, Any]:
+    """Fore June's falloff with d₀ and M both free (α = 2, K = I₀/d₀²) against the disc's exact on-axis E(d)
+    over d ∈ [0, 20 r]: the (d₀/r, M/(πL)) of least max relative error (Nelder–Mead on the max)."""
+    from scipy.optimize import minimize
+
+    i0, el = math.pi * radiance * radius ** 2, math.pi * radiance
+    d = np.linspace(0.0, 20.0 * radius, 2001)
+    exact = ur.disc_on_axis_irradiance(d, radiance, radius)
+
+    def err(p: np.ndarray) -> float:
+        d0, mm = p[0] * radius, p[1] * el
+        if d0 <= 0 or mm <= i0 / d0 ** alpha:
+            return 1e3
+        return float(np.max(np.abs(ub.fore_june_falloff(d, i0, d0, alpha, mm) / exact - 1.0)))
+    res = minimize(err, np.array([2.8, 1.0]), method="Nelder-Mead", options={"xatol": 1e-4, "fatol": 1e-6})
+    return {"d0_over_r": float(res.x[0]), "M_over_piL": float(res.x[1]), "max_rel": float(res.fun)}
