@@ -80,9 +80,11 @@ def sweep_section(m: Measurements, ctx: Context) -> Section:
                             f"{env}: flux-normalised luminance error mean / max "
                             "(departure from the faces' exact SH9)."))
         path, rel = ctx.figure_path("engines", f"{env}_face_size.png")
+        sh9 = m.environments.get(env, {}).get("techniques", {}).get("sh9")
         plots.save_line_plot(path, s["sizes"], {n: t["max"] for n, t in s["techniques"].items()},
                              xlabel="cube face size N", ylabel="max |ΔY(E)| / Φ_Y", title=f"{env}: error vs face size",
-                             logx=True, percent=True)
+                             logx=True, percent=True,
+                             hlines={"sh9 (lat-long map)": sh9["errors"]["flux_luminance"]["max"]} if sh9 else None)
         figs.append(Figure(rel, f"{env}: max flux-normalised error against the face size", 360))
     return Section("Cube face size", [
         "Each engine path at several face sizes on the named probes (fewer normals than the main table). Three.js's "
