@@ -44,7 +44,7 @@ FLOOR_HALF = 3.0
 WALL_Z = -2.5
 WALL_TOP = 3.5
 SPHERE = {"center": (0.35, 0.45, -1.3), "radius": 0.45}
-PLATE_HALF = 0.6  # m: half size of the barn-door front plate and housing (the hole is inside it)
+PLATE_HALF = 0.25  # m: half size of the barn-door front plate and housing (the hole is inside it)
 LIGHT_POSITION = (0.0, 2.2, 2.6)
 LIGHT_TARGET = (0.0, 1.0, -2.5)
 
