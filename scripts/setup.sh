@@ -51,8 +51,7 @@ fi
 # Headless Chromium (Debian's package; nothing downloads a browser) for the report's page test.
 if ! command -v chromium >/dev/null 2>&1 && command -v apt-get >/dev/null 2>&1; then
     echo "setup: installing chromium through apt (headless test of the HTML report)"
-    $SUDO apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq chromium >/dev/null \
+    { $SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq chromium >/dev/null; } \
         || echo "setup: WARNING: chromium unavailable; the report page test will be skipped" >&2
 fi
 
