@@ -93,6 +93,14 @@ def sky_with_sun(height: int) -> np.ndarray:
 
 
 def _peak_rss_mib() -> float:
+    """This process's peak RSS: ``VmHWM`` (belongs to the address space, so it starts afresh at exec;
+    ``ru_maxrss`` would carry the parent's peak over a fork + exec), else ``ru_maxrss``."""
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("VmHWM:"):
+                return int(line.split()[1]) / 1024  # kB
+    except OSError:
+        pass
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # Linux: KiB
 
 

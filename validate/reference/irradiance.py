@@ -153,11 +153,14 @@ def irradiance_at(flux: np.ndarray, nodes: np.ndarray, normals: np.ndarray, chun
         chunk = int(np.clip((8 << 20) // max(1, nodes.shape[0]), 64, 2048))
     out = np.empty((normals.shape[0], 3), dtype=np.float64)
     nodes32 = nodes.astype(np.float32)
-    flux32 = flux.astype(np.float32)
+    # Φ padded to 16 columns: OpenBLAS's sgemm is ~7× slower for 3 columns than for 16 (measured,
+    # 10k normals × 65k nodes: 4.9 s vs 0.7 s); the padding columns are zero and dropped.
+    flux32 = np.zeros((flux.shape[0], 16), dtype=np.float32)
+    flux32[:, :3] = flux
     for s in range(0, normals.shape[0], chunk):
         cosines = normals[s:s + chunk].astype(np.float32) @ nodes32.T
         np.maximum(cosines, 0.0, out=cosines)
-        out[s:s + chunk] = cosines @ flux32
+        out[s:s + chunk] = (cosines @ flux32)[:, :3]
     return out
 
 
@@ -196,12 +199,18 @@ def _patch_rows(h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def _patch_block(rad: np.ndarray, s: int, e: int, i0: np.ndarray, i1: np.ndarray) -> np.ndarray:
-    """Φ_p (e−s, W, 3) of patch rows s..e−1; patch column k spans φ_{k−1}..φ_k (centre 2πk/W)."""
-    w = rad.shape[1]
-    block = rad[s:e + 1].astype(np.float64)
-    pair = block + np.roll(block, 1, axis=1)  # L_{·,k−1} + L_{·,k}
-    dph = 2 * np.pi / w
-    return (dph / 2) * (i0[s:e, None, None] * pair[:-1] + i1[s:e, None, None] * pair[1:])
+    """Φ_p (e−s, W, 3) float32 of patch rows s..e−1; patch column k spans φ_{k−1}..φ_k (centre 2πk/W).
+    float32 per patch (relative rounding 6e-8); every sum over patches is taken in float64."""
+    block = rad[s:e + 1]
+    pair = np.array(block, dtype=np.float32)  # L_{·,k−1} + L_{·,k}, wrapping at k = 0
+    pair[:, 1:] += block[:, :-1]
+    pair[:, 0] += block[:, -1]
+    half_dph = np.float32(np.pi / rad.shape[1])
+    w0 = (half_dph * i0[s:e]).astype(np.float32)[:, None, None]
+    w1 = (half_dph * i1[s:e]).astype(np.float32)[:, None, None]
+    out = pair[:-1] * w0
+    out += pair[1:] * w1
+    return out
 
 
 def texel_cell_nodes(env: Environment, cells: int) -> tuple[Nodes, Nodes]:
@@ -211,7 +220,7 @@ def texel_cell_nodes(env: Environment, cells: int) -> tuple[Nodes, Nodes]:
     hf, wf = 2 * cells, 4 * cells
     th_c, i0, i1 = _patch_rows(h)
     ph_c = np.arange(w) * (2 * np.pi / w)
-    sin_p, cos_p = np.sin(ph_c), np.cos(ph_c)
+    sin_p, cos_p = np.sin(ph_c).astype(np.float32), np.cos(ph_c).astype(np.float32)
     col_cell = np.minimum((np.arange(w) * wf) // w, wf - 1)
     starts = np.searchsorted(col_cell, np.arange(wf))
     row_cell = np.minimum((th_c / np.pi * hf).astype(np.int64), hf - 1)
@@ -226,9 +235,10 @@ def texel_cell_nodes(env: Environment, cells: int) -> tuple[Nodes, Nodes]:
         y = latlong.luminance(f)
         rc = row_cell[s:e]
         st, ct = np.sin(th_c[s:e])[:, None], np.cos(th_c[s:e])[:, None]
-        parts = {"f": np.add.reduceat(f, starts, axis=1), "y": np.add.reduceat(y, starts, axis=1),
-                 "ys": np.add.reduceat(y * sin_p, starts, axis=1) * st,
-                 "yc": np.add.reduceat(y * cos_p, starts, axis=1) * st}
+        parts = {"f": np.add.reduceat(f, starts, axis=1, dtype=np.float64),
+                 "y": np.add.reduceat(y, starts, axis=1, dtype=np.float64),
+                 "ys": np.add.reduceat(y * sin_p, starts, axis=1, dtype=np.float64) * st,
+                 "yc": np.add.reduceat(y * cos_p, starts, axis=1, dtype=np.float64) * st}
         np.add.at(flux, rc, parts["f"])
         np.add.at(lum, rc, parts["y"])
         np.add.at(mom, rc, np.stack([parts["ys"], parts["y"] * ct, -parts["yc"]], axis=-1))
