@@ -19,9 +19,9 @@ from .ibl_compute import MAP_MAX_ERROR, Comparison, IblMeasurements
 from .ibl_setup import BLEND_EXPONENT, BLEND_WEIGHT, EXP
 from .techniques import Measured, technique_claims, technique_entry
 
-DIFFUSE_MAP_SOURCE = ("accuracy criterion: Ramamoorthi & Hanrahan 2001 (§4, Fig. 3) report SH9 irradiance within "
-                      "1 % on average of the exact irradiance; a tabulated map is held to 1 % of the peak at every "
-                      "normal. Power: the next smaller face of the sweep")
+DIFFUSE_MAP_SOURCE = ("accuracy criterion from Ramamoorthi & Hanrahan 2001 (abstract: SH9 irradiance with \"average "
+                      "errors of only 1 %\"): a tabulated map, which can do better, is held to 1 % of the peak at "
+                      "every normal; the size is chosen on the sweep's normals and judged on independent ones")
 
 
 def diffuse_claims(m: IblMeasurements) -> list[Claim]:
@@ -43,7 +43,7 @@ def diffuse_claims(m: IblMeasurements) -> list[Claim]:
                f"3/32 Φ at every texel, every environment (worst: {worst}); uncertainty = the convolution map's "
                "deviation from the quadrature + the quadrature's own", "max |ΔY| / Φ_Y", WORST_CASE_MAX,
                mp.sh[worst][0], mp.sh[worst][1], "<", "%",
-               "Ramamoorthi & Hanrahan 2001, eq. 12 and §3: the order-2 clamped cosine "
+               "Ramamoorthi & Hanrahan 2001, eq. 12: the order-2 clamped cosine "
                "3/32 + x/2 + 15x²/32 differs from max(x, 0) by ≤ 3/32, so |E_SH9 − E| ≤ 3/32 Φ (theorem)")
     c2.with_power(f"the l = 1 band's sign flipped (worst: {flipped})", mp.sh_flipped[flipped][0],
                   mp.sh_flipped[flipped][1])
