@@ -128,3 +128,18 @@ def test_barndoor_claim_and_power() -> None:
     wide[2:4] *= 1.5
     assert e + u < budget
     assert um.edge_rms(frame, wide, p)[0] > budget
+
+
+def test_check_uberlight_gates_a_plugin() -> None:
+    """check_uberlight on an unregistered function: the inverse-square model passes the projector gate, a
+    version that forgets the 1/d² does not."""
+    def mine(light, points, normals, views, material, shadow=None):  # noqa: ANN001, ANN202
+        return ub.uberlight_inverse_square(light, points, normals, views, material, shadow)
+
+    def no_falloff(light, points, normals, views, material, shadow=None):  # noqa: ANN001, ANN202
+        return ub.uberlight_listing(light, points, normals, views, material, shadow)
+    limit = ub.uberlight["uberlight_inverse_square"].thresholds["projector.max_rel"]
+    r = exp.check_uberlight(mine)
+    assert r.projector.max + r.projector.max_uncertainty < limit
+    assert r.barndoor.max < 0.05  # the fitted shape reproduces the beam (RMS 0.6–0.7 % of the peak measured)
+    assert exp.check_uberlight(no_falloff).projector.max > 1.0
