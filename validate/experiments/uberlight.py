@@ -98,6 +98,8 @@ def projector_comparison(s: dict[str, Any], m: Measurements) -> None:
         out["techniques"][tech.name] = dict(e, power_width=pw, power_roll=pr)
         m.measured.setdefault(tech.name, {})["projector.max_rel"] = Measured(
             e["max_rel"], e["uncertainty"], pw, "width 1 % too large (one part in 100 of w)")
+        m.measured[tech.name]["projector.mean_rel"] = Measured(e["mean_rel"], e["uncertainty"])
+        m.measured[tech.name]["projector.scaled_max_rel"] = Measured(e["scaled_max_rel"], e["uncertainty"])
         m.measured[tech.name]["projector.max_rel.roll"] = Measured(e["max_rel"], e["uncertainty"], pr,
                                                                    "light rolled 1° about its axis")
         m.images.setdefault("projector", {})[tech.name] = frame.image(approx)
