@@ -315,3 +315,30 @@ def test_texel_path_memory_does_not_grow_with_the_map(texel_path: Any, monkeypat
     budget = 8 * texel_path.BLOCK_BYTES  # a few blocks of patch data and their temporaries
     assert max(extra) < budget, extra
     assert extra[1] < 2 * extra[0] + (16 << 20), extra  # 4× the texels, far less than 4× the memory
+
+
+def test_bench_child_records_and_report_tables(monkeypatch: pytest.MonkeyPatch) -> None:
+    """`validate bench` pieces at a toy size: a child process record, and the report's tables."""
+    from validate import bench
+
+    monkeypatch.setenv("VALIDATE_CACHE", "off")
+    sh9 = bench._run_child("sh9", 64)  # a real child process
+    assert sh9["height"] == 64 and sh9["seconds"] > 0 and sh9["peak_rss_mib"] > sh9["map_mib"]
+    ref = bench.child("reference", 64)
+    assert ref["convergence"] < 1e-3
+    kernels = [{"task": "k", "projection_s": 2e-3, "plain_reduction_s": 1e-3, "ratio_to_plain": 2.0,
+                "plain_drjit_sum_s": 1e-3, "direct_drjit_s": 5e-2},
+               {"task": "e", "drjit_s": 1e-3, "numpy_s": 2e-2, "speedup": 20.0}]
+    skipped = {"task": "reference", "height": 128, "width": 256, "skipped": "needs ≈ 9 GiB"}
+    tables = bench.tables(kernels, [ref, sh9, skipped])
+    assert [len(t["rows"]) for t in tables] == [1, 1, 2]
+    size_row = tables[2]["rows"][0]
+    assert size_row[0] == "64×128" and size_row[2] == round(ref["seconds"], 2)
+    assert tables[2]["rows"][1][2] == "needs ≈ 9 GiB"
+    assert all(len(r) == len(t["headers"]) for t in tables for r in t["rows"])
+    # the plain reduction is the same sum the projection's first coefficient weights by Y00
+    rad = bench.sky_with_sun(64)
+    from validate.local_models import sh
+
+    assert np.allclose(bench.plain_reduction(rad) * sh.eval_basis_numpy(np.array([0.0, 0.0, 1.0]), 0)[0],
+                       sh.project_environment(rad, 0)[0], rtol=1e-6)
