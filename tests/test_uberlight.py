@@ -114,11 +114,12 @@ def test_projector_claim_and_power() -> None:
 
 
 @pytest.mark.slow
-def test_barndoor_claim_and_power() -> None:
+@pytest.mark.parametrize("hole_roundness", [0.0, 0.6])
+def test_barndoor_claim_and_power(hole_roundness: float) -> None:
     """Claim 2 for one luminaire size at a small resolution: the fitted edge is within the budget, edges × 1.5
-    are not."""
+    are not; with a rounded hole the fitted roundness follows the hole's (measured 0.64 for 0.6 at r = 0.025)."""
     s = dict(exp.QUICK, barndoor_width=48, barndoor_height=36, barndoor_spp=64, barndoor_passes=8)
-    sc = exp.barndoor(s, 0.04)
+    sc = exp.barndoor(s, 0.04, hole_roundness)
     frame = um.Frame(sc, ur.render(sc, None, s["barndoor_spp"], s["barndoor_passes"], s["seed"]), shadowed=False)
     fit = um.fit_beam(frame)
     p = np.asarray(fit["params"])
@@ -128,6 +129,8 @@ def test_barndoor_claim_and_power() -> None:
     wide[2:4] *= 1.5
     assert e + u < budget
     assert um.edge_rms(frame, wide, p)[0] > budget
+    if hole_roundness:
+        assert abs(fit["shape"]["roundness"] - hole_roundness) < 0.15  # the disc adds ≈ 0.04 (r = 0.025)
 
 
 def test_check_uberlight_gates_a_plugin() -> None:

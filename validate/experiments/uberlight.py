@@ -43,12 +43,15 @@ INTENSITY = 50.0  # W sr⁻¹ on the axis
 PROJECTOR_SHAPE = {"width": 0.35, "height": 0.25, "width_edge": 0.0, "height_edge": 0.0, "roundness": 1.0}
 QUICK: dict[str, Any] = {
     "width": 64, "height": 48, "texture": 1024, "fov_deg": 70.0, "barndoor_width": 64, "barndoor_height": 48,
-    "barndoor_spp": 64, "barndoor_passes": 8, "radii": [0.025, 0.06], "depth": 0.3, "aperture": [0.12, 0.09],
+    "barndoor_spp": 64, "barndoor_passes": 8, "depth": 0.3, "aperture": [0.12, 0.09],
+    "barndoors": [[0.025, 0.0], [0.06, 0.0], [0.025, 0.6]],  # [disc radius (m), aperture roundness (0: rectangle)]
     "roundness_sweep": [0.2, 1.0, 4.0], "edge_sweep": [0.0, 0.3], "seed": 1234,
     "d0_over_r": [1.05, 1.5, 2.0, 3.0, 5.0],
 }
 FULL: dict[str, Any] = dict(QUICK, width=128, height=96, texture=2048, barndoor_width=128, barndoor_height=96,
-                            barndoor_spp=64, barndoor_passes=16, radii=[0.015, 0.025, 0.04, 0.06],
+                            barndoor_spp=64, barndoor_passes=16,
+                            barndoors=[[0.015, 0.0], [0.025, 0.0], [0.04, 0.0], [0.06, 0.0], [0.025, 0.6],
+                                       [0.025, 1.0], [0.04, 0.6]],
                             roundness_sweep=[0.2, 0.5, 1.0, 2.0, 4.0], edge_sweep=[0.0, 0.1, 0.2, 0.3])
 
 
@@ -129,16 +132,23 @@ def distance_shaping(frame: um.Frame, keep: np.ndarray, base: dict[str, Any]) ->
 
 
 def barndoor_frames(ctx: Context, s: dict[str, Any]) -> list[um.Frame]:
-    def one(radius: float) -> um.UberRender:
-        sc = barndoor(s, radius)
+    def one(config: list[float]) -> um.UberRender:
+        sc = barndoor(s, *config)
         return ur.render(sc, None, s["barndoor_spp"], s["barndoor_passes"], s["seed"])
-    refs = ctx.map(one, list(s["radii"]), "uberlight: barn-door renders")
-    return [um.Frame(barndoor(s, r), ref, shadowed=False) for r, ref in zip(s["radii"], refs, strict=True)]
+    configs = [list(c) for c in s["barndoors"]]
+    refs = ctx.map(one, configs, "uberlight: barn-door renders")
+    return [um.Frame(barndoor(s, *c), ref, shadowed=False) for c, ref in zip(configs, refs, strict=True)]
 
 
-def barndoor(s: dict[str, Any], radius: float) -> us.UberScene:
+def barndoor(s: dict[str, Any], radius: float, roundness: float = 0.0) -> us.UberScene:
+    """The barn door with disc radius ``radius`` and aperture roundness ``roundness`` (0: rectangular hole)."""
     return us.barndoor_scene(s["barndoor_width"], s["barndoor_height"], radius, s["depth"], tuple(s["aperture"]),
-                             INTENSITY / (math.pi * radius ** 2))
+                             INTENSITY / (math.pi * radius ** 2), roundness)
+
+
+def config_key(scene: us.UberScene) -> str:
+    """``r0.025`` (rectangular hole) or ``r0.025_rounded0.6``."""
+    return scene.name.removeprefix("barndoor_")
 
 
 def barndoor_fits(frames: list[um.Frame], m: Measurements) -> None:
@@ -159,12 +169,13 @@ def barndoor_fits(frames: list[um.Frame], m: Measurements) -> None:
         eh, _, _ = um.edge_rms(f, hard, p)
         zc = float(np.median(um.Frame.unshaped(f, lum)[0][:, 2]))
         geo = 2 * lum.radius * (1 - lum.depth / zc) / lum.depth
-        rows.append({"radius": lum.radius, "depth": lum.depth, "aperture": list(lum.aperture), "fit": fit,
+        rows.append({"key": config_key(f.scene), "radius": lum.radius, "aperture_roundness": lum.aperture_roundness,
+                     "depth": lum.depth, "aperture": list(lum.aperture), "fit": fit,
                      "edge_rms": e, "edge_rms_uncertainty": u, "band_pixels": n, "edge_rms_wide": ew,
                      "edge_rms_hard": eh, "budget": um.error_budget(f, p, disc),
                      "geometric_edge": geo, "predicted_edge": geo * disc["span_over_diameter"],
                      "median_depth": zc})
-        m.images.setdefault("barndoor", []).append((lum.radius, f.ref.radiance, f.image(um.beam_model(
+        m.images.setdefault("barndoor", []).append((config_key(f.scene), f.ref.radiance, f.image(um.beam_model(
             *f.unshaped(lum), p))))
     m.data["barndoor"] = {"sizes": rows, "smoothstep_vs_disc": disc}
 
@@ -182,7 +193,7 @@ def barndoor_techniques(frames: list[um.Frame], m: Measurements) -> None:
             ms = float(np.mean(d ** 2) - np.mean((f.uncertainty / f.peak) ** 2))
             val = math.sqrt(max(ms, 0.0))
             unc = math.sqrt(val * val + float(np.std(d ** 2, ddof=1) / math.sqrt(len(d)))) - val
-            per[f"r{row['radius']:g}"] = {"rms_rel": val, "uncertainty": unc}
+            per[row["key"]] = {"rms_rel": val, "uncertainty": unc}
             worst = max(worst, (val, unc))
         m.data.setdefault("barndoor_techniques", {})[tech.name] = per
         m.measured.setdefault(tech.name, {})["barndoor.rms_rel"] = Measured(worst[0], worst[1])
@@ -216,7 +227,8 @@ def compute(ctx: Context) -> Measurements:
     r = frames[0].scene.luminaire
     m.data["falloff"] = {f"r{f.scene.luminaire.radius:g}": um.falloff_study(
         f.scene.luminaire.radius, f.scene.luminaire.radiance,
-        [k * f.scene.luminaire.radius for k in s["d0_over_r"]]) for f in frames}
+        [k * f.scene.luminaire.radius for k in s["d0_over_r"]]) for f in frames
+        if f.scene.luminaire.aperture_roundness == 0}
     m.data["falloff_physical"] = um.fore_june_physical(r.radius, r.radiance)
     return m
 
@@ -235,8 +247,9 @@ def claims(m: Measurements) -> list[Claim]:
     disc = m.data["barndoor"]["smoothstep_vs_disc"]
     for row in m.data["barndoor"]["sizes"]:
         b = row["budget"]
-        c = Claim(f"{NAME}.barndoor.r{row['radius']:g}.edge", f"fitted soft edge within the error budget of the "
-                  f"barn-door penumbra (disc r = {row['radius']:g} m, depth {row['depth']:g} m)", "edge_rms",
+        hole = f"aperture roundness {row['aperture_roundness']:g}" if row["aperture_roundness"] else "rectangular hole"
+        c = Claim(f"{NAME}.barndoor.{row['key']}.edge", f"fitted soft edge within the error budget of the "
+                  f"barn-door penumbra (disc r = {row['radius']:g} m, depth {row['depth']:g} m, {hole})", "edge_rms",
                   b["total"], row["edge_rms"], row["edge_rms_uncertainty"],
                   source=f"error budget, each term computed: smoothstep vs the straight-edge disc penumbra "
                          f"(segment area), best span {2 * disc['span_over_diameter']:.3f} r, "
@@ -261,7 +274,9 @@ def findings(m: Measurements) -> list[str]:
     disc = m.data["barndoor"]["smoothstep_vs_disc"]
     for row in m.data["barndoor"]["sizes"]:
         sh = row["fit"]["shape"]
-        out.append(f"Barn door r = {row['radius']:g} m: fitted width {sh['width']:.4f}, height {sh['height']:.4f}, "
+        hole = f", hole roundness {row['aperture_roundness']:g}" if row["aperture_roundness"] else ""
+        out.append(f"Barn door r = {row['radius']:g} m{hole}: fitted width {sh['width']:.4f}, "
+                   f"height {sh['height']:.4f}, "
                    f"edges {sh['width_edge']:.4f}/{sh['height_edge']:.4f}, roundness {sh['roundness']:.3f}, "
                    f"I₀ {row['fit']['intensity']:.2f} W/sr; residual RMS {row['fit']['rms_residual']:.4f} of the peak; "
                    f"edge RMS {row['edge_rms']:.4f} ± {row['edge_rms_uncertainty']:.4f} (hard edge "
@@ -334,5 +349,5 @@ def check_uberlight(fn: Callable[..., Any] | Technique, *, quick: bool = True, n
         d = (family.call(tech, lmap, f.position, f.normal, f.views, f.material(), shadow=f.shadow) - f.radiance)
         val = math.sqrt(max(float(np.mean((d / f.peak) ** 2) - np.mean((f.uncertainty / f.peak) ** 2)), 0.0))
         unc = math.sqrt(val * val + float(np.std((d / f.peak) ** 2, ddof=1) / math.sqrt(len(d)))) - val
-        out[f"barndoor_r{f.scene.luminaire.radius:g}"] = {"barndoor": Stat(val, val, unc, unc)}
+        out[f"barndoor_{config_key(f.scene)}"] = {"barndoor": Stat(val, val, unc, unc)}
     return CheckResult(tech.name, "uberlight", out)

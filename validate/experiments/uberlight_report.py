@@ -42,25 +42,27 @@ def projector_section(m: Any, ctx: Context) -> Section:
 def barndoor_section(m: Any, ctx: Context) -> Section:
     b = m.data["barndoor"]
     rows, figs = [], []
-    for row, (radius, ref, fit) in zip(b["sizes"], m.images["barndoor"], strict=True):
+    for row, (key, ref, fit) in zip(b["sizes"], m.images["barndoor"], strict=True):
         sh = row["fit"]["shape"]
-        rows.append([f"{radius:g}", f"{sh['width']:.4f}", f"{sh['height']:.4f}", f"{sh['width_edge']:.4f}",
+        rows.append([f"{row['radius']:g}", f"{row['aperture_roundness']:g}",
+                     f"{sh['width']:.4f}", f"{sh['height']:.4f}", f"{sh['width_edge']:.4f}",
                      f"{sh['height_edge']:.4f}", f"{sh['roundness']:.3f}", f"{row['fit']['intensity']:.2f}",
                      f"{row['predicted_edge']:.4f}", f"{row['edge_rms']:.4f} ± {row['edge_rms_uncertainty']:.4f}",
                      f"{row['budget']['total']:.4f}", f"{row['edge_rms_wide']:.4f}", f"{row['edge_rms_hard']:.4f}"])
-        figs.append(_grid(ctx, f"barndoor_r{radius:g}.png", [ref, fit],
-                          [f"barn door r={radius:g} m", "fitted überlight"]))
-        figs.append(_heat(ctx, f"barndoor_r{radius:g}_error.png", (fit - ref) / np.nanmax(ref),
-                          f"fitted überlight − barn door, r = {radius:g} m"))
+        figs.append(_grid(ctx, f"barndoor_{key}.png", [ref, fit], [f"barn door {key}", "fitted überlight"]))
+        figs.append(_heat(ctx, f"barndoor_{key}_error.png", (fit - ref) / np.nanmax(ref),
+                          f"fitted überlight − barn door, {key}"))
     trows = [[name] + [f"{v['rms_rel']:.4f} ± {v['uncertainty']:.4f}" for v in per.values()]
              for name, per in m.data["barndoor_techniques"].items()]
     heads = ["technique"] + list(next(iter(m.data["barndoor_techniques"].values())))
     return Section("Against a barn-door luminaire (path-traced penumbra)", [
-        "A Lambertian disc of radius r in a black housing (depth h) behind a rectangular aperture; the überlight's "
+        "A Lambertian disc of radius r in a black housing (depth h) behind a rectangular "
+        "aperture (or a superellipse one of the überlight's own roundness); the überlight's "
         "shape and I₀ are fitted by least squares (origin at the disc centre, 1/d² applied). "
         "edge_rms: RMS error of the beam fraction over the penumbra band, Monte Carlo variance removed; "
         "budget: the claim's threshold."],
-        figures=figs, tables=[Table(["r (m)", "width", "height", "width edge", "height edge", "roundness", "I₀",
+        figures=figs, tables=[Table(["r (m)", "hole roundness", "width", "height", "width edge", "height edge",
+                                     "roundness", "I₀",
                                      "predicted edge", "edge_rms", "budget", "edges × 1.5", "hard edge"], rows),
                               Table(heads, trows, "RMS of (L − L_ref)/peak per technique with the fitted shape")])
 

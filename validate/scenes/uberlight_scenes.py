@@ -21,7 +21,9 @@ Luminaires (``kind``):
   walls; black = ``diffuse`` with reflectance 0. A receiver at light depth Z sees a disc point at
   lateral offset x_d through the aperture edge iff (x/Z)·h < a − x_d(1 − h/Z): in tan-space
   t = x/Z the beam is fully lit to t = (a − r(1 − h/Z))/h and dark beyond (a + r(1 − h/Z))/h — a
-  penumbra of width 2r(1 − h/Z)/h centred on a/h.
+  penumbra of width 2r(1 − h/Z)/h centred on a/h. With ``aperture_roundness`` ρ > 0 the hole is the
+  superellipse |x/a_x|^{2/ρ} + |y/a_y|^{2/ρ} = 1 — the überlight's own shape family — and the plate a
+  triangle mesh (OBJ written once to the temp folder, :func:`rounded_plate_obj`).
 
 References
   [1] R. Rost, *OpenGL Shading Language*, 2nd ed., §12.4 "The ÜberLight Shader", Listings 12.6/12.7.
@@ -91,6 +93,7 @@ class Luminaire:
     depth: float = 0.25
     aperture: tuple[float, float] = (0.08, 0.06)
     radiance: float = 2.0e3
+    aperture_roundness: float = 0.0  # 0: the rectangle; > 0: the superellipse hole |x/a_x|^{2/ρ} + |y/a_y|^{2/ρ} = 1
 
     def __post_init__(self) -> None:
         if self.kind not in ("projector", "barndoor"):
@@ -131,9 +134,14 @@ class Luminaire:
         out: dict[str, dict[str, Any]] = {
             "lamp_disc": {"type": "disk", "to_world": base @ T().scale([self.radius, self.radius, 1.0]),
                           "emitter": {"type": "area", "radiance": {"type": "rgb", "value": float(self.radiance)}}}}
-        # front plate: rectangles [x0, x1] × [y0, y1] at local z = h (the rectangle is [−1, 1]² in z = 0)
-        strips = {"left": (ax, p, -p, p), "right": (-p, -ax, -p, p), "top": (-ax, ax, ay, p),
-                  "bottom": (-ax, ax, -p, -ay)}
+        if self.aperture_roundness > 0:
+            out["plate"] = {"type": "obj", "filename": rounded_plate_obj(ax, ay, self.aperture_roundness, p, h),
+                            "bsdf": black, "to_world": base, "face_normals": True}
+            strips: dict[str, tuple[float, float, float, float]] = {}
+        else:
+            # front plate: rectangles [x0, x1] × [y0, y1] at local z = h (the rectangle is [−1, 1]² in z = 0)
+                strips = {"left": (ax, p, -p, p), "right": (-p, -ax, -p, p), "top": (-ax, ax, ay, p),
+                      "bottom": (-ax, ax, -p, -ay)}
         for name, (x0, x1, y0, y1) in strips.items():
             out[f"plate_{name}"] = {"type": "rectangle", "bsdf": black, "to_world": base @ T().translate(
                 [(x0 + x1) / 2, (y0 + y1) / 2, h]) @ T().scale([(x1 - x0) / 2, (y1 - y0) / 2, 1.0])}
@@ -145,6 +153,36 @@ class Luminaire:
             out[f"housing_{name}"] = {"type": "rectangle", "bsdf": black, "to_world": base @ T().translate(
                 [shift[0], shift[1], h / 2]) @ T().rotate(axis, 90.0) @ T().scale(scale)}
         return out
+
+
+def rounded_plate_obj(ax: float, ay: float, roundness: float, half: float, z: float, n: int = 512) -> str:
+    """Path of an OBJ file (written once, keyed by its parameters) of the plate [−half, half]² at local depth z
+    with the superellipse hole |x/a_x|^{2/ρ} + |y/a_y|^{2/ρ} = 1: a strip of quads between the hole's contour
+    c(t) = (a_x sgn(cos t)|cos t|^ρ, a_y sgn(sin t)|sin t|^ρ) and the square's o(t) (the ray at polar angle t),
+    t = 2πk/n with n divisible by 8 so that the square's corners are vertices (no gap at the corners)."""
+    import tempfile
+    from pathlib import Path
+
+    if n % 8 or not 0 < roundness <= 2 or not (0 < ax < half and 0 < ay < half):
+        raise ValidateError(f"rounded aperture a=({ax}, {ay}), ρ={roundness}, plate {half}: need 0 < a < plate, "
+                            "0 < ρ ≤ 2")
+    t = 2 * np.pi * np.arange(n) / n
+    c, s = np.cos(t), np.sin(t)
+    inner = np.stack([ax * np.sign(c) * np.abs(c) ** roundness, ay * np.sign(s) * np.abs(s) ** roundness], 1)
+    scale = half / np.maximum(np.abs(c), np.abs(s))
+    outer = np.stack([c * scale, s * scale], 1)
+    key = hashlib.sha256(json.dumps([ax, ay, roundness, half, z, n]).encode()).hexdigest()[:16]
+    path = Path(tempfile.gettempdir()) / "validate_uberlight" / f"plate_{key}.obj"
+    if not path.exists():
+        lines = [f"v {x:.9f} {y:.9f} {z:.9f}" for x, y in np.concatenate([inner, outer])]
+        for k in range(n):
+            k1 = (k + 1) % n
+            lines += [f"f {k + 1} {n + k + 1} {n + k1 + 1}", f"f {k + 1} {n + k1 + 1} {k1 + 1}"]
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(f".{np.random.default_rng().integers(1 << 30)}.tmp")
+        tmp.write_text("\n".join(lines) + "\n")
+        tmp.replace(path)
+    return str(path)
 
 
 @dataclass(frozen=True)
@@ -210,8 +248,10 @@ def projector_scene(width: int, height: int, fov_deg: float = 70.0) -> UberScene
 
 
 def barndoor_scene(width: int, height: int, radius: float, depth: float, aperture: tuple[float, float],
-                   radiance: float) -> UberScene:
+                   radiance: float, aperture_roundness: float = 0.0) -> UberScene:
     """The barn-door luminaire over the bare wall and floor (no sphere: its own penumbra is the
     ``shadows`` experiment's subject; here only the beam's edge is measured)."""
-    lum = Luminaire("barndoor", radius=radius, depth=depth, aperture=aperture, radiance=radiance)
-    return UberScene(lum, Camera(width=width, height=height), False, f"barndoor_r{radius:g}")
+    lum = Luminaire("barndoor", radius=radius, depth=depth, aperture=aperture, radiance=radiance,
+                    aperture_roundness=aperture_roundness)
+    name = f"barndoor_r{radius:g}" + (f"_rounded{aperture_roundness:g}" if aperture_roundness > 0 else "")
+    return UberScene(lum, Camera(width=width, height=height), False, name)
