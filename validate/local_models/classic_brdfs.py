@@ -23,7 +23,8 @@ The shader's light unit
 Models
   * ``lambert``: ρ/π · (n·l).
   * ``phong`` [1, 2, 3]: S = k_d (n·l) + k_s max(0, r·v)^s, r = 2(n·l)n − l, specular only where n·l > 0
-    (Red Book Example 7.x tests the diffuse factor), s = ``phong_exponent``; not energy normalised.
+    (as the Red Book examples do: no specular where the diffuse factor is 0), s = ``phong_exponent``; not
+    energy normalised.
   * ``blinn_phong`` [3, 4]: S = k_d (n·l) + k_s max(0, n·h)^s, h = (l + v)/|l + v|, s = ``exponent``.
   * ``phong_normalized`` — modified Phong [5]: f_r = ρ/π + k_s (s + 2)/(2π) max(0, r·v)^s (the suite's
     ``modphong`` BSDF), s = ``phong_exponent``.
