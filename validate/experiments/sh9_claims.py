@@ -231,6 +231,25 @@ def claims(m: Measurements) -> list[Claim]:
             + bandlimited_claims(m) + reference_claims(m) + all_technique_claims(m))
 
 
+def technique_findings(m: Measurements) -> list[str]:
+    """Per registered technique: its worst environment, and where it beats this experiment's SH9 (the
+    R&H model analysed above, not a registry entry) by more than the reference's uncertainty."""
+    out = []
+    envs = m.environments
+    names = list(dict.fromkeys(t for r in envs.values() for t in r["models"]))
+    for name in names:
+        rows = {e: r["models"][name]["flux_luminance"] for e, r in envs.items() if name in r["models"]}
+        worst_mean = max(rows, key=lambda e: rows[e]["mean"])
+        worst_max = max(rows, key=lambda e: rows[e]["max"])
+        better = [e for e, st in rows.items()
+                  if st["mean"] + st["mean_uncertainty"] < envs[e]["errors"]["flux_luminance"]["mean"]]
+        shown = ", ".join(better[:5]) + (" …" if len(better) > 5 else "")
+        out.append(f"technique {name}: worst flux-normalised error {_pct(rows[worst_mean]['mean'])} mean "
+                   f"({worst_mean}) / {_pct(rows[worst_max]['max'])} max ({worst_max}); lower mean error than SH9 on "
+                   f"{len(better)} of {len(rows)} environments" + (f" ({shown})" if better else "") + ".")
+    return out
+
+
 def findings(m: Measurements) -> list[str]:
     """Sentences with numbers: the paper's probes, strong-sun environments, probes not compared."""
     out: list[str] = []
@@ -254,7 +273,7 @@ def findings(m: Measurements) -> list[str]:
             out.append(f"{name}: SH9 error {_pct(st['mean'])} mean / {_pct(st['max'])} max of Φ — beyond "
                        "the paper's 1 %/5 % (expected for concentrated light: a sun or small bright source), "
                        "still within the 3.07 %/9.375 % directional bound.")
-    return out
+    return out + technique_findings(m)
 
 
 __all__ = ["Measurements", "claims", "findings", "PAPER_MEAN", "PAPER_MAX", "BANDLIMITED_EXACT", "CONVERGENCE",
