@@ -119,3 +119,15 @@ def test_luminance_weights() -> None:
     assert latlong.luminance(np.array([0.0, 1.0, 0.0])) == pytest.approx(0.7152)
     assert latlong.luminance(np.array([0.0, 0.0, 1.0])) == pytest.approx(0.0722)
     assert latlong.luminance(np.full(3, 2.5)) == pytest.approx(2.5)
+
+
+def test_row_sums_and_streamed_flux_equal_the_full_products() -> None:
+    """The streamed helpers (row sums in blocks; Φ = Σ_i Ω_i Σ_j L_ij) equal the full-array forms."""
+    from validate.scenes.environment import Environment
+
+    rad = np.random.default_rng(5).uniform(0, 2, (33, 66, 3)).astype(np.float32)
+    assert np.allclose(latlong.row_sums(rad, block_bytes=1000), rad.astype(np.float64).sum(axis=1), rtol=0,
+                       atol=FLOAT64_TOL * 1e3)
+    assert np.array_equal(latlong.row_solid_angles(33, 66), latlong.texel_solid_angles(33, 66)[:, 0])
+    full = np.einsum("hwc,hw->c", rad.astype(np.float64), latlong.texel_solid_angles(33, 66))
+    assert np.allclose(Environment("r", rad).total_flux(), full, rtol=FLOAT64_TOL, atol=0)
