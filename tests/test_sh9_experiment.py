@@ -246,3 +246,11 @@ def test_technique_power_mirror_or_error_growth(mirrored: float, expect: str) ->
     assert c.id == "sh9.technique.fake.flux_luminance.max" and c.passed
     assert expect in c.power.perturbation and c.power.fails
     assert c.power.measured == pytest.approx(max(mirrored, 0.06))
+
+
+def test_technique_findings_say_where_a_technique_beats_sh9() -> None:
+    envs = {"a": {"errors": _stats(0.02), "models": {"t": _stats(0.01)}},
+            "b": {"errors": _stats(0.01), "models": {"t": _stats(0.03)}}}
+    (sentence,) = sh9_claims.technique_findings(Measurements(sh9_exp.SETTINGS["quick"], envs))
+    assert sentence.startswith("technique t: worst flux-normalised error 3 % mean (b) / 3 % max (b)")
+    assert "lower mean error than SH9 on 1 of 2 environments (a)" in sentence
