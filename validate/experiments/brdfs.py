@@ -51,6 +51,7 @@ def compute(ctx: Context, s: bm.Settings | None = None) -> bm.Measurements:
     bm.vgroove_metrics(m, ctx.seed)
     bm.gouraud_analysis(m, LIGHT_DIR)
     bm.env_analysis(m, mats)
+    bm.plane_analysis(m, mats)
     for mat in mats[:1] + [x for x in mats if x.name.startswith("diffuse")]:
         m.images[mat.name] = bm.sphere_images(m, mat, LIGHT_DIR)
     return m
@@ -64,7 +65,7 @@ def entries(m: bm.Measurements) -> dict[str, Any]:
 def data(m: bm.Measurements) -> dict[str, Any]:
     """The JSON-able numbers (no images)."""
     return {"materials": m.materials, "furnace": m.furnace, "energy_sweep": m.sweep, "cook_torrance_terms": m.terms,
-            "gouraud": m.gouraud,
+            "gouraud": m.gouraud, "plane_highlight_elongation": m.plane.get("elongation", {}),
             "environment": {k: {"reference_noise": v["reference_noise"]} for k, v in m.env.items()},
             "vgroove": {k: {kk: vv for kk, vv in v.items() if kk != "techniques"}
                         for k, v in m.vgroove.get("sigmas", {}).items()}}

@@ -19,6 +19,10 @@ Metrics (luminance Y of the (N, 3) cosine-weighted BRDF q = f_r·cos θ_l; the r
   (Gauss–Legendre in cos θ × uniform φ, the map looked up bilinearly as Mitsuba's envmap does) and Y_Mitsuba the
   path-traced sphere with the material's BSDF (:func:`validate.reference.ibl_render.render`, 4 passes);
   ± = Σ se_Y / Σ Y + |value(n nodes) − value(n/2 nodes)|.
+* ``plane_rel_l1.<material>``: a plane under a point light (height 1 above the origin, unit intensity) seen by an
+  orthographic viewer 70° from the normal, over the 7 × 7 square of the plane centred at (−2.5, 0) (the mirror
+  point is at x = −2.75): Σ|Y − Y_Mitsuba| / Σ Y_Mitsuba of L_o = I/d² · q(l(p), v), Mitsuba's BSDF.eval as the
+  reference (± 10⁻⁵, float32).
 * ``albedo_error.<material>`` (Mitsuba materials) = max over view angles θ_v of |W − W_ref|, where the
   white-furnace albedo W(v) = ∫ q(l, v) dω_l is the radiance seen under a unit white sky; both by the same
   quadrature (:func:`~validate.scenes.brdf_scenes.hemisphere_quadrature`); uncertainty |Δ| between n and n/2.
@@ -112,6 +116,7 @@ class Measurements:
     images: dict[str, Any] = field(default_factory=dict)
     gouraud: dict[str, Any] = field(default_factory=dict)
     env: dict[str, Any] = field(default_factory=dict)
+    plane: dict[str, Any] = field(default_factory=dict)
 
 
 def _normals(n: int) -> np.ndarray:
@@ -462,3 +467,66 @@ def env_analysis(m: Measurements, mats: list[bs.Material]) -> None:
             images[tech.name] = img.reshape(s.env_image, s.env_image, 3)
         out[mat.name] = {"images": images, "reference_noise": noise}
     m.env = out
+
+
+# A plane under a point light (highlight shape)
+PLANE_MATERIAL = "mirror_beckmann_a0.2"
+PLANE_VIEW_DEG = 70.0
+PLANE_HALF = 3.5
+PLANE_CENTRE = 2.5  # the window is centred at x = −2.5 (the mirror point is at x = −tan 70° = −2.75)
+PROFILE_REACH = 40.0  # half-length of the 1-D profiles through the peak (plane units; light height 1)
+PROFILE_SAMPLES = 8001
+
+
+def _plane_geometry(points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(lights (P, 3), views (P, 3), squared distances (P,)) for points on the plane z = 0, light at (0, 0, 1)."""
+    to_light = np.array([0.0, 0.0, 1.0]) - points
+    d2 = np.sum(to_light * to_light, -1)
+    views = np.tile(bs.direction(np.radians(PLANE_VIEW_DEG), np.pi), (len(points), 1))
+    return to_light / np.sqrt(d2)[:, None], views, d2
+
+
+def highlight_elongation(fn: Any, peak: np.ndarray) -> float:
+    """Width at half maximum of the highlight along the view's azimuth (x) over its width across it (y), from 1-D
+    profiles of Y(p) = ``fn(points)`` through ``peak`` (±PROFILE_REACH, PROFILE_SAMPLES samples): 1 = round."""
+    t = np.linspace(-PROFILE_REACH, PROFILE_REACH, PROFILE_SAMPLES)
+    widths = []
+    for axis in (0, 1):
+        pts = np.tile(np.array([peak[0], peak[1], 0.0]), (len(t), 1))
+        pts[:, axis] += t
+        y = fn(pts)
+        widths.append(float(np.sum(y >= 0.5 * y.max()) * (t[1] - t[0])))
+    return widths[0] / widths[1]
+
+
+def plane_analysis(m: Measurements, mats: list[bs.Material]) -> None:
+    """Every technique on a plane under a point light vs Mitsuba's BSDF at the same (l, v): images, rel_l1 and
+    the highlight's elongation (x/y widths at half maximum)."""
+    mat = next((x for x in mats if x.name == PLANE_MATERIAL), None)
+    if mat is None:
+        return
+    size = m.settings.image
+    c = (np.arange(size) + 0.5) / size * 2.0 * PLANE_HALF - PLANE_HALF
+    px, py = np.meshgrid(c - PLANE_CENTRE, -c)
+    p = np.stack([px.ravel(), py.ravel(), np.zeros(px.size)], -1)
+    lights, views, d2 = _plane_geometry(p)
+
+    def shade(f: Any) -> Any:
+        return lambda pts: luminance(f(*_plane_geometry(pts)[:2]) / _plane_geometry(pts)[2][:, None])
+
+    def mitsuba(lt: np.ndarray, vw: np.ndarray) -> np.ndarray:
+        return br.eval_bsdf(mat.bsdf, lt, vw)
+
+    ref = (mitsuba(lights, views) / d2[:, None]).reshape(size, size, 3)
+    out: dict[str, Any] = {"images": {"mitsuba": ref}, "elongation": {}}
+    out["elongation"]["mitsuba"] = highlight_elongation(shade(mitsuba), p[int(np.argmax(luminance(ref)))])
+    for tech in m.techniques:
+        img = (call(tech, mat.params, lights, views) / d2[:, None]).reshape(size, size, 3)
+        e = _err(luminance(img), luminance(ref))
+        m.metrics.setdefault(tech.name, {})[f"plane_rel_l1.{mat.name}"] = _entry(
+            e, FLOAT32_UNCERTAINTY, _err(BIAS * luminance(img), luminance(ref)))
+        out["images"][tech.name] = img
+        if img.max() > 0:
+            fn = shade(lambda lt, vw, t=tech: call(t, mat.params, lt, vw))
+            out["elongation"][tech.name] = highlight_elongation(fn, p[int(np.argmax(luminance(img)))])
+    m.plane = out
