@@ -149,6 +149,8 @@ def test_experiment_claims_pass_and_every_power_check_fails(tmp_path) -> None:
         for v in entries[name]["metrics"].values():
             assert np.isfinite(v["value"]) and np.isfinite(v["uncertainty"])
     assert bc.findings(m)
+    el = m.plane["elongation"]  # Phong's r·v highlight stays round, the microfacet one stretches (Mitsuba: 3.76)
+    assert abs(el["cook_torrance"] / el["mitsuba"] - 1.0) < 0.02 and el["phong"] < 0.6 * el["mitsuba"]
 
 
 def test_icosphere_counts_and_radius() -> None:
