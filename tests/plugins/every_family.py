@@ -82,7 +82,28 @@ def plugin_point_linear(light: Mapping[str, Any], points: np.ndarray, normals: n
     return e
 
 
+@family("brdf").register("plugin_wrap_lambert", "a user's wrap lighting ρ/π · max(0, (n·l + 0.2)/1.2)")
+def plugin_wrap_lambert(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray,
+                        views: np.ndarray) -> np.ndarray:
+    rho = np.asarray(params.get("albedo", 0.0), dtype=np.float64) * np.ones(3)
+    c = np.sum(normals * lights, axis=1)
+    cv = np.sum(normals * views, axis=1)
+    out = rho / np.pi * np.maximum((c + 0.2) / 1.2, 0.0)[:, None]
+    return np.where((cv > 0)[:, None], out, 0.0)
+
+
+@family("uberlight").register("plugin_uberlight_half_power", "a user's überlight with 1/d falloff instead of 1/d²")
+def plugin_uberlight_half_power(light: Mapping[str, Any], points: np.ndarray, normals: np.ndarray,
+                                views: np.ndarray, material: Mapping[str, Any],
+                                shadow: np.ndarray | None = None) -> np.ndarray:
+    from validate.local_models import uberlight as ub
+
+    d = np.linalg.norm(np.asarray(points, dtype=np.float64) - np.asarray(light["position"], dtype=np.float64), axis=1)
+    return ub.shade(light, points, normals, views, material, shadow, 1.0 / d)
+
+
 PLUGIN_TECHNIQUES = {"irradiance": "plugin_sh2_numpy", "specular": "plugin_ambient_specular",
                      "arealight": "plugin_point_shortcut", "shadow": "plugin_no_shadow",
-                     "light": "plugin_point_linear"}
+                     "light": "plugin_point_linear", "brdf": "plugin_wrap_lambert",
+                     "uberlight": "plugin_uberlight_half_power"}
 assert set(PLUGIN_TECHNIQUES) <= set(FAMILIES)
