@@ -40,6 +40,7 @@ from ..errors import ValidateError
 from ..local_models import arealight
 from ..local_models.registry import Technique
 from . import arealights_compute as ac
+from . import arealights_specular as asp
 from .arealights_report import sections
 from .base import Claim, Context, ExperimentResult, register_experiment
 from .techniques import CheckResult, Measured, Stat, technique_claims, technique_entry
@@ -93,7 +94,8 @@ def compute(ctx: Context) -> dict[str, Any]:
             "decide": {k: ac.decide_alpha(a, s, (seed + 7 + i) % 2048)
                        for i, (k, a) in enumerate((("inside", ALPHA_INSIDE), ("outside", ALPHA_OUTSIDE)))},
             "sh_vs_elevation": ac.elevation_sweep(s, (5.0, ALPHA20)),
-            "point_lights": ac.distance_sweep(s, th, POINT_THRESHOLD)}
+            "point_lights": ac.distance_sweep(s, th, POINT_THRESHOLD),
+            "specular": asp.compute(asp.SPECULAR["quick" if ctx.quick else "full"])}
 
 
 def measure_techniques(scenes: dict, checks: dict, thetas: np.ndarray,
@@ -141,7 +143,7 @@ def alpha_range(s: dict, thetas: np.ndarray) -> dict[str, Any]:
 
 # -- claims ------------------------------------------------------------------------------------------
 def claims(m: dict[str, Any]) -> list[Claim]:
-    return [*_reference_claims(m), *_range_claims(m), *_technique_claims(m)]
+    return [*_reference_claims(m), *_range_claims(m), *_technique_claims(m), *asp.claims(m["specular"])]
 
 
 def _reference_claims(m: dict[str, Any]) -> list[Claim]:
@@ -246,7 +248,7 @@ def findings(m: dict[str, Any]) -> list[str]:
                     "validated, so the judgements below that rest on it are void until this is resolved.")
     f.append(_range_finding(m))
     f += _sweep_findings(m)
-    return f
+    return f + asp.findings(m["specular"])
 
 
 def _reference_finding(c: dict[str, Any]) -> str:
@@ -305,6 +307,7 @@ def run(ctx: Context) -> ExperimentResult:
                                                  for k, v in technique_measured(m["techniques"][tech.name]).items()},
                                           scenes=m["techniques"][tech.name])
                for tech in arealight if m["techniques"].get(tech.name)}
+    entries.update(asp.entries(m["specular"]))
     return ExperimentResult(
         name=NAME, title="Disc and sphere lights vs Mitsuba",
         summary=("Every registered area-light technique — zonal SH of order 2, 4 and 8, the inverse-square and "

@@ -9,6 +9,7 @@ import numpy as np
 from ..metrics.irradiance_error import WORST_CASE_MAX
 from ..report import plots
 from . import arealights_compute as ac
+from . import arealights_specular as asp
 from .base import Context, Figure, Section, Table
 
 NAME = "arealights"
@@ -24,7 +25,8 @@ def _pm(v: float, u: float) -> str:
 
 
 def sections(m: dict[str, Any], ctx: Context) -> list[Section]:
-    return [_reference_section(m, ctx), _technique_section(m), _alpha_section(m, ctx), _distance_section(m, ctx)]
+    return [_reference_section(m, ctx), _technique_section(m), _alpha_section(m, ctx), _distance_section(m, ctx),
+            asp.section(m["specular"], ctx)]
 
 
 def _reference_section(m: dict[str, Any], ctx: Context) -> Section:
