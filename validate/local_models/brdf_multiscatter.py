@@ -29,7 +29,8 @@ metalness pair reads ``metalness`` (default 1) and ``base_color`` (default F₀ 
 
 E, A, B are tabulated per (distribution, α) on 64 Gauss–Legendre nodes in μ (linear interpolation between
 them), each by a 64 × 128 quadrature over the half vector, distributed by D(h)(n·h) (the GGX/Beckmann CDF
-inverted in closed form, Gauss–Legendre in the CDF variable × uniform φ): accurate to ~10⁻⁴ for α ≥ 0.02.
+inverted in closed form, Gauss–Legendre in the CDF variable × uniform φ): accurate to ~10⁻⁴ for α ≥ 0.02 (the
+rule follows the lobe, so smaller α stay accurate at grazing μ only as far as 64 μ nodes resolve E(μ)).
 
 References
   [1] C. Kulla, A. Conty, "Revisiting physically based shading at Imageworks", SIGGRAPH 2017 course
@@ -124,9 +125,8 @@ def tables(distribution: str, alpha: float) -> Tables:
 def _alpha_dist(params: Mapping[str, Any], who: str) -> tuple[float, str]:
     a = np.asarray(params.get("alpha", 0.3), dtype=np.float64)
     d = str(params.get("distribution", "beckmann")).lower()
-    if a.ndim != 0 or not 0.02 <= float(a) <= 1.0:
-        raise ValidateError(f"technique '{who}' (brdf): alpha={a.tolist()!r} must be a scalar in [0.02, 1] "
-                            "(the compensation tables' range)")
+    if a.ndim != 0 or not float(a) >= 1e-4:
+        raise ValidateError(f"technique '{who}' (brdf): alpha={a.tolist()!r} must be a scalar ≥ 1e-4")
     if d not in ("ggx", "beckmann"):
         raise ValidateError(f"technique '{who}' (brdf): distribution={d!r}; expected 'ggx' or 'beckmann'")
     return round(float(a), 6), d
