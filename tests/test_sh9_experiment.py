@@ -254,3 +254,15 @@ def test_technique_findings_say_where_a_technique_beats_sh9() -> None:
     (sentence,) = sh9_claims.technique_findings(Measurements(sh9_exp.SETTINGS["quick"], envs))
     assert sentence.startswith("technique t: worst flux-normalised error 3 % mean (b) / 3 % max (b)")
     assert "lower mean error than SH9 on 1 of 2 environments (a)" in sentence
+
+
+def test_thresholds_on_other_experiments_metrics_are_findings_not_errors() -> None:
+    irradiance.add("test_foreign", sh.sh9, thresholds={"flux_luminance.max": 0.5, "peak_map.max": 0.01})
+    try:
+        m = Measurements(sh9_exp.SETTINGS["quick"], {"a": {"errors": _stats(0.01), "models": {"test_foreign": _stats(
+            0.01)}, "models_mirrored": {"test_foreign": _stats(0.1)}}})
+        ids = [c.id for c in sh9_claims.all_technique_claims(m) if ".test_foreign." in c.id]
+        assert ids == ["sh9.technique.test_foreign.flux_luminance.max"]
+        assert any("test_foreign: thresholds on peak_map.max" in f for f in sh9_claims.foreign_thresholds())
+    finally:
+        irradiance.unregister("test_foreign")

@@ -7,7 +7,7 @@ cite the paper, the theorem or the measured margin; thresholds are named constan
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 from ..local_models import irradiance as irradiance_family
@@ -222,8 +222,25 @@ def all_technique_claims(m: Measurements) -> list[Claim]:
         if not envs:
             continue
         scope = f"worst over {len(envs)} environment{'s' if len(envs) > 1 else ''}"
-        claims += technique_claims("sh9", tech, technique_measured(m, tech.name, envs), scope=scope)
+        measured = technique_measured(m, tech.name, envs)
+        # thresholds on other experiments' metrics (e.g. ibl's) are judged there; see foreign_thresholds
+        own = replace(tech, thresholds={k: v for k, v in tech.thresholds.items() if k in measured})
+        claims += technique_claims("sh9", own, measured, scope=scope)
     return claims
+
+
+def foreign_thresholds() -> list[str]:
+    """Findings: declared thresholds on metrics this experiment does not measure (another experiment's,
+    or a misspelt name), so that none goes unmentioned."""
+    ours = {f"{metric}.{stat}" for metric in METRIC_NAMES for stat in STATS}
+    out = []
+    for tech in irradiance_family:
+        other = sorted(set(tech.thresholds) - ours)
+        if other:
+            out.append(f"technique {tech.name}: thresholds on {', '.join(other)} are not sh9 metrics (sh9 measures "
+                       "<flux_luminance|flux_rgb|relative|peak>.<mean|max|rms>); judged by the experiment that "
+                       "measures them, if any.")
+    return out
 
 
 def claims(m: Measurements) -> list[Claim]:
@@ -273,7 +290,7 @@ def findings(m: Measurements) -> list[str]:
             out.append(f"{name}: SH9 error {_pct(st['mean'])} mean / {_pct(st['max'])} max of Φ — beyond "
                        "the paper's 1 %/5 % (expected for concentrated light: a sun or small bright source), "
                        "still within the 3.07 %/9.375 % directional bound.")
-    return out + technique_findings(m)
+    return out + technique_findings(m) + foreign_thresholds()
 
 
 __all__ = ["Measurements", "claims", "findings", "PAPER_MEAN", "PAPER_MAX", "BANDLIMITED_EXACT", "CONVERGENCE",
