@@ -158,9 +158,12 @@ def read_image(path: Path) -> np.ndarray:
         bmp = mi.Bitmap(str(path))
         channels = bmp.channel_count()
         fmt = mi.Bitmap.PixelFormat.Y if channels == 1 else mi.Bitmap.PixelFormat.RGB
-        conv = bmp.convert(fmt, mi.Struct.Type.Float32, srgb_gamma=False)
+        if bmp.pixel_format() == fmt and bmp.component_format() == mi.Struct.Type.Float32:
+            conv = bmp  # already float32 RGB (or Y): no converted copy of a large map
+        else:
+            conv = bmp.convert(fmt, mi.Struct.Type.Float32, srgb_gamma=False)
         del bmp  # the file's own pixels are no longer needed
-        arr = np.asarray(conv)  # a view: no third copy of a large map
+        arr = np.asarray(conv)  # a view: no third copy
         if channels == 1:
             arr = np.repeat(arr.reshape(arr.shape[0], arr.shape[1], 1), 3, axis=2)
     except ValidateError:
