@@ -55,9 +55,10 @@ examples/``).
     ``r[env].<metric>`` one environment; ``r.environments[env][metric]`` the same as a dict;
     ``repr(r)`` lists every value ± uncertainty (pytest shows it when an assert fails).
 
-``check_specular``, ``check_arealight``, ``check_shadow``
-    The same for the ``specular``, ``arealight`` and ``shadow`` families; they are implemented by their
-    experiments (:mod:`validate.experiments.ibl`, ``.arealights``, ``.shadows``) and documented there.
+``check_specular``, ``check_arealight``, ``check_shadow``, ``check_brdf``, ``check_uberlight``
+    The same for the ``specular``, ``arealight``, ``shadow``, ``brdf`` and ``uberlight`` families; they are
+    implemented by their experiments (:mod:`validate.experiments.ibl`, ``.arealights``, ``.shadows``,
+    ``.brdfs``, ``.uberlight``) and documented there.
     Where this version has none, calling one raises ``NotImplementedError``.
 """
 
@@ -193,6 +194,9 @@ def _lazy(family: str, module: str, function: str) -> Callable[..., Any]:
 check_specular = _lazy("specular", "ibl", "check_specular")
 check_arealight = _lazy("arealight", "arealights", "check_arealight")
 check_shadow = _lazy("shadow", "shadows", "check_shadow")
+check_brdf = _lazy("brdf", "brdfs", "check_brdf")
+check_uberlight = _lazy("uberlight", "uberlight", "check_uberlight")
 
-__all__ = ["CheckResult", "MissingProbe", "Stat", "check_arealight", "check_irradiance", "check_shadow",
+__all__ = ["CheckResult", "MissingProbe", "Stat", "check_arealight", "check_brdf", "check_irradiance", "check_shadow",
+           "check_uberlight",
            "check_specular", "find_probe", "load_named_environment", "probe_dirs"]
