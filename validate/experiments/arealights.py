@@ -14,6 +14,10 @@ attenuation, the exact cap; plug-ins alike) is called through the family on ever
 supports (meta ``shapes``): a row in the technique table, a curve in the α and d/r sweeps, an entry
 ``techniques[<name>]`` with every metric ± uncertainty, and a claim per declared threshold.
 
+Specular part (:mod:`.arealights_specular`): every ``specular_arealight`` technique (LTC, Karis's representative
+point, plug-ins) against Mitsuba's GGX ``roughconductor`` integrated over rectangle, disc and sphere emitters
+(:mod:`validate.reference.area_specular_render`), by roughness and light size.
+
 Error normalisations (unit radiance; :mod:`.arealights_compute`): ``flux`` = |E′ − E| / Φ with Φ =
 2π(1 − cos σ) the cap's flux (R&H's normalisation); ``peak`` = |E′ − E| / E(0); ``mitsuba_flux`` the same
 against the meter. The 5 % statement ([1] eqs. 20.29–20.31, worked at α = 20°; 5 % the level [2] reports for

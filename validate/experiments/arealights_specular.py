@@ -245,9 +245,12 @@ def findings(m: dict[str, Any]) -> list[str]:
             by_a = ", ".join(f"α = {a:g}: {100 * d[f'rel_err.{shape}.a{a:g}']['value']:.2f} %" for a in s["alphas"])
             by_s = ", ".join(f"σ = {x:g}°: {100 * d[f'rel_err.{shape}.s{x:g}']['value']:.2f} %"
                              for x in s["sigmas_deg"])
+            rows = [r for r in m["rows"] if r["shape"] == shape and t in r["techniques"]]
+            bias = sum(r["techniques"][t] - r["ref"] for r in rows) / sum(r["ref"] for r in rows)
             out.append(f"{t} under a {shape} light vs Mitsuba roughconductor (GGX, F = 1): Σ|ΔL|/ΣL = "
                        f"{100 * d[f'rel_err.{shape}']['value']:.2f} ± {100 * d[f'rel_err.{shape}']['uncertainty']:.2f} "
-                       f"% over {len(CONFIGS)} configurations; by roughness {by_a}; by size {by_s}.")
+                       f"% over {len(CONFIGS)} configurations × {len(s['alphas'])} α × {len(s['sigmas_deg'])} σ "
+                       f"(signed Σ ΔL/ΣL = {100 * bias:+.1f} %); by roughness {by_a}; by size {by_s}.")
     t = load_table()
     out.append(f"LTC table ({t.size}×{t.size}, fitted by scripts/fit_ltc.py): fit error ∫|E·D − f cos|/E mean "
                f"{t.l1_error.mean():.3f}, median {np.median(t.l1_error):.3f}, max {t.l1_error.max():.3f} (at grazing "
