@@ -53,7 +53,8 @@ def test_bad_alpha_is_one_line_error():
 
 
 def test_experiment_claims_pass_and_power_fails(tmp_path):
-    s = ms.Settings(alphas=(0.5, 1.0), mus=(0.3, 1.0), metalness=(0.0, 0.5, 1.0), nodes=64)
+    s = ms.Settings(alphas=(0.5, 1.0), mus=(0.3, 1.0), metalness=(0.0, 0.5, 1.0), nodes=64, walkers=50_000,
+                    walk_alphas=(0.6, 1.0))
     ctx = Context(out_dir=tmp_path, quick=True, show_progress=False)
     m = ms.compute(ctx, s)
     claims = {c.id: c for c in ms.claims(m)}
@@ -63,3 +64,15 @@ def test_experiment_claims_pass_and_power_fails(tmp_path):
     bug = claims["multiscatter.regression.ggx_metalness_blended_f0_bug.furnace_error.metalness"]
     assert bug.passed and bug.measured > 0.2 and bug.power.fails
     assert ms.metrics(m, "cook_torrance")["furnace_error.f0_1"]["value"] > 0.6
+    for cid in ("multiscatter.walk.single_scatter", "multiscatter.walk.furnace"):
+        assert claims[cid].passed and claims[cid].power.fails, claims[cid]
+
+
+def test_random_walk_reference():
+    """Heitz et al. 2016's walk: energy 1 at F = 1, first bounce = the height-correlated albedo, and more light than
+    single scattering at F₀ < 1."""
+    from validate.reference import microsurface_walk as mw
+    r = mw.walk(0.8, 0.6, (1.0, 0.5), 60_000, 3)
+    assert abs(r.albedo[0] - 1.0) < 1e-12 and r.truncated == 0.0
+    assert abs(r.single[0] - ms.e_correlated(0.8, 0.6)) < 4 * r.single_se[0]
+    assert r.albedo[1] > r.single[1] + 0.02
