@@ -296,9 +296,13 @@ def sections(m: Measurements, ctx: Context) -> list[Section]:
     j = s.mus.index(0.5) if 0.5 in s.mus else 0
     series = {t.name: [r[j] for r in m.w[t.name]["f0_1"]["value"]] for t in m.techniques
               if t.name == "cook_torrance" or t.meta.get("compensation")}
+    if 0.5 in s.metalness:
+        k = s.metalness.index(0.5)
+        series.update({f"{t.name} (metalness 0.5)": [r[j] for r in m.w[t.name]["metal"]["value"][k]]
+                       for t in m.techniques if "metal" in m.w[t.name]})
     p, rel = ctx.figure_path(NAME, "furnace_vs_alpha.png")
     plots.save_line_plot(p, list(s.alphas), series, xlabel="GGX α", ylabel=f"W at μ_v = {s.mus[j]:g}",
-                         title="White furnace, F = 1", hlines={"target": 1.0})
+                         title="White furnace (F = 1; base colour 1)", hlines={"target": 1.0})
     pub = Table(["roughness", "α", "NoV", "three.js 33983", "this table"],
                 [[q["roughness"], q["alpha"], q["nov"], q["published"], f"{q['table']:.4f}"] for q in m.published],
                 "Single-scattering GGX albedo E(μ) (F = 1) against three.js PR 33983's published furnace column.")
