@@ -268,7 +268,9 @@ def _unit(x: np.ndarray) -> np.ndarray:
 
 
 def _perp(n: np.ndarray) -> np.ndarray:
-    a = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    """A unit vector perpendicular to each n ((3,) or (N, 3))."""
+    n = np.asarray(n, dtype=np.float64)
+    a = np.where(np.abs(n[..., :1]) < 0.9, np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]))
     return _unit(np.cross(n, a))
 
 
@@ -298,7 +300,7 @@ def light_polygon(light: Mapping[str, Any], points: np.ndarray, who: str) -> np.
                 raise ValidateError(f"technique '{who}' (specular_arealight): a receiver lies inside the sphere light")
             nrm = to_p / d
             scale = scale * d / np.sqrt(d * d - r * r)  # the disc subtending the sphere's cone
-        t = np.stack([_perp(x) for x in nrm]) if shape == "sphere" else np.broadcast_to(_perp(nrm[0]), (n_pts, 3))
+        t = _perp(nrm)
         b = np.cross(nrm, t)
         sc = np.asarray(scale, dtype=np.float64).reshape(-1, 1, 1) if np.ndim(scale) else scale
         return c + sc * (np.cos(ang)[None, :, None] * t[:, None, :] + np.sin(ang)[None, :, None] * b[:, None, :])
@@ -341,7 +343,7 @@ def local_frames(normals: np.ndarray, views: np.ndarray) -> tuple[np.ndarray, np
     mu = np.sum(n * v, -1)
     x = v - mu[:, None] * n
     xn = np.linalg.norm(x, axis=-1, keepdims=True)
-    fallback = np.stack([_perp(a) for a in n]) if np.any(xn < 1e-9) else x
+    fallback = _perp(n)
     x = np.where(xn > 1e-9, x / np.maximum(xn, 1e-300), fallback)
     return np.stack([x, np.cross(n, x), n], axis=1), mu
 
