@@ -54,13 +54,16 @@ def _on_signal(signum: int, frame: object) -> None:
     raise Interrupted(signum)
 
 
-def _install_signal_handlers() -> None:
-    """SIGTERM behaves like SIGINT: unwind (the staging folder is removed), exit with one line."""
+def _install_signal_handlers() -> dict[int, object]:
+    """SIGTERM behaves like SIGINT: unwind (the staging folder is removed), exit with one line.
+    Returns the previous handlers (``main`` restores them: it may be called as a library function)."""
     import threading
 
+    previous: dict[int, object] = {}
     if threading.current_thread() is threading.main_thread():
         for sig in (signal.SIGINT, signal.SIGTERM):
-            signal.signal(sig, _on_signal)
+            previous[sig] = signal.signal(sig, _on_signal)
+    return previous
 
 
 @contextlib.contextmanager
@@ -303,7 +306,7 @@ def _commit(out: Path, staging: Path, done: dict, results: dict) -> Path:
 def main(argv: list[str] | None = None) -> int:
     parser = _parser()
     args = parser.parse_args(argv)
-    _install_signal_handlers()
+    previous_handlers = _install_signal_handlers()
     try:
         if args.command is None:
             parser.print_help()
@@ -332,4 +335,7 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:  # SIGINT before the handlers were installed
         print("validate: interrupted; the previous report is untouched", file=sys.stderr)
         return 130
+    finally:
+        for sig, handler in previous_handlers.items():
+            signal.signal(sig, handler)  # type: ignore[arg-type]
     return 0
