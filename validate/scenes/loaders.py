@@ -43,9 +43,11 @@ from .environment import Environment
 EXTENSIONS = (".exr", ".hdr", ".pic", ".pfm")
 LAYOUTS = ("auto", "latlong", "angular", "cross")
 MIN_TEXELS_PER_PI = 16  # 2 × the highest SH degree the suite projects (l = 8); see the module docstring
-# Peak memory of a run per byte of the float32 RGB lat-long map, measured by `validate bench` (child
-# processes, peak RSS of the reference + SH9 of a 4096×8192 and an 8192×16384 map, including the load):
-# see .notes/scale-closing.md. Plus the fixed runtime (Python, Mitsuba, drjit, LLVM) below.
+# Peak memory of a run per byte of the float32 RGB lat-long map. Measured (`run sh9 --quick --probe`,
+# peak RSS, 1k → 8k maps): 1.02 GiB with a 24 MiB map, 1.52 GiB with 384 MiB, 4.97 GiB with 1.5 GiB —
+# about 2.6× the map beyond a 1 GiB runtime (the reference and SH9 alone: 1.2×, `validate bench`; the
+# rest is other techniques' full-size temporaries). 4× leaves room for experiments that build Mitsuba
+# envmaps of the map (a bitmap copy plus its texture and sampling tables).
 MAP_MEMORY_MULTIPLE = 4.0
 RUNTIME_BYTES = 1 << 30
 
