@@ -342,3 +342,15 @@ def test_bench_child_records_and_report_tables(monkeypatch: pytest.MonkeyPatch) 
 
     assert np.allclose(bench.plain_reduction(rad) * sh.eval_basis_numpy(np.array([0.0, 0.0, 1.0]), 0)[0],
                        sh.project_environment(rad, 0)[0], rtol=1e-6)
+
+
+def test_map_refuses_work_that_cannot_be_shipped(tmp_path: Path) -> None:
+    import threading
+
+    ctx = Context(out_dir=tmp_path, workers=2, show_progress=False)
+    try:
+        lock = threading.Lock()  # not picklable
+        with pytest.raises(ValidateError, match="cannot ship"):
+            ctx.map(lambda x: (lock, x), [SimpleNamespace(name="a")], "unpicklable")
+    finally:
+        ctx.close()

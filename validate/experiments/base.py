@@ -202,8 +202,15 @@ class Context:
         from dask.distributed import as_completed
 
         client = self.client()
-        [fn_future] = client.scatter([fn], broadcast=True, hash=False)
-        item_futures = client.scatter(items, hash=False)
+        try:
+            [fn_future] = client.scatter([fn], broadcast=True, hash=False)
+            item_futures = client.scatter(items, hash=False)
+        except Exception as exc:  # e.g. an item or closure that cannot be pickled
+            from ..errors import ValidateError
+
+            why = (str(exc).strip().splitlines() or [""])[0][:200]
+            raise ValidateError(f"task {desc!r}: cannot ship the work to Dask workers "
+                                f"({type(exc).__name__}: {why})") from None
         futures = [client.submit(Context._run_task, fn_future, it, self.worker_setup, pure=False)
                    for it in item_futures]
         index = {f.key: k for k, f in enumerate(futures)}
