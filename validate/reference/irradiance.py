@@ -57,6 +57,9 @@ from .mitsuba_eval import eval_emitter
 DEFAULT_CELLS = 64  # H_c of the coarse grid (the reference uses 2·H_c): converges to < 2e-4 of peak here
 REFINE_FRACTION = 1e-3
 MAX_REFINED_NODES = 1 << 14  # enough for a sun or a small disc (a few cells); bounds the cost
+# The texel path's cells hold many more patches (8192 rows: 64×64 per fine cell, × 4 sub-nodes): a 1°
+# sun spans up to 4 fine cells, which 2¹⁶ nodes cover (2¹⁴ covered one: convergence 0.053 % at 8k).
+MAX_REFINED_NODES_TEXEL = 1 << 16
 TEXEL_PATH_MAX_SMALL = 512  # maps with more rows take the streamed texel path (all built-ins have ≤ 512)
 BLOCK_BYTES = 32 << 20  # texel-path row blocks: ~32 MiB of float64 patch data at a time
 # Mitsuba evaluates in float32 (see tests/test_latlong.py: measured 1.8e-6 of the values on random
@@ -259,13 +262,13 @@ def _texel_refine(rad: np.ndarray, flux: np.ndarray, mom: np.ndarray, lum: np.nd
                   centre: np.ndarray, index: tuple[np.ndarray, np.ndarray], sub: int) -> Nodes:
     """Cell nodes (Φ_c, ω_c) of one grid; cells above REFINE_FRACTION of the luminance flux keep their
     patches individually, each split into sub × sub exact sub-patches (brightest cells first, within
-    MAX_REFINED_NODES nodes). The coarse grid uses sub = 1, the fine grid sub = 2, so the doubling
+    MAX_REFINED_NODES_TEXEL nodes). The coarse grid uses sub = 1, the fine grid sub = 2, so the doubling
     change also measures the node resolution inside a sun, as g → g + 1 does on the Gauss path."""
     wc = lum.shape[1]
     norm = np.linalg.norm(mom, axis=-1, keepdims=True)
     cen = np.where(norm > 0, mom / np.where(norm > 0, norm, 1.0), centre)
     keep = count > 0
-    total, budget = lum.sum(), MAX_REFINED_NODES
+    total, budget = lum.sum(), MAX_REFINED_NODES_TEXEL
     extra: list[Nodes] = []
     if total > 0:
         for c_idx in np.argsort(lum.ravel())[::-1]:
