@@ -84,3 +84,16 @@ def test_reference_tends_to_the_albedo_under_a_huge_light():
     ref, _ = asr.reference(light, 0.5, np.zeros((1, 3)), np.array([[0.0, 1, 0]]), v, 128)
     t = tables("ggx", 0.5)
     assert abs(ref[0] - t.lookup(t.e, np.array([np.cos(0.5)]))[0]) < 5e-3
+
+
+def test_specular_claims_pass_and_powers_fail():
+    m = asp.compute({"alphas": [0.1, 0.6], "sigmas_deg": [15.0], "nodes": 32})
+    claims = asp.claims(m)
+    assert {c.id for c in claims} >= {"arealights.specular.ltc_polygon_exact",
+                                      "arealights.specular.ltc.bound_ratio.rectangle",
+                                      "arealights.specular.representative_point.normalisation"}
+    for c in claims:
+        assert c.passed and c.power is not None and c.power.fails, c
+    d = asp.technique_metrics(m, "ltc")
+    assert d["rel_err.rectangle"]["value"] < 0.05 and asp.technique_metrics(m, "representative_point")[
+        "rel_err.sphere"]["value"] > 0.1
