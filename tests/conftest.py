@@ -53,7 +53,7 @@ def backend(isolated_cache: Path | None) -> Backend:
 def _existing_dir(path: Path, what: str, var: str) -> Path:
     if not path.is_dir():
         pytest.skip(f"{what} not found at {path}: set {var}")
-    return path
+    return path.resolve()  # absolute: tests also hand it to subprocesses that run in other folders
 
 
 @pytest.fixture(scope="session")

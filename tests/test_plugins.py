@@ -20,7 +20,7 @@ from validate.local_models.registry import define_family
 
 ROOT = Path(__file__).resolve().parents[1]
 PLUGINS = Path(__file__).parent / "plugins"
-PROBES = Path(os.environ.get("VALIDATE_PROBES", ROOT.parent / "shared" / "probes"))
+PROBES = Path(os.environ.get("VALIDATE_PROBES") or ROOT.parent / "shared" / "probes").resolve()
 
 
 # -- the registry ---------------------------------------------------------------------------------------
