@@ -21,6 +21,7 @@ Pipeline: :func:`compute` → :func:`.brdfs_claims.claims` / :func:`.brdfs_claim
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -45,7 +46,10 @@ def compute(ctx: Context, s: bm.Settings | None = None) -> bm.Measurements:
     m = bm.Measurements(s, list(family("brdf")))
     mats = bm.materials(s)
     m.materials = [x.name for x in mats]
-    ctx.map(lambda mat: (bm.grid_metrics(m, mat), bm.furnace_metrics(m, mat)), mats, "brdfs: Mitsuba materials")
+    for metrics, furnace in ctx.map(partial(_material_metrics, s, m.techniques), mats, "brdfs: Mitsuba materials"):
+        for name, values in metrics.items():  # tasks return their numbers (they may run on Dask workers)
+            m.metrics.setdefault(name, {}).update(values)
+        m.furnace.update(furnace)
     bm.term_analysis(m, mats)
     bm.energy_sweep(m)
     bm.vgroove_metrics(m, ctx.seed)
@@ -55,6 +59,14 @@ def compute(ctx: Context, s: bm.Settings | None = None) -> bm.Measurements:
     for mat in mats[:1] + [x for x in mats if x.name.startswith("diffuse")]:
         m.images[mat.name] = bm.sphere_images(m, mat, LIGHT_DIR)
     return m
+
+
+def _material_metrics(s: bm.Settings, techniques: list[Technique], mat: Any) -> tuple[dict, dict]:
+    """One material's grid and furnace metrics of every technique (a task: returns, never mutates)."""
+    scratch = bm.Measurements(s, techniques)
+    bm.grid_metrics(scratch, mat)
+    bm.furnace_metrics(scratch, mat)
+    return scratch.metrics, scratch.furnace
 
 
 def entries(m: bm.Measurements) -> dict[str, Any]:
