@@ -354,3 +354,30 @@ def test_map_refuses_work_that_cannot_be_shipped(tmp_path: Path) -> None:
             ctx.map(lambda x: (lock, x), [SimpleNamespace(name="a")], "unpicklable")
     finally:
         ctx.close()
+
+
+def test_map_on_an_existing_scheduler_leaves_the_cluster_running(tmp_path: Path) -> None:
+    """``--scheduler ADDRESS``: tasks run on an existing cluster; closing the context only disconnects."""
+    import logging
+
+    from dask.distributed import Client, LocalCluster
+
+    cluster = LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None,
+                           silence_logs=logging.CRITICAL)
+    try:
+        ctx = Context(out_dir=tmp_path, scheduler=cluster.scheduler_address, show_progress=False)
+        assert ctx.distributed
+        assert ctx.map(_square_or_fail, [SimpleNamespace(name="e", value=3.0)], "remote") == [9.0]
+        ctx.close()
+        with Client(cluster.scheduler_address) as probe:  # still there
+            assert probe.submit(abs, -2).result() == 2
+    finally:
+        cluster.close()
+
+
+@pytest.mark.slow
+def test_unreachable_scheduler_is_a_one_line_error(tmp_path: Path) -> None:
+    """Slow only because the client retries for its 20 s connection timeout."""
+    bad = Context(out_dir=tmp_path, scheduler="tcp://127.0.0.1:9", show_progress=False)
+    with pytest.raises(ValidateError, match="cannot connect"):
+        bad.client()
