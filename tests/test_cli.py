@@ -112,15 +112,13 @@ def test_plugin_model_gets_a_row(tmp_path: Path) -> None:
         "def model(radiance, normals):\n"
         "    return 2.0 * sh.render_irradiance(sh.project_environment(radiance, 2), normals)\n")
     from validate.cli import load_plugin
-    from validate.experiments import Context
-    from validate.experiments.sh9 import _settings, analyse_environment
+    from validate.experiments.sh9 import SETTINGS, analyse_environment
     from validate.local_models import irradiance
     from validate.scenes import procedural
 
     load_plugin(str(plugin))
     try:
-        ctx = Context(out_dir=tmp_path / "o", quick=True, show_progress=False)
-        r = analyse_environment(procedural.two_tone(64), ctx, _settings(True), {})
+        r = analyse_environment(procedural.two_tone(64), SETTINGS["quick"], {}, {})
         assert "my_sh2_doubled" in r["models"]
         # doubling E gives an error of E/Φ, about 1/4 of the flux at the brightest normal
         assert r["models"]["my_sh2_doubled"]["flux_luminance"]["max"] > 0.2

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 from scipy.stats import norm
 
-from validate.errors import ValidateError
 from validate import stats
+from validate.errors import ValidateError
 
 FLOAT64_TOL = 1e-12  # closed forms evaluated in float64
 # t → z vs the closed-form cdfs over |t| ≤ 20: scipy's t tail and the oracle's atan/sqrt differ by a few

@@ -68,18 +68,11 @@ def compute(ctx: Context) -> Measurements:
                         list(skipped))
 
 
-def analyse_environment(env: Any, settings: Settings | Context, published: dict | Settings | None = None,
+def analyse_environment(env: Any, settings: Settings, published: dict | None = None,
                         aliases: dict | None = None) -> dict:
-    """:func:`.sh9_compute.analyse_environment`; also accepts the old call ``(env, ctx, settings, published)``
-    (tests/test_cli.py) until its callers move to ``(env, settings, published, aliases)``."""
-    if isinstance(settings, Context):
-        settings, published = published, aliases  # type: ignore[assignment]
+    """:func:`.sh9_compute.analyse_environment` with the published table and aliases defaulted to none / the
+    shipped aliases."""
     return _analyse(env, settings, published or {}, read_aliases() if aliases is None else aliases)
-
-
-def _settings(quick: bool) -> Settings:
-    """The settings of a quick or full run (old name, kept for tests/test_cli.py)."""
-    return SETTINGS["quick" if quick else "full"]
 
 
 def technique_entries(m: Measurements) -> dict[str, Any]:
