@@ -80,14 +80,19 @@ def _signals_deferred() -> Iterator[list[int]]:
 EPILOG = """examples:
   python -m validate list
   python -m validate all --probes ../shared/probes     # full report in reports/index.html
-  python -m validate all --quick                       # < 1 min, built-in environments only
+  python -m validate all --quick                       # coarse settings, the paper's probes only
+  python -m validate all --quick --workers 2           # the same on a local Dask cluster
   python -m validate run sh9 --probe my_probe.exr      # one experiment, one extra probe
-  python -m validate run sh9 --plugin my_model.py      # compare your own approximation
+  python -m validate all --plugin my_technique.py      # your technique in every experiment of its family
+  python -m validate list --plugin my_technique.py     # families, their contracts, registered techniques
+  python -m validate bench                             # speed and memory, side by side -> bench.json
 
 environment variables:
   VALIDATE_PROBES   default for --probes
   VALIDATE_VARIANT  force a Mitsuba variant (cuda_ad_rgb, llvm_ad_rgb, scalar_rgb)
   VALIDATE_CACHE    reference cache folder (default ~/.cache/validate; 'off' disables)
+  VALIDATE_REFERENCE  folder of published tables (default: the package's own copy, validate/data)
+  VALIDATE_NODE     the Node.js used by the engines experiment (a missing path turns the engines off)
 """
 
 
@@ -103,10 +108,11 @@ def _parser() -> argparse.ArgumentParser:
                         help="layout of --probe files (default: detect from aspect 2:1, 1:1, 3:4)")
     common.add_argument("--clamp-negative", action="store_true",
                         help="clamp negative texels to 0 instead of rejecting the file")
-    common.add_argument("--quick", action="store_true", help="coarser settings: the whole `all` in < 1 min")
+    common.add_argument("--quick", action="store_true",
+                        help="coarser settings: fewer environments, smaller images, fewer samples")
     common.add_argument("--strict", action="store_true", help="exit with status 1 when any claim fails")
     common.add_argument("--plugin", action="append", default=[], metavar="FILE|MODULE",
-                        help="import a Python file or module that registers approximations (repeatable)")
+                        help="import a Python file or module that registers techniques (repeatable)")
     common.add_argument("--no-progress", action="store_true", help="no progress bars")
     common.add_argument("--workers", type=_positive_int, default=1, metavar="N",
                         help="run per-environment tasks on a local Dask cluster of N processes (default 1: "
