@@ -319,7 +319,7 @@ def run(ctx: Context) -> ExperimentResult:
                  "Mitsuba's irradiance meter on sphere and disc emitters (after the closed form is shown to agree "
                  "with it), and the α range over which order-2 SH meets 5 % of the light's flux."),
         claims=claims(m), findings=findings(m), sections=sections(m, ctx), techniques=entries,
-        data={k: v for k, v in m.items() if k != "settings"}, settings=m["settings"])
+        data={k: v for k, v in m.items() if k not in ("settings", "techniques")}, settings=m["settings"])
 
 
 # -- validate.testing --------------------------------------------------------------------------------

@@ -129,6 +129,10 @@ class ExperimentResult:
             "report": {"sections": [asdict(s) for s in self.sections]},
             "techniques": self.techniques,
         }
+        clash = set(self.data) & {"title", "summary", "claims", "findings", "wall_time_s", "settings", "report",
+                                   "techniques"}
+        if clash:  # the report contract's keys are not the experiment's to overwrite
+            raise ValueError(f"experiment {self.name}: data uses reserved key(s) {sorted(clash)}")
         out.update(self.data)
         return out
 
