@@ -49,6 +49,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ValidateError
+from .camera import PerspectiveCamera
 
 KINDS = ("point", "spot", "directional", "rectangle", "disk", "sphere", "lamp")
 AREA_KINDS = ("rectangle", "disk", "sphere")
@@ -209,24 +210,12 @@ class Light:
 
 
 @dataclass(frozen=True)
-class Camera:
+class Camera(PerspectiveCamera):
     origin: tuple[float, float, float] = (0.4, 3.0, 4.6)
     target: tuple[float, float, float] = (0.0, 0.2, -0.1)
     fov_deg: float = 52.0  # horizontal
     width: int = 64
     height: int = 48
-
-    def __post_init__(self) -> None:
-        if not (8 <= self.width <= 4096 and 8 <= self.height <= 4096):
-            raise ValidateError(f"camera resolution {self.width}×{self.height}: each side must be in [8, 4096]")
-
-    def mitsuba(self) -> dict[str, Any]:
-        import mitsuba as mi
-
-        return {"type": "perspective", "fov": self.fov_deg, "fov_axis": "x",
-                "to_world": mi.ScalarTransform4f().look_at(origin=list(self.origin), target=list(self.target),
-                                                           up=[0.0, 1.0, 0.0]),
-                "film": {"type": "hdrfilm", "width": self.width, "height": self.height, "rfilter": {"type": "box"}}}
 
 
 @dataclass(frozen=True)

@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ValidateError
+from .camera import PerspectiveCamera
 
 LIGHT_CENTRE = (1.6, 4.0, 1.6)  # height h = 4 m, in front and to the right: shadows fall back and left
 LIGHT_TARGET = (0.0, 0.0, 0.0)
@@ -107,25 +108,12 @@ def radiance_for_irradiance(radius: float, distance: float, irradiance: float) -
 
 
 @dataclass(frozen=True)
-class Camera:
+class Camera(PerspectiveCamera):
     origin: tuple[float, float, float] = (0.0, 4.0, 5.6)
     target: tuple[float, float, float] = (-0.4, 0.2, -0.5)
     fov_deg: float = 44.0  # horizontal
     width: int = 160
     height: int = 120
-
-    def __post_init__(self) -> None:
-        if self.width < 8 or self.height < 8 or self.width > 4096 or self.height > 4096:
-            raise ValidateError(f"camera resolution {self.width}×{self.height}: each side must be in [8, 4096]")
-
-    def mitsuba_sensor(self) -> dict[str, Any]:
-        import mitsuba as mi
-
-        return {"type": "perspective", "fov": self.fov_deg, "fov_axis": "x",
-                "to_world": mi.ScalarTransform4f().look_at(origin=list(self.origin), target=list(self.target),
-                                                           up=[0.0, 1.0, 0.0]),
-                "film": {"type": "hdrfilm", "width": self.width, "height": self.height,
-                         "rfilter": {"type": "box"}}}
 
 
 @dataclass(frozen=True)

@@ -40,6 +40,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ValidateError
+from .camera import PerspectiveCamera
 
 ALBEDO = {"floor": 0.5, "wall": 0.7, "object": 0.6}
 FLOOR_HALF = 3.0
@@ -61,24 +62,12 @@ def look_at_frame(position: tuple[float, ...], target: tuple[float, ...]) -> np.
 
 
 @dataclass(frozen=True)
-class Camera:
+class Camera(PerspectiveCamera):
     origin: tuple[float, float, float] = (2.2, 2.6, 4.6)
     target: tuple[float, float, float] = (-0.1, 0.7, -1.6)
     fov_deg: float = 58.0  # horizontal
     width: int = 96
     height: int = 72
-
-    def __post_init__(self) -> None:
-        if not (8 <= self.width <= 4096 and 8 <= self.height <= 4096):
-            raise ValidateError(f"überlight camera {self.width}×{self.height}: each side must be in [8, 4096]")
-
-    def mitsuba(self) -> dict[str, Any]:
-        import mitsuba as mi
-
-        return {"type": "perspective", "fov": self.fov_deg, "fov_axis": "x",
-                "to_world": mi.ScalarTransform4f().look_at(origin=list(self.origin), target=list(self.target),
-                                                           up=[0.0, 1.0, 0.0]),
-                "film": {"type": "hdrfilm", "width": self.width, "height": self.height, "rfilter": {"type": "box"}}}
 
 
 @dataclass(frozen=True)
