@@ -47,6 +47,7 @@ from . import arealights_compute as ac
 from . import arealights_specular as asp
 from .arealights_report import sections
 from .base import Claim, Context, ExperimentResult, register_experiment
+from .formatting import pct as _pct
 from .techniques import CheckResult, Measured, Stat, technique_claims, technique_entry
 
 NAME = "arealights"
@@ -240,8 +241,6 @@ def _technique_claims(m: dict[str, Any]) -> list[Claim]:
 
 
 # -- findings ----------------------------------------------------------------------------------------
-def _pct(x: float) -> str:
-    return f"{100 * x:.3g} %"
 
 
 def findings(m: dict[str, Any]) -> list[str]:

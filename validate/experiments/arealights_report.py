@@ -11,13 +11,12 @@ from ..report import plots
 from . import arealights_compute as ac
 from . import arealights_specular as asp
 from .base import Context, Figure, Section, Table
+from .formatting import pct as _pct
 
 NAME = "arealights"
 FLOOR = 1e-9  # log-scale floor for exact techniques (float32 rounding shows as ~1e-7)
 
 
-def _pct(x: float) -> str:
-    return f"{100 * x:.3g} %"
 
 
 def _pm(v: float, u: float) -> str:

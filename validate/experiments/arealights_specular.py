@@ -7,7 +7,9 @@ subtends (sphere R = sin σ; disc of radius tan σ and square of side 2 tan σ, 
 α ∈ settings, F = 1 (η = 0, k = 1 in Mitsuba; f0 = 1 for the techniques), L_e = 1.
 
 Reference: :func:`validate.reference.area_specular_render.reference` (Mitsuba's BSDF.eval integrated over the
-emitter, Gauss–Legendre n nodes; ± |L(n) − L(n/2)|).
+emitter, Gauss–Legendre n nodes; ± |L(n) − L(n/2)|), validated first against Mitsuba's rendered radiance
+(:func:`~validate.reference.area_specular_render.render`: the same plane, BSDF and area emitter, ``direct``
+integrator) by a Šidák-corrected z test that must also reject a 2 % bias.
 
 Metrics (per technique; the luminance channel, F = 1 makes all channels equal):
 * ``rel_err.<shape>`` = Σ |L − L_ref| / Σ L_ref over every configuration, α and σ of the shape; also per α
@@ -20,6 +22,7 @@ Metrics (per technique; the luminance channel, F = 1 makes all channels equal):
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -28,20 +31,26 @@ from ..local_models import family
 from ..local_models.ltc import fit_quadrature, ggx_cos, load_table, local_frames, ltc_density, ltc_integral
 from ..local_models.registry import Technique
 from ..reference import area_specular_render as asr
+from ..stats import sidak_critical
 from .base import Claim, Figure, Section, Table
 from .techniques import Measured, technique_claims, technique_entry
 
 NAME = "arealights"
 SPECULAR: dict[str, dict[str, Any]] = {
-    "quick": {"alphas": [0.1, 0.3, 0.6], "sigmas_deg": [5.0, 15.0, 30.0], "nodes": 64},
+    "quick": {"alphas": [0.1, 0.3, 0.6], "sigmas_deg": [5.0, 15.0, 30.0], "nodes": 64, "render_pixels": 64,
+              "render_spp": 64},
     "full": {"alphas": [0.05, 0.1, 0.2, 0.3, 0.45, 0.6, 0.8], "sigmas_deg": [2.5, 5.0, 10.0, 15.0, 20.0, 30.0],
-             "nodes": 160},
+             "nodes": 160, "render_pixels": 128, "render_spp": 128},
 }
 # (θ_v, θ_l, Δφ) in degrees: overhead, mirror, off-mirror, grazing, side, a light crossing the horizon
 CONFIGS = ((0.0, 0.0, 0.0), (40.0, 40.0, 180.0), (40.0, 60.0, 180.0), (70.0, 70.0, 180.0), (70.0, 50.0, 180.0),
            (40.0, 40.0, 90.0), (60.0, 80.0, 180.0))
 SHAPES = ("rectangle", "disc", "sphere")
 SIZE_ERROR = 1.01  # power of the exactness claim: the polygon 1 % too large
+RENDER_CONFIGS = ((0.0, 0.0, 0.0), (40.0, 40.0, 180.0), (70.0, 50.0, 180.0))  # above the horizon: rendered too
+RENDER_SIGMA = 15.0
+RENDER_ALPHA = 0.01  # family-wise level of the render-vs-quadrature test
+REFERENCE_BIAS = 1.02
 
 
 def _dir(theta_deg: float, phi_deg: float) -> np.ndarray:
@@ -104,7 +113,21 @@ def compute(s: dict[str, Any]) -> dict[str, Any]:
                     rows.append({"shape": shape, "alpha": a, "sigma_deg": sg,
                                  **measure_config(shape, a, sg, cfg, s["nodes"], techs)})
     return {"settings": s, "rows": rows, "techniques": [t.name for t in techs],
-            "exactness": exactness(s["nodes"])}
+            "exactness": exactness(s["nodes"]), "render_check": render_check(s)}
+
+
+def render_check(s: dict[str, Any]) -> list[dict[str, Any]]:
+    """The quadrature reference against Mitsuba's own render (direct integrator, MIS) of the same scene: every shape
+    × α at σ = 15° and the configurations of RENDER_CONFIGS; z = (render − quadrature)/se."""
+    out = []
+    for i, (shape, a, cfg) in enumerate((sh, a, c) for sh in SHAPES for a in s["alphas"] for c in RENDER_CONFIGS):
+        light = light_for(shape, cfg[1], cfg[2], RENDER_SIGMA)
+        p, n, v = _receiver(cfg[0])
+        mean, se = asr.render(light, a, p[0], n[0], v[0], s["render_pixels"], s["render_spp"], seed=i)
+        ref, unc = asr.reference(light, a, p, n, v, s["nodes"])
+        out.append({"shape": shape, "alpha": a, "config": list(cfg), "render": mean, "se": se, "quadrature": float(ref[0]),
+                    "quadrature_unc": float(unc[0])})
+    return out
 
 
 def exactness(nodes: int) -> dict[str, float]:
@@ -187,7 +210,25 @@ def measured(m: dict[str, Any], tech: str) -> dict[str, Measured]:
 
 
 def claims(m: dict[str, Any]) -> list[Claim]:
-    return [*_ltc_claims(m), *_rp_claims(m), *_declared_claims(m)]
+    return [*_render_claims(m), *_ltc_claims(m), *_rp_claims(m), *_declared_claims(m)]
+
+
+def _render_claims(m: dict[str, Any]) -> list[Claim]:
+    rc = m.get("render_check") or []
+    if not rc:
+        return []
+    crit = sidak_critical(len(rc), RENDER_ALPHA)
+
+    def zmax(bias: float) -> float:
+        return max(abs(r["render"] - bias * r["quadrature"]) / math.hypot(r["se"], r["quadrature_unc"]) for r in rc)
+
+    return [Claim(f"{NAME}.specular.reference_vs_render",
+                  "the quadrature reference (BSDF.eval over the emitter) agrees with Mitsuba's rendered radiance "
+                  f"(direct integrator) for every shape × α × configuration ({len(rc)} tests)", "max |z|", crit,
+                  zmax(1.0), 0.0, unit="",
+                  source=(f"two-sided z test, Šidák-corrected to family-wise {RENDER_ALPHA:g} over {len(rc)} "
+                          "configurations (validate.stats.sidak_critical)"))
+            .with_power("quadrature reference × 1.02 (a 2 % bias)", zmax(REFERENCE_BIAS))]
 
 
 def _declared_claims(m: dict[str, Any]) -> list[Claim]:
@@ -278,6 +319,12 @@ def section(m: dict[str, Any], ctx: Any) -> Section:
                 rows.append([shape, f"{a:g}", f"{sg:g}°", *cells])
     table = Table(["shape", "α", "σ", *techs], rows, "Σ|L − L_ref| / Σ L_ref over the configurations (θ_v, θ_l, Δφ) "
                   f"= {', '.join(str(c) for c in CONFIGS)}; ± the reference quadrature.")
+    rtab = Table(["shape", "α", "(θ_v, θ_l, Δφ)", "Mitsuba render", "quadrature", "z"],
+                 [[r["shape"], f"{r['alpha']:g}", str(tuple(r["config"])), f"{r['render']:.5f} ± {r['se']:.5f}",
+                   f"{r['quadrature']:.5f}", f"{(r['render'] - r['quadrature']) / max(r['se'], 1e-300):+.2f}"]
+                  for r in m.get("render_check", [])],
+                 f"The reference checked against Mitsuba's render (σ = {RENDER_SIGMA:g}°, direct integrator, "
+                 f"{s['render_pixels']}² pixels × {s['render_spp']} spp).")
     p, rel = ctx.figure_path(NAME, "specular_error_vs_alpha.png")
     series = {f"{t} {shape}": [technique_metrics(m, t)[f"rel_err.{shape}.a{a:g}"]["value"] for a in s["alphas"]]
               for t in techs for shape in SHAPES if f"rel_err.{shape}" in technique_metrics(m, t)}
@@ -286,7 +333,8 @@ def section(m: dict[str, Any], ctx: Any) -> Section:
     return Section("Specular area lights: LTC and representative point vs Mitsuba roughconductor", [
         "GGX (F = 1) under rectangle, disc and sphere emitters of half-angle σ at unit distance; reference = Mitsuba's "
         f"BSDF.eval integrated over the emitter ({s['nodes']} Gauss–Legendre nodes per axis, ± the difference to "
-        f"{s['nodes'] // 2})."], figures=[Figure(rel, "error vs roughness", 480)], tables=[table])
+        f"{s['nodes'] // 2}), itself checked against Mitsuba's rendered radiance."],
+        figures=[Figure(rel, "error vs roughness", 480)], tables=[rtab, table])
 
 
 __all__ = ["SPECULAR", "compute", "claims", "findings", "section", "entries", "technique_metrics"]

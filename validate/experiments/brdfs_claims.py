@@ -8,14 +8,13 @@ import numpy as np
 
 from .base import Claim
 from .brdfs_measure import POWER_TEXT, Measurements
+from .formatting import pct as _pct
 from .techniques import Measured, technique_claims
 
 NAME = "brdfs"
 LAMBERT_LIMIT = 0.01  # see the claim's source
 
 
-def _pct(x: float) -> str:
-    return f"{100 * x:.3g} %"
 
 
 def measured(m: Measurements, tech: str) -> dict[str, Measured]:

@@ -27,6 +27,7 @@ from ..local_models.registry import Technique
 from ..metrics.irradiance_error import WORST_CASE_MAX, WORST_CASE_MEAN
 from .base import Claim
 from .engines_compute import BABYLON_CLAMP, SCALE_BUG, Settings, engine_techniques, three_weight_error
+from .formatting import pct
 from .techniques import Measured, technique_claims
 
 K_MAX = 17.0 / 16.0  # max over x ∈ [−1, 1] of the SH9 kernel K̃(x) = 3/32 + x/2 + 15x²/32 (at x = 1)
@@ -51,8 +52,6 @@ class Measurements:
         return three_weight_error(self.settings.face_size)
 
 
-def pct(x: float | None) -> str:
-    return "—" if x is None else f"{100 * x:.3g} %"
 
 
 def eligible(m: Measurements, tech: Technique) -> list[str]:

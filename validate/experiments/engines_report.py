@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 from .base import Context, Figure, Section, Table
-from .engines_claims import Measurements, pct
+from .engines_claims import Measurements
 from .engines_compute import BABYLON_CLAMP
+from .formatting import pct
 
 METRICS = ("flux_luminance", "flux_rgb", "relative", "peak")
 

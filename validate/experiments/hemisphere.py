@@ -39,6 +39,7 @@ from ..reference.irradiance import reference_irradiance
 from ..scenes import area_lights, latlong, procedural
 from ..scenes.environment import Environment
 from .base import Claim, Context, ExperimentResult, register_experiment
+from .formatting import pct as _pct
 from .hemisphere_report import sections
 from .techniques import Measured, technique_claims, technique_entry
 
@@ -256,8 +257,6 @@ def claims(m: dict[str, Any]) -> list[Claim]:
 
 
 # -- findings ----------------------------------------------------------------------------------------
-def _pct(x: float) -> str:
-    return f"{100 * x:.3g} %"
 
 
 def _rel_at(tt: dict, formula: str, beta: float) -> float:

@@ -9,13 +9,12 @@ import numpy as np
 from ..local_models import hemisphere as hm
 from ..report import plots
 from .base import Context, Figure, Section, Table
+from .formatting import pct as _pct
 
 NAME = "hemisphere"
 EXACT_TOLERANCE = 1e-3  # drawn as the exactness line (hemisphere.EXACT_TOLERANCE)
 
 
-def _pct(x: float) -> str:
-    return f"{100 * x:.3g} %"
 
 
 def sections(m: dict[str, Any], ctx: Context) -> list[Section]:

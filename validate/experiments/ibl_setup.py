@@ -190,5 +190,3 @@ def masked_image(render: rr.Render, values: np.ndarray) -> np.ndarray:
     return out
 
 
-def pct(x: float | None) -> str:
-    return "—" if x is None or not np.isfinite(x) else f"{100 * x:.3g} %"

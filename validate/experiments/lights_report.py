@@ -8,10 +8,7 @@ import numpy as np
 
 from ..report import plots
 from .base import Context, Figure, Section, Table
-
-
-def _pct(x: float | None, digits: int = 2) -> str:
-    return "n/a" if x is None or not np.isfinite(x) else f"{100 * x:.{digits}f} %"
+from .formatting import pct_fixed as _pct
 
 
 def _pm(entry: dict[str, Any]) -> str:

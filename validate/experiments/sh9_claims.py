@@ -14,6 +14,7 @@ from ..local_models import irradiance as irradiance_family
 from ..metrics.irradiance_error import METRIC_NAMES, WORST_CASE_MAX, WORST_CASE_MEAN
 from ..metrics.published import PUBLISHED_TOLERANCE
 from .base import Claim
+from .formatting import pct as _pct
 from .sh9_compute import (
     CROSSCHECK_BIAS,
     CROSSCHECK_FLIP,
@@ -54,8 +55,6 @@ class Measurements:
     skipped: list[tuple[str, str]] = field(default_factory=list)
 
 
-def _pct(x: float) -> str:
-    return f"{100 * x:.3g} %"
 
 
 def paper_claims(m: Measurements) -> list[Claim]:

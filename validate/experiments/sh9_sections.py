@@ -11,13 +11,12 @@ from ..local_models import sh as shm
 from ..metrics.published import PUBLISHED_TOLERANCE
 from ..report import plots
 from .base import Context, Figure, Section, Table
+from .formatting import pct as _pct
 from .sh9_claims import PAPER_MAX, PAPER_MEAN, Measurements
 
 EXPERIMENT = "sh9"
 
 
-def _pct(x: float) -> str:
-    return f"{100 * x:.3g} %"
 
 
 def _pm(st: dict[str, float], stat: str) -> str:

@@ -41,6 +41,7 @@ from ..metrics import shadow_error as se
 from ..scenes import shadow_scenes as ss
 from ..scenes.latlong import luminance
 from .base import Claim
+from .formatting import pct_fixed as pct
 from .shadows_measure import BAND_TEST_ALPHA, Frame, Measurements
 from .techniques import Measured, Stat, technique_claims
 
@@ -56,8 +57,6 @@ PENUMBRA_SHARE_X = 0.01  # finding: the light radius above which hard shadows' p
 TECHNIQUE_METRICS = ("total", "lit", "penumbra", "umbra", "false_shadow", "false_light", "leak", "flip")
 
 
-def pct(x: float | None, digits: int = 2) -> str:
-    return "n/a" if x is None or not np.isfinite(x) else f"{100 * x:.{digits}f} %"
 
 
 def light_distance() -> float:
