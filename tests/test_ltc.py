@@ -87,9 +87,10 @@ def test_reference_tends_to_the_albedo_under_a_huge_light():
 
 
 def test_specular_claims_pass_and_powers_fail():
-    m = asp.compute({"alphas": [0.1, 0.6], "sigmas_deg": [15.0], "nodes": 32})
+    m = asp.compute({"alphas": [0.1, 0.6], "sigmas_deg": [15.0], "nodes": 32, "render_pixels": 32, "render_spp": 32})
     claims = asp.claims(m)
     assert {c.id for c in claims} >= {"arealights.specular.ltc_polygon_exact",
+                                      "arealights.specular.reference_vs_render",
                                       "arealights.specular.ltc.bound_ratio.rectangle",
                                       "arealights.specular.representative_point.normalisation"}
     for c in claims:

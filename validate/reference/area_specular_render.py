@@ -134,4 +134,62 @@ def reference(light: Mapping[str, Any], alpha: float, points: np.ndarray, normal
     return full, np.abs(full - half)
 
 
-__all__ = ["light_directions", "radiance", "reference"]
+
+
+
+# ---------------------------------------------------------------------------------------------
+# Mitsuba render of the same configuration (validates the quadrature reference)
+
+def _frame_matrix(center: np.ndarray, t: np.ndarray, b: np.ndarray, n: np.ndarray, sx: float, sy: float) -> list:
+    m = np.eye(4)
+    m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = t * sx, b * sy, n, center
+    return m.tolist()
+
+
+def emitter_dict(light: Mapping[str, Any]) -> dict[str, Any]:
+    """Mitsuba shape + ``area`` emitter (uniform radiance, front face along the light's normal) for a light mapping."""
+    import mitsuba as mi
+
+    emitter = {"type": "area", "radiance": {"type": "rgb", "value": float(light.get("radiance", 1.0))}}
+    c = np.asarray(light["center"], dtype=np.float64)
+    if light["shape"] == "sphere":
+        return {"type": "sphere", "center": c.tolist(), "radius": float(light["radius"]), "emitter": emitter}
+    n = _unit(light["normal"])
+    t = _unit(light.get("tangent", _perp(n)))
+    t = _unit(t - n * np.dot(t, n))
+    b = np.cross(n, t)
+    if light["shape"] == "rectangle":
+        w, h = (float(x) for x in light["size"])
+        m = _frame_matrix(c, t, b, n, 0.5 * w, 0.5 * h)
+        return {"type": "rectangle", "to_world": mi.ScalarTransform4f(m), "emitter": emitter}
+    r = float(light["radius"])
+    return {"type": "disk", "to_world": mi.ScalarTransform4f(_frame_matrix(c, t, b, n, r, r)), "emitter": emitter}
+
+
+def render(light: Mapping[str, Any], alpha: float, point: np.ndarray, normal: np.ndarray, view: np.ndarray,
+           pixels: int = 32, spp: int = 64, seed: int = 0) -> tuple[float, float]:
+    """(mean, standard error) of L_o(p, v) rendered by Mitsuba: an orthographic camera looking along −v at a patch of
+    side 10⁻⁴ around p on a large ``roughconductor`` (ggx, α, F = 1) plane, ``direct`` integrator (emitter and BSDF
+    sampling, MIS); pixels × pixels independent estimates of spp samples each."""
+    import mitsuba as mi
+
+    from ..backend import init
+
+    init()
+    p, n, v = (np.asarray(x, dtype=np.float64) for x in (point, normal, view))
+    t = _perp(n)
+    b = np.cross(n, t)
+    plane = {"type": "rectangle", "to_world": mi.ScalarTransform4f(_frame_matrix(p, t, b, n, 50.0, 50.0)),
+             "bsdf": bs.conductor(alpha, "ggx", coloured=False).bsdf}
+    up = _perp(v)
+    cam = (mi.ScalarTransform4f().look_at(origin=(p + 0.05 * v).tolist(), target=p.tolist(), up=up.tolist())
+           @ mi.ScalarTransform4f().scale([1e-4, 1e-4, 1.0]))
+    scene = mi.load_dict({
+        "type": "scene", "integrator": {"type": "direct"}, "plane": plane, "light": emitter_dict(light),
+        "sensor": {"type": "orthographic", "to_world": cam, "near_clip": 1e-3, "far_clip": 10.0,
+                   "film": {"type": "hdrfilm", "width": pixels, "height": pixels, "rfilter": {"type": "box"},
+                            "pixel_format": "rgb"},
+                   "sampler": {"type": "independent", "sample_count": spp}}})
+    img = np.asarray(mi.render(scene, spp=spp, seed=seed), dtype=np.float64)[..., 1].ravel()
+    return float(img.mean()), float(img.std(ddof=1) / np.sqrt(img.size))
+__all__ = ["light_directions", "radiance", "reference", "emitter_dict", "render"]
