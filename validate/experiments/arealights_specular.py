@@ -337,11 +337,17 @@ def section(m: dict[str, Any], ctx: Any) -> Section:
               for t in techs for shape in SHAPES if f"rel_err.{shape}" in technique_metrics(m, t)}
     plots.save_line_plot(p, s["alphas"], series, xlabel="GGX α", ylabel="Σ|ΔL| / ΣL", title="Specular area lights "
                          "vs Mitsuba", logy=True)
+    p2, rel2 = ctx.figure_path(NAME, "specular_error_vs_size.png")
+    series2 = {f"{t} {shape}": [technique_metrics(m, t)[f"rel_err.{shape}.s{x:g}"]["value"] for x in s["sigmas_deg"]]
+               for t in techs for shape in SHAPES if f"rel_err.{shape}" in technique_metrics(m, t)}
+    plots.save_line_plot(p2, s["sigmas_deg"], series2, xlabel="light half-angle σ (degrees)", ylabel="Σ|ΔL| / ΣL",
+                         title="Specular area lights vs Mitsuba", logy=True)
     return Section("Specular area lights: LTC and representative point vs Mitsuba roughconductor", [
         "GGX (F = 1) under rectangle, disc and sphere emitters of half-angle σ at unit distance; reference = Mitsuba's "
         f"BSDF.eval integrated over the emitter ({s['nodes']} Gauss–Legendre nodes per axis, ± the difference to "
         f"{s['nodes'] // 2}), itself checked against Mitsuba's rendered radiance."],
-        figures=[Figure(rel, "error vs roughness", 480)], tables=[rtab, table])
+        figures=[Figure(rel, "error vs roughness", 480), Figure(rel2, "error vs light size", 480)],
+        tables=[rtab, table])
 
 
 __all__ = ["SPECULAR", "compute", "claims", "findings", "section", "entries", "technique_metrics"]
