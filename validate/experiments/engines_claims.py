@@ -28,7 +28,7 @@ from ..metrics.irradiance_error import WORST_CASE_MAX, WORST_CASE_MEAN
 from .base import Claim
 from .engines_compute import BABYLON_CLAMP, SCALE_BUG, Settings, engine_techniques, three_weight_error
 from .formatting import pct
-from .techniques import Measured, technique_claims
+from .techniques import Measured, technique_claims, technique_scope
 
 K_MAX = 17.0 / 16.0  # max over x ∈ [−1, 1] of the SH9 kernel K̃(x) = 3/32 + x/2 + 15x²/32 (at x = 1)
 THREE_CONSTANTS = 1e-5  # three.js's six-digit constants: ≤ 3·10⁻⁶ relative per term, Σ|terms| ≤ 3.1 Φ
@@ -156,24 +156,25 @@ def pi_claims(m: Measurements) -> list[Claim]:
 
 
 def declared_claims(m: Measurements) -> list[Claim]:
-    """Thresholds a technique declares (``<metric>.<stat>``), judged on its worst environment; power: the
+    """Thresholds a technique declares (``<metric>.<stat>``), judged on its worst environment in its scope
+    (:func:`.techniques.technique_scope`); power: the
     same with band 1's sign flipped."""
     from ..local_models import irradiance
 
     claims = []
     for tech in irradiance:
-        if not tech.thresholds or not any(tech.name in r["techniques"] for r in m.environments.values()):
+        envs = [e for e in technique_scope(tech, list(m.environments)) if tech.name in m.environments[e]["techniques"]]
+        if not tech.thresholds or not envs:
             continue
         measured = {}
         for metric in ("flux_luminance", "flux_rgb", "relative", "peak"):
             for stat in ("mean", "max"):
-                vals = [(r["techniques"][tech.name]["errors"][metric], r["techniques"][tech.name]
-                         ["errors_band1_flipped"][metric][stat]) for r in m.environments.values()
-                        if tech.name in r["techniques"]]
+                vals = [(m.environments[e]["techniques"][tech.name]["errors"][metric], m.environments[e]["techniques"]
+                         [tech.name]["errors_band1_flipped"][metric][stat]) for e in envs]
                 worst = max(vals, key=lambda v: v[0][stat])
                 measured[f"{metric}.{stat}"] = Measured(worst[0][stat], worst[0][f"{stat}_uncertainty"],
                                                         max(v[1] for v in vals), "band 1's sign flipped")
-        claims += technique_claims("engines", tech, measured, scope="worst over environments")
+        claims += technique_claims("engines", tech, measured, scope=f"worst over {len(envs)} environment(s)")
     return claims
 
 

@@ -23,7 +23,7 @@ from .sh9_compute import (
     REFERENCE_BIAS,
     Settings,
 )
-from .techniques import Measured, technique_claims
+from .techniques import Measured, technique_claims, technique_scope
 
 RH2001 = "Ramamoorthi & Hanrahan, 'An Efficient Representation for Irradiance Environment Maps', SIGGRAPH 2001"
 RH_JOSA = "Ramamoorthi & Hanrahan, JOSA A 18(10) 2001"
@@ -173,15 +173,6 @@ def reference_claims(m: Measurements) -> list[Claim]:
     return claims
 
 
-def technique_scope(tech_meta: dict, names: list[str]) -> list[str]:
-    """Environments a technique's declared thresholds are judged on: the ones it names in its
-    ``environments=`` registration meta (those present), else every environment run."""
-    wanted = tech_meta.get("environments")
-    if not wanted:
-        return names
-    return [n for n in names if n in set(wanted)]
-
-
 ERROR_GROWTH = 1.5  # "the approximation's error × 1.5": every metric here is linear in |E′ − E|
 
 
@@ -217,7 +208,7 @@ def all_technique_claims(m: Measurements) -> list[Claim]:
     for tech in irradiance_family:
         if not tech.thresholds:
             continue
-        envs = [e for e in technique_scope(dict(tech.meta), names) if tech.name in m.environments[e]["models"]]
+        envs = [e for e in technique_scope(tech, names) if tech.name in m.environments[e]["models"]]
         if not envs:
             continue
         scope = f"worst over {len(envs)} environment{'s' if len(envs) > 1 else ''}"

@@ -28,6 +28,13 @@ class Measured:
     perturbation: str = ""
 
 
+def technique_scope(tech: Technique, names: list[str]) -> list[str]:
+    """The environments a technique's declared thresholds are judged on: those it names with
+    ``environments=(...)`` at registration (the ones present in this run), else every one run."""
+    wanted = tech.meta.get("environments")
+    return list(names) if not wanted else [n for n in names if n in set(wanted)]
+
+
 def technique_entry(tech: Technique, metrics: Mapping[str, Any], **extra: Any) -> dict[str, Any]:
     """The JSON entry of one technique: family, description, where it comes from, its metrics."""
     return {"family": tech.family, "description": tech.description, "builtin": tech.builtin,
