@@ -102,8 +102,28 @@ def plugin_uberlight_half_power(light: Mapping[str, Any], points: np.ndarray, no
     return ub.shade(light, points, normals, views, material, shadow, 1.0 / d)
 
 
+@family("specular_arealight").register("plugin_point_specular", "a user's point-light specular: the light's "
+                                       "whole power along the centre direction, GGX D·G·F/4 (no area)")
+def plugin_point_specular(light: Mapping[str, Any], brdf: Mapping[str, Any], points: np.ndarray,
+                          normals: np.ndarray, views: np.ndarray) -> np.ndarray:
+    to = np.asarray(light["center"], dtype=np.float64) - np.asarray(points, dtype=np.float64)
+    d2 = np.maximum((to * to).sum(-1), 1e-12)
+    l = to / np.sqrt(d2)[:, None]
+    n, v = np.asarray(normals, dtype=np.float64), np.asarray(views, dtype=np.float64)
+    h = l + v
+    h /= np.maximum(np.linalg.norm(h, axis=1), 1e-12)[:, None]
+    a2 = float(brdf["alpha"]) ** 2
+    nh, nl, nv = (n * h).sum(-1), np.maximum((n * l).sum(-1), 0.0), np.maximum((n * v).sum(-1), 1e-6)
+    dist = a2 / (np.pi * (nh * nh * (a2 - 1) + 1) ** 2)
+    size = light.get("size")
+    r = float(light.get("radius", 0.0) or 0.0)
+    area = float(np.prod(size)) if size is not None else np.pi * r * r
+    e = float(light.get("radiance", 1.0)) * area / d2 * nl
+    return np.repeat((float(brdf.get("f0", 1.0)) * dist / (4 * nv) * e)[:, None], 3, axis=1)
+
+
 PLUGIN_TECHNIQUES = {"irradiance": "plugin_sh2_numpy", "specular": "plugin_ambient_specular",
                      "arealight": "plugin_point_shortcut", "shadow": "plugin_no_shadow",
                      "light": "plugin_point_linear", "brdf": "plugin_wrap_lambert",
-                     "uberlight": "plugin_uberlight_half_power"}
+                     "uberlight": "plugin_uberlight_half_power", "specular_arealight": "plugin_point_specular"}
 assert set(PLUGIN_TECHNIQUES) <= set(FAMILIES)
