@@ -132,5 +132,8 @@ def test_plugin_techniques_reach_every_experiment_of_their_family(plugin_run):
             entry = exps[n]["techniques"].get(technique)
             assert entry is not None, f"{n}: plug-in {technique} ({family}) has no results.json entry"
             assert entry["family"] == family and not entry["builtin"] and entry["metrics"]
+    # images: sh9 draws every irradiance technique (plug-ins included) on every environment's sphere
+    assert list((plugin_run["out"] / "figures" / "sh9").glob("*_technique_errors.png"))
+    assert "plugin_sh2_numpy" in (plugin_run["out"] / "exp-sh9.html").read_text(encoding="utf-8")
     claim_ids = {c["id"] for e in exps.values() for c in e["claims"]}
     assert "sh9.technique.plugin_sh2_numpy.flux_luminance.max" in claim_ids

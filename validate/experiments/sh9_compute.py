@@ -124,17 +124,20 @@ def sh9_perturbed(coeffs: np.ndarray, normals: np.ndarray, e_ref: np.ndarray, e_
 
 
 def measure_techniques(env: Environment, normals: np.ndarray, e_ref: np.ndarray, flux: np.ndarray,
-                       unc: np.ndarray) -> tuple[dict, dict]:
-    """Every registered irradiance technique: metrics at the normals and at the mirrored normals
-    (one call on both sets, through the family's output contract)."""
-    both = np.concatenate([normals, normals * MIRROR])
+                       unc: np.ndarray, extra: np.ndarray | None = None) -> tuple[dict, dict, dict]:
+    """Every registered irradiance technique: metrics at the normals and at the mirrored normals, and its
+    irradiance at the ``extra`` normals (the sphere image), in one call per technique through the family's
+    output contract."""
+    extra = np.zeros((0, 3)) if extra is None else extra
     k = len(normals)
-    metrics, mirrored = {}, {}
+    both = np.concatenate([normals, normals * MIRROR, extra])
+    metrics, mirrored, at_extra = {}, {}, {}
     for tech in irradiance_family:
         e = irradiance_family.call(tech, env.radiance, both)
         metrics[tech.name] = stats_json(irradiance_errors(e_ref, e[:k], flux, unc))
-        mirrored[tech.name] = stats_json(irradiance_errors(e_ref, e[k:], flux, unc))
-    return metrics, mirrored
+        mirrored[tech.name] = stats_json(irradiance_errors(e_ref, e[k:2 * k], flux, unc))
+        at_extra[tech.name] = e[2 * k:]
+    return metrics, mirrored, at_extra
 
 
 def closed_form_check(env: Environment, normals: np.ndarray, e_ref: np.ndarray, unc: np.ndarray) -> dict | None:
@@ -190,7 +193,7 @@ def analyse_environment(env: Environment, settings: Settings, published: dict, a
     coeffs = shm.project_environment(env.radiance, settings.max_order)
     e_sh9_all = shm.render_irradiance_rh2001(coeffs[:9], alln)
     e_sh9 = e_sh9_all[:k1]
-    models, mirrored = measure_techniques(env, n_fib, e_ref, flux, unc)
+    models, mirrored, tech_sphere = measure_techniques(env, n_fib, e_ref, flux, unc, sph[mask])
     peak = float(ref.irradiance.max())
     out: dict[str, Any] = {
         "kind": env.kind, "description": env.description, "layout": env.layout,
@@ -216,7 +219,22 @@ def analyse_environment(env: Environment, settings: Settings, published: dict, a
     err_grid = (np.abs(latlong.luminance(e_sh9_all[k1:k2]) - latlong.luminance(ref.irradiance[k1:k2]))
                 / latlong.luminance(flux)).reshape(gh, gw)
     out["_arrays"] = _figure_arrays(env, ref.irradiance[k2:], e_sh9_all[k2:], mask, err_grid)
+    out["_arrays"]["technique_spheres"], out["_arrays"]["technique_errors"] = _technique_images(
+        tech_sphere, ref.irradiance[k2:], mask, float(latlong.luminance(flux)))
     return out
+
+
+def _technique_images(at_sphere: dict[str, np.ndarray], ref_sphere: np.ndarray, mask: np.ndarray,
+                      flux_y: float) -> tuple[dict, dict]:
+    """Per technique: its sphere E′/π and the error map |Y(E′) − Y(E)| / Φ_Y over the sphere's pixels."""
+    spheres, errors = {}, {}
+    for name, e in at_sphere.items():
+        img = np.full(mask.shape + (3,), np.nan)
+        img[mask] = e / np.pi
+        err = np.full(mask.shape, np.nan)
+        err[mask] = np.abs(latlong.luminance(e) - latlong.luminance(ref_sphere)) / max(flux_y, 1e-300)
+        spheres[name], errors[name] = img, err
+    return spheres, errors
 
 
 def pathtrace_crosscheck(env: Environment, settings: Settings, seed: int) -> dict:

@@ -49,6 +49,23 @@ def environment_figures(name: str, r: dict[str, Any], ctx: Context) -> list[Figu
             Figure(r_ord, "error vs SH order", 300)]
 
 
+def technique_figures(name: str, r: dict[str, Any], ctx: Context) -> list[Figure]:
+    """Every registered technique on this environment: its sphere beside the reference (one exposure) and
+    its error map |Y(E′) − Y(E)| / Φ_Y on one colour scale."""
+    a = r["_arrays"]
+    techs = list(a.get("technique_spheres", {}))
+    if not techs:
+        return []
+    p_sph, r_sph = ctx.figure_path(EXPERIMENT, f"{name}_technique_spheres.png")
+    plots.save_image_grid(p_sph, [a["sphere_reference"]] + [a["technique_spheres"][t] for t in techs],
+                          ["reference"] + techs, exposure=plots.auto_exposure(a["sphere_reference"]), columns=7)
+    p_err, r_err = ctx.figure_path(EXPERIMENT, f"{name}_technique_errors.png")
+    plots.save_heatmap_grid(p_err, [a["technique_errors"][t] for t in techs], techs,
+                            label="|Y(E′) − Y(E)| / Φ_Y", percent=True, columns=6)
+    return [Figure(r_sph, f"{name}: every registered irradiance technique, E′/π (same exposure as the reference)"),
+            Figure(r_err, f"{name}: error of every technique on the sphere, % of Φ (one colour scale)")]
+
+
 def crosscheck_figures(name: str, d: dict[str, Any], ctx: Context) -> list[Figure]:
     a = d["_arrays"]
     exposure = plots.auto_exposure(a["render"])
@@ -144,5 +161,10 @@ def sections(m: Measurements, ctx: Context) -> list[Section]:
                                  "(front view from +z, same exposure), the error over all normals and the "
                                  "error against SH order."],
                 gallery=[environment_figures(n, r, ctx) for n, r in m.environments.items()]),
+        Section("Techniques on each environment", [
+            "Every registered irradiance technique (built-in or plug-in) on the front-facing sphere of each "
+            "environment: E′/π beside the reference at one exposure, and its error |Y(E′) − Y(E)| / Φ_Y per "
+            "pixel on one colour scale per environment."],
+                figures=[f for n, r in m.environments.items() for f in technique_figures(n, r, ctx)]),
     ]
     return out

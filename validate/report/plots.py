@@ -145,9 +145,9 @@ def save_image(path: str | os.PathLike[str], rgb: np.ndarray, exposure: float | 
 
 
 def save_image_grid(path: str | os.PathLike[str], images: Sequence[np.ndarray], titles: Sequence[str],
-                    exposure: float | None = None) -> None:
+                    exposure: float | None = None, columns: int | None = None) -> None:
     """Images side by side with titles, all tone-mapped with one exposure (auto: from the first image,
-    by convention the reference, so the panels are comparable)."""
+    by convention the reference, so the panels are comparable); ``columns`` panels a row (default: one row)."""
     if not images or len(images) != len(titles):
         raise ValidateError(f"{os.fspath(path)}: {len(images)} images for {len(titles)} titles; "
                             "expected one title per image and at least one image")
@@ -155,14 +155,62 @@ def save_image_grid(path: str | os.PathLike[str], images: Sequence[np.ndarray], 
     tonemapped = [tonemap(im, k) for im in images]
     h, w = tonemapped[0].shape[:2]
     n = len(images)
-    panel_w = min(2.6, 12.0 / n)
-    fig = _new_figure((panel_w * n, panel_w * h / w + 0.45))
-    axes = fig.subplots(1, n, squeeze=False)[0]
-    for ax, im, title in zip(axes, tonemapped, titles, strict=True):
-        ax.imshow(im, interpolation="nearest")
-        ax.set_title(title, fontsize=9)
+    cols = n if columns is None else max(1, min(n, columns))
+    rows = -(-n // cols)
+    panel_w = min(2.6, 12.0 / cols)
+    fig = _new_figure((panel_w * cols, rows * (panel_w * h / w + 0.45)))
+    axes = fig.subplots(rows, cols, squeeze=False)
+    for i, ax in enumerate(axes.flat):
         ax.set_xticks([])
         ax.set_yticks([])
+        if i >= n:
+            ax.set_axis_off()
+            continue
+        ax.imshow(tonemapped[i], interpolation="nearest")
+        ax.set_title(titles[i], fontsize=9 if cols <= 6 else 8)
+    _save_figure(path, fig)
+
+
+def save_heatmap_grid(path: str | os.PathLike[str], maps: Sequence[np.ndarray], titles: Sequence[str], label: str,
+                      vmax: float | None = None, percent: bool = False, cmap: str = "magma",
+                      columns: int = 6) -> None:
+    """Non-negative scalar maps as small multiples on one colour scale [0, vmax] (default: the largest finite
+    value), one shared colour bar labelled ``label``; NaN pixels masked. Up to ``columns`` panels a row."""
+    import matplotlib
+
+    if not maps or len(maps) != len(titles):
+        raise ValidateError(f"{os.fspath(path)}: {len(maps)} maps for {len(titles)} titles; "
+                            "expected one title per map and at least one map")
+    vs = [np.asarray(m, dtype=np.float64) for m in maps]
+    finite = [v[np.isfinite(v)] for v in vs]
+    if vmax is None:
+        vmax = max((float(f.max()) for f in finite if f.size), default=1.0)
+    if not (np.isfinite(vmax) and vmax > 0.0):
+        vmax = 1.0
+    colours = matplotlib.colormaps[cmap].with_extremes(bad=MASK_COLOUR)
+    n = len(vs)
+    cols = min(n, columns)
+    rows = -(-n // cols)
+    h, w = vs[0].shape[:2]
+    panel = 1.9
+    fig = _new_figure((panel * cols + 0.9, rows * (panel * h / w + 0.35)))
+    axes = fig.subplots(rows, cols, squeeze=False)
+    im = None
+    for k, ax in enumerate(axes.flat):
+        ax.set_xticks([])
+        ax.set_yticks([])
+        if k >= n:
+            ax.set_axis_off()
+            continue
+        im = ax.imshow(np.ma.masked_invalid(vs[k]), cmap=colours, vmin=0.0, vmax=vmax, interpolation="nearest")
+        ax.set_title(titles[k], fontsize=8)
+    cbar = fig.colorbar(im, ax=axes.ravel().tolist(), shrink=0.9)
+    cbar.set_label(label, fontsize=9)
+    cbar.ax.tick_params(labelsize=8)
+    if percent:
+        from matplotlib.ticker import FuncFormatter
+
+        cbar.ax.yaxis.set_major_formatter(FuncFormatter(_percent_label))
     _save_figure(path, fig)
 
 
