@@ -27,7 +27,6 @@ Pipeline: :func:`compute` (numbers, :mod:`.shadows_measure`) → :func:`claims` 
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable, Iterable
 from typing import Any
 
@@ -142,13 +141,9 @@ def _finite(x: float) -> float | None:
                      "every registered shadow technique against Mitsuba's direct lighting, by lit / penumbra / "
                      "umbra region, vs shadow-map resolution and light radius; bias and PCF-kernel sweeps", order=50)
 def run(ctx: Context) -> ExperimentResult:
-    t0 = time.perf_counter()
+    # wall times are not findings (same inputs → same results.json): they are the experiment's wall_time_s
     m = compute(ctx)
-    t_compute = time.perf_counter() - t0
     cl, fi, secs = claims(m), findings(m), sections(m, ctx)
-    fi.append(f"Time: references and models {t_compute:.1f} s (references cached after the first run; shadow "
-              f"maps {sum(m.build_seconds.values()):.1f} s to build), {time.perf_counter() - t0:.1f} s with "
-              "claims and figures.")
     return ExperimentResult(name=NAME, title="Shadow maps vs path-traced soft shadows (disc light)",
                             summary=rep.summary(m), claims=cl, findings=fi, sections=secs, data=rep.data(m),
                             settings=m.settings.__dict__ | {"techniques": [t.name for t in m.techniques]},
