@@ -256,3 +256,17 @@ def test_directional_worst_case_mean_function() -> None:
     assert abs(irradiance_error.directional_worst_case_mean() - exact) < 1e-9
     assert round(exact, 4) == irradiance_error.WORST_CASE_MEAN
     assert irradiance_error.WORST_CASE_MAX == 3 / 32
+
+
+@pytest.mark.parametrize("width", [1024, 96, 40, 37])  # 32, 32, 8 and 1 phases
+@pytest.mark.parametrize("lmax", [0, 2, 4])
+def test_polyphase_row_sums_equal_direct_products(width: int, lmax: int) -> None:
+    """fourier_row_sums (polyphase: rows read as (W/k, 3k) matrices, then rotated by the shift theorem)
+    equals Σ_j L_ij T_q(φ_j) computed directly in float64, to float32 rounding (relative 1e-5 of the
+    largest row sum), for widths with 32, 8 and 1 phases."""
+    rng = np.random.default_rng(width + lmax)
+    rad = rng.uniform(0.0, 2.0, (9, width, 3)).astype(np.float32)
+    direct = np.einsum("qw,iwc->iqc", sh.fourier_columns(width, lmax).T, rad.astype(np.float64))
+    ours = sh.fourier_row_sums(rad, lmax)
+    assert ours.shape == direct.shape
+    assert np.abs(ours - direct).max() <= 1e-5 * np.abs(direct).max()

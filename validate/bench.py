@@ -1,11 +1,13 @@
 """``python -m validate bench``: speed and memory, measured side by side in one run.
 
-Kernels (this process; best of ``repeats`` runs after one warm-up, JIT compilation excluded):
+Kernels (this process; best of ``repeats`` runs after one warm-up, JIT compilation excluded; a projection
+and its plain reduction run alternately, so that load on the machine touches both alike):
 
 * SH projection (l ≤ 2 and l ≤ 8) of a 512×1024 lat-long map — the separable projection
   (:func:`validate.local_models.sh.project_environment`) beside a *plain reduction over the same
-  texels*, Σ_i Ω_i Σ_j L_ij, computed the fastest way we know (the same row-block matrix product
-  with a single row of ones), and beside the direct per-texel sum in drjit
+  texels*, Σ_i Ω_i Σ_j L_ij, computed the fastest way we know (the same polyphase per-row matrix
+  products, rows shared among the CPUs the same way, with a single row of ones), beside a plain
+  drjit sum of the texels already on the device, and beside the direct per-texel sum in drjit
   (:func:`~validate.local_models.sh.project_samples`). The ratio to the plain reduction is the figure:
   the memory-bound limit is one pass over the texels.
 * SH9 irradiance at 100k normals: drjit vs numpy.
@@ -17,7 +19,8 @@ built in the child row block by row block (not timed: it stands for reading the 
 * ``reference`` — :func:`~validate.reference.irradiance.reference_irradiance` at 10k normals,
   default cells, cache off: seconds, peak RSS, the doubling change (convergence).
 * ``sh9`` — SH9 at 10k normals (projection + R&H eq. 12) and, in the same process, the plain
-  reduction over the same texels: seconds, their ratio, peak RSS.
+  reduction over the same texels: seconds, their ratio, peak RSS; then (after the peak is read) a
+  plain drjit sum of the same texels already copied to the device, the memory-bound reference.
 
 A size whose estimated peak (:func:`validate.scenes.loaders.estimated_peak_bytes`) exceeds the
 memory available is skipped with the reason. Results go to ``<out>/bench.json`` (atomic): ``tables``
@@ -55,18 +58,28 @@ def _best(fn: Callable[[], object], repeats: int = 3) -> float:
     return min(times)
 
 
+def _best_pair(f: Callable[[], object], g: Callable[[], object], repeats: int = 7) -> tuple[float, float]:
+    """Best times of f and g, run alternately (f, g, f, g, …) after one warm-up each, so that a load that
+    comes and goes on the machine touches both alike: the ratio is the figure, not the absolute times."""
+    f(), g()
+    tf, tg = [], []
+    for _ in range(repeats):
+        for fn, times in ((f, tf), (g, tg)):
+            t0 = time.perf_counter()
+            fn()
+            times.append(time.perf_counter() - t0)
+    return min(tf), min(tg)
+
+
 def plain_reduction(radiance: np.ndarray) -> np.ndarray:
-    """Σ_i Ω_i Σ_j L_ij (3,): the same row-block matrix product as the SH projection, with one row of
-    ones instead of the 2·lmax+1 Fourier columns — the floor a projection can approach."""
-    from .local_models.sh import ROW_BLOCK_BYTES
+    """Σ_i Ω_i Σ_j L_ij (3,): the same row products as the SH projection
+    (:func:`~.local_models.sh.fourier_row_sums` with lmax = 0: the same polyphase matrix products, threads and
+    blocks, one row of ones instead of the 2·lmax+1 Fourier columns) — the floor a projection can approach."""
+    from .local_models.sh import fourier_row_sums
     from .scenes import latlong
 
     h, w = radiance.shape[:2]
-    ones = np.ones((1, 1, w), dtype=np.float32)
-    rows = np.empty((h, 1, 3), dtype=np.float32)
-    step = max(1, ROW_BLOCK_BYTES // max(1, radiance[0].nbytes))
-    for s in range(0, h, step):
-        np.matmul(ones, radiance[s:s + step], out=rows[s:s + step])
+    rows = fourier_row_sums(radiance, 0)
     return latlong.row_solid_angles(h, w) @ rows[:, 0, :].astype(np.float64)
 
 
@@ -128,11 +141,13 @@ def child(task: str, height: int) -> dict[str, Any]:
         t0 = time.perf_counter()
         sh.render_irradiance_rh2001(sh.project_environment(rad, 2), normals)
         rec["seconds"] = time.perf_counter() - t0
-        rec["projection_s"] = _best(lambda: sh.project_environment(rad, 2), repeats=2)
-        rec["plain_reduction_s"] = _best(lambda: plain_reduction(rad), repeats=2)
+        rec["projection_s"], rec["plain_reduction_s"] = _best_pair(lambda: sh.project_environment(rad, 2),
+                                                                   lambda: plain_reduction(rad), repeats=3)
+        rec["peak_rss_mib"] = _peak_rss_mib()  # before the drjit copy of the map below
+        rec["drjit_sum_s"] = _drjit_sum_seconds(rad)
     else:
         raise ValueError(f"unknown bench task {task!r}")
-    rec["peak_rss_mib"] = _peak_rss_mib()
+    rec.setdefault("peak_rss_mib", _peak_rss_mib())
     return rec
 
 
@@ -171,10 +186,9 @@ def kernel_rows() -> list[dict[str, Any]]:
     d = latlong.texel_directions(512, 1024).reshape(-1, 3)
     dw = latlong.texel_solid_angles(512, 1024).reshape(-1)
     rows = []
-    t_plain = _best(lambda: plain_reduction(rad))
     t_drjit_sum = _drjit_sum_seconds(rad)
     for lmax in (2, 8):
-        t_sep = _best(lambda lm=lmax: sh.project_environment(rad, lm))
+        t_sep, t_plain = _best_pair(lambda lm=lmax: sh.project_environment(rad, lm), lambda: plain_reduction(rad))
         t_direct = _best(lambda lm=lmax: sh.project_samples(d, dw, rad.reshape(-1, 3).astype(np.float64), lm))
         rows.append({"task": f"SH projection l≤{lmax}, 512×1024 texels", "projection_s": t_sep,
                      "plain_reduction_s": t_plain, "ratio_to_plain": t_sep / t_plain,
@@ -225,6 +239,7 @@ def tables(kernels: list[dict[str, Any]], sizes: list[dict[str, Any]]) -> list[d
         rows.append([label, round(h * 2 * h * 12 / 2**20, 1),
                      cell(ref, "seconds"), cell(ref, "peak_rss_mib", nd=0), cell(ref, "convergence", 100, 4),
                      cell(s9, "seconds"), cell(s9, "peak_rss_mib", nd=0),
+                     cell(s9, "projection_s", 1e3), cell(s9, "plain_reduction_s", 1e3), cell(s9, "drjit_sum_s", 1e3),
                      round(s9["projection_s"] / s9["plain_reduction_s"], 2) if "projection_s" in s9 else None])
     return [
         {"caption": "SH projection vs a plain reduction over the same texels (ms; best of 3)",
@@ -234,7 +249,8 @@ def tables(kernels: list[dict[str, Any]], sizes: list[dict[str, Any]]) -> list[d
          "headers": ["task", "drjit ms", "numpy ms", "speed-up"], "rows": other},
         {"caption": "Reference and SH9 per map size, each in its own process (peak RSS includes the map)",
          "headers": ["map", "map MiB", "reference s", "reference peak MiB", "reference convergence %",
-                     "SH9 s", "SH9 peak MiB", "SH9 projection / plain reduction"], "rows": rows},
+                     "SH9 s", "SH9 peak MiB", "SH9 projection ms", "plain reduction ms", "drjit sum ms (map on device)",
+                     "SH9 projection / plain reduction"], "rows": rows},
     ]
 
 
