@@ -1,10 +1,12 @@
-"""The specular part of ``arealights``: every ``specular_arealight`` technique (LTC, Karis's representative point,
-plug-ins) against Mitsuba's GGX ``roughconductor`` under rectangle, disc and sphere emitters.
+"""The specular part of ``arealights``: every ``specular_arealight`` technique (LTC, Karis's representative point for
+spheres and tubes, plug-ins) against Mitsuba's GGX ``roughconductor`` under rectangle, disc, sphere and tube emitters.
 
 Scenes: a receiver at the origin, normal +y; the viewer at θ_v from the normal (azimuth 0); the light's centre
 at unit distance in direction (θ_l, Δφ) (Δφ = 180°: the mirror side), its size given by the half-angle σ it
-subtends (sphere R = sin σ; disc of radius tan σ and square of side 2 tan σ, both facing the receiver). GGX
-α ∈ settings, F = 1 (η = 0, k = 1 in Mitsuba; f0 = 1 for the techniques), L_e = 1.
+subtends (sphere R = sin σ; disc of radius tan σ and square of side 2 tan σ, both facing the receiver; a tube (capsule)
+of radius TUBE_RADIUS = sin 2° and length ℓ = 2 tan σ, its axis perpendicular to the direction of its centre, either
+across the plane of incidence or along it — both are measured). GGX α ∈ settings, F = 1 (η = 0, k = 1 in Mitsuba;
+f0 = 1 for the techniques), L_e = 1.
 
 Reference: :func:`validate.reference.area_specular_render.reference` (Mitsuba's BSDF.eval integrated over the
 emitter, Gauss–Legendre n nodes; ± |L(n) − L(n/2)|), validated first against Mitsuba's rendered radiance
@@ -18,6 +20,11 @@ Metrics (per technique; the luminance channel, F = 1 makes all channels equal):
   B = L_e ∫_{S²} |E·D_ltc − f cos| dω, the misfit of the LTC actually used (table interpolated at (μ_v, α))
   integrated over the whole sphere: by the triangle inequality |∫_light (E·D − f cos)| ≤ B for every light, so
   the ratio is ≤ 1 wherever the polygon integral is exact (theorem; a disc is a 64-gon of equal area).
+
+Tubes (Karis 2013 "Tube lights"): ``representative_point_tube`` (energy (α/α′_line)(α/α′_sphere)²) against its
+unnormalised counterpart, and against two variants measured per configuration — the line factor left out
+(``no_line``: the sphere's factor only) and the line factor squared (``line_squared``: the segment treated as widening
+the lobe in both dimensions) — judged by the same Σ|ΔL|/ΣL.
 """
 
 from __future__ import annotations
@@ -29,6 +36,7 @@ import numpy as np
 
 from ..local_models import family
 from ..local_models.ltc import fit_quadrature, ggx_cos, load_table, local_frames, ltc_density, ltc_integral
+from ..local_models.representative_point import representative_point_tube
 from ..local_models.registry import Technique
 from ..reference import area_specular_render as asr
 from ..stats import sidak_critical
@@ -45,7 +53,11 @@ SPECULAR: dict[str, dict[str, Any]] = {
 # (θ_v, θ_l, Δφ) in degrees: overhead, mirror, off-mirror, grazing, side, a light crossing the horizon
 CONFIGS = ((0.0, 0.0, 0.0), (40.0, 40.0, 180.0), (40.0, 60.0, 180.0), (70.0, 70.0, 180.0), (70.0, 50.0, 180.0),
            (40.0, 40.0, 90.0), (60.0, 80.0, 180.0))
-SHAPES = ("rectangle", "disc", "sphere")
+SHAPES = ("rectangle", "disc", "sphere", "tube")
+TUBE_RADIUS = float(np.sin(np.radians(2.0)))  # the tube's radius at unit distance (2° half-angle)
+TUBE_AXES = ("across", "along")  # axis ⊥ the plane of incidence, or in it (both ⊥ the direction to the centre)
+# per-row variants of the tube technique: name -> (line power, sphere power) of the energy factor
+TUBE_VARIANTS = {"no_line": (0.0, 2.0), "line_squared": (2.0, 2.0)}
 SIZE_ERROR = 1.01  # power of the exactness claim: the polygon 1 % too large
 RENDER_CONFIGS = ((0.0, 0.0, 0.0), (40.0, 40.0, 180.0), (70.0, 50.0, 180.0))  # above the horizon: rendered too
 RENDER_SIGMA = 15.0
@@ -58,11 +70,17 @@ def _dir(theta_deg: float, phi_deg: float) -> np.ndarray:
     return np.array([np.sin(t) * np.cos(p), np.cos(t), np.sin(t) * np.sin(p)])
 
 
-def light_for(shape: str, theta_l: float, dphi: float, sigma_deg: float) -> dict[str, Any]:
+def light_for(shape: str, theta_l: float, dphi: float, sigma_deg: float, axis: str = "across") -> dict[str, Any]:
     """The light mapping of one configuration (centre at unit distance, facing the receiver)."""
     d = _dir(theta_l, dphi)
     s = np.radians(sigma_deg)
     base = {"shape": shape, "center": tuple(d), "normal": tuple(-d), "radiance": 1.0}
+    if shape == "tube":
+        across = np.cross(d, [0.0, 1.0, 0.0]) if abs(d[1]) < 0.99 else np.array([0.0, 0.0, 1.0])
+        across /= np.linalg.norm(across)
+        ax = across if axis == "across" else np.cross(across, d)
+        return {"shape": "tube", "center": tuple(d), "axis": tuple(ax / np.linalg.norm(ax)),
+                "length": 2 * float(np.tan(s)), "radius": TUBE_RADIUS, "radiance": 1.0}
     if shape == "sphere":
         return {**base, "radius": float(np.sin(s))}
     if shape == "disc":
@@ -83,10 +101,10 @@ def misfit(mu_v: float, alpha: float, lookup_alpha: float | None = None) -> floa
 
 
 def measure_config(shape: str, alpha: float, sigma: float, cfg: tuple[float, float, float], nodes: int,
-                   techs: list[Technique]) -> dict[str, Any]:
+                   techs: list[Technique], axis: str = "across") -> dict[str, Any]:
     """Reference and every supporting technique at one configuration."""
     tv, tl, dphi = cfg
-    light = light_for(shape, tl, dphi, sigma)
+    light = light_for(shape, tl, dphi, sigma, axis)
     p, n, v = _receiver(tv)
     ref, unc = asr.reference(light, alpha, p, n, v, nodes)
     brdf = {"alpha": alpha, "f0": 1.0}
@@ -99,6 +117,10 @@ def measure_config(shape: str, alpha: float, sigma: float, cfg: tuple[float, flo
     out["bound"] = misfit(mu, alpha)
     ff, norm, _ = ltc_integral(light, alpha * alpha, p, n, v)  # r = α instead of √α: the lookup bug
     out["ltc_alpha_as_roughness"] = float(ff[0] * norm[0])
+    if shape == "tube":
+        out["axis"] = axis
+        out["tube_variants"] = {k: float(representative_point_tube(light, brdf, p, n, v, k, lp, sp)[0, 1])
+                                for k, (lp, sp) in TUBE_VARIANTS.items()}
     return out
 
 
@@ -110,8 +132,9 @@ def compute(s: dict[str, Any]) -> dict[str, Any]:
         for a in s["alphas"]:
             for sg in s["sigmas_deg"]:
                 for cfg in CONFIGS:
-                    rows.append({"shape": shape, "alpha": a, "sigma_deg": sg,
-                                 **measure_config(shape, a, sg, cfg, s["nodes"], techs)})
+                    for ax in TUBE_AXES if shape == "tube" else ("across",):
+                        rows.append({"shape": shape, "alpha": a, "sigma_deg": sg,
+                                     **measure_config(shape, a, sg, cfg, s["nodes"], techs, ax)})
     return {"settings": s, "rows": rows, "techniques": [t.name for t in techs],
             "exactness": exactness(s["nodes"]), "render_check": render_check(s)}
 

@@ -10,14 +10,19 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from typing import Any
 
+import numpy as np
+
 from ..local_models import irradiance as irradiance_family
+from ..local_models.windowed_sh import REFERENCE_TOLERANCE
 from ..metrics.irradiance_error import METRIC_NAMES, WORST_CASE_MAX, WORST_CASE_MEAN
 from ..metrics.published import PUBLISHED_TOLERANCE
 from .base import Claim
 from .formatting import pct as _pct
 from .sh9_compute import (
+    CMGEN,
     CROSSCHECK_BIAS,
     CROSSCHECK_FLIP,
+    DENSE_NORMALS,
     MIRRORED,
     PERTURBATIONS,
     REFERENCE_BIAS,
@@ -43,6 +48,16 @@ ATTAINS_BOUND = "near_directional"  # built to approach the directional worst ca
 TIGHT = 0.95
 SWEEP_METRIC = "flux_luminance"
 STATS = ("mean", "max", "rms")
+# cmgen's auto window makes the windowed irradiance ≥ 0 exactly (every accepted cut-off has a certified minimum
+# ≥ 0); the check evaluates 9 float64 terms, each ≤ Φ in size, so rounding is ≤ 9·2⁻⁵³ Φ ≈ 10⁻¹⁵ Φ: 10⁻⁹ Φ is
+# rounding with a 10⁶ margin, and 10⁶ below the smallest negative value a rejected cut-off gives here (10⁻⁴ Φ).
+NONNEGATIVE_TOL = 1e-9
+CMGEN_SOURCE = ("Filament cmgen --sh-window auto (its default; libs/ibl/src/CubemapSH.cpp CubemapSH::windowSH, "
+                "CubemapSH::sincWindow; tools/cmgen/src/cmgen.cpp sphericalHarmonics): per channel, bisect the sinc⁴ "
+                "cut-off in [3, 13] for the widest window whose windowed irradiance has min ≥ 0 (Sloan, 'Deringing "
+                "Spherical Harmonics', 2017)")
+# Findings: the techniques of Roughton et al. 2024's comparison, against this experiment's SH9
+ZH3_COMPARED = ("zh3_stored", "zh3_hallucinated", "sh1", "sh1_geomerics")
 
 
 @dataclass
@@ -233,9 +248,47 @@ def foreign_thresholds() -> list[str]:
     return out
 
 
+def cmgen_claims(m: Measurements) -> list[Claim]:
+    """cmgen's auto window: its design property (non-negative windowed irradiance) and the Hölder bound of each
+    map's own kernel. Powers: the cut-off one bisection step wider; the technique at mirrored normals."""
+    rows = {e: r["cmgen_auto"] for e, r in m.environments.items() if r.get("cmgen_auto")}
+    if not rows:
+        return []
+    worst = max(rows, key=lambda e: rows[e]["negative"])
+    rejected = [r["negative_rejected"] for r in rows.values() if r["negative_rejected"] is not None]
+    if rejected:
+        power = ("cut-off = the smallest one the bisection rejected (one bisection step wider), worst environment",
+                 max(rejected))
+    else:  # no map here needed a window: the plain SH9 (cmgen --sh-window no) instead
+        power = ("no window (cmgen --sh-window no: plain SH9), worst environment",
+                 max(r["negative_unwindowed"] for r in rows.values()))
+    out = [Claim("sh9.cmgen_auto.nonnegative", f"cmgen auto window: windowed irradiance ≥ 0 at {DENSE_NORMALS} normals "
+                 f"on every environment (worst: {worst}, cut-off {rows[worst]['cutoff']:.3f})",
+                 "max over channels of −min_n E′_c(n) / Φ_c", NONNEGATIVE_TOL, rows[worst]["negative"], 0.0, unit="%",
+                 source=CMGEN_SOURCE + "; 10⁻⁹ Φ = float64 rounding of 9 terms with a 10⁶ margin")
+           .with_power(*power)]
+    excess = {e: (m.environments[e]["models"][CMGEN]["flux_rgb"], r["kernel_bound"]) for e, r in rows.items()
+              if CMGEN in m.environments[e]["models"]}
+    if excess:
+        worst = max(excess, key=lambda e: excess[e][0]["max"] - excess[e][1])
+        st, bound = excess[worst]
+        mirrored = max(m.environments[e]["models_mirrored"][CMGEN]["flux_rgb"]["max"] - b
+                       for e, (_, b) in excess.items())
+        out.append(Claim("sh9.cmgen_auto.kernel_bound", "cmgen auto window: max error ≤ the Hölder bound of each map's "
+                         f"own kernel on every environment (worst: {worst}, bound {_pct(bound)})",
+                         "flux_rgb max − sup_x |K̃_w(x) − max(x, 0)| (worst environment)", REFERENCE_TOLERANCE,
+                         st["max"] - bound, st["max_uncertainty"], unit="%",
+                         source="Hölder on the windowed zonal kernel K̃_w = Σ w_l A_l (2l+1)/(4π) P_l of the map's "
+                                "cut-off (the argument of R&H JOSA 2001's 3/32 bound; validate.local_models."
+                                "windowed_sh.kernel_bound); 0.1 % Φ: the reference's closed-form tolerance (texels "
+                                "vs bilinear map)")
+                   .with_power(MIRRORED + ", worst environment", mirrored))
+    return out
+
+
 def claims(m: Measurements) -> list[Claim]:
     return (paper_claims(m) + published_claims(m) + bound_claims(m) + worst_case_claims(m)
-            + bandlimited_claims(m) + reference_claims(m) + all_technique_claims(m))
+            + bandlimited_claims(m) + reference_claims(m) + all_technique_claims(m) + cmgen_claims(m))
 
 
 def technique_findings(m: Measurements) -> list[str]:
@@ -254,6 +307,86 @@ def technique_findings(m: Measurements) -> list[str]:
         out.append(f"technique {name}: worst flux-normalised error {_pct(rows[worst_mean]['mean'])} mean "
                    f"({worst_mean}) / {_pct(rows[worst_max]['max'])} max ({worst_max}); lower mean error than SH9 on "
                    f"{len(better)} of {len(rows)} environments" + (f" ({shown})" if better else "") + ".")
+    return out
+
+
+def _closer(a: dict, b: dict, stat: str) -> str:
+    """'closer to the truth than' / 'farther from it than' / 'level with' for flux_luminance stats a vs b."""
+    diff = b[stat] - a[stat]
+    unc = a[f"{stat}_uncertainty"] + b[f"{stat}_uncertainty"]
+    if abs(diff) <= unc:
+        return f"level with (difference {_pct(abs(diff))} ≤ ±{_pct(unc)})"
+    return f"{'closer to the truth than' if diff > 0 else 'farther from it than'} by {_pct(abs(diff))}"
+
+
+def zh3_environments(m: Measurements) -> list[str]:
+    """grace_probe when present and the probe with the largest sun share (the built-in environment with the
+    largest sun share when no probe was run)."""
+    envs = m.environments
+    picked = [n for n in envs if n == "grace_probe"]
+    probes = [n for n, r in envs.items() if r["kind"] == "probe"] or list(envs)
+    sunny = max(probes, key=lambda n: envs[n].get("sun_share", 0.0))
+    return picked + [sunny] if sunny not in picked else picked
+
+
+def zh3_findings(m: Measurements) -> list[str]:
+    """Is ZH3 closer to the truth than SH9 (Roughton et al. 2024), on which maps, by how much: per selected
+    environment every compared technique's flux-normalised mean / max, then the count over all environments."""
+    envs = m.environments
+    present = [t for t in ZH3_COMPARED if any(t in r["models"] for r in envs.values())]
+    if "zh3_stored" not in present:
+        return []
+    out = []
+    for name in zh3_environments(m):
+        r = envs[name]
+        sh9, models = r["errors"]["flux_luminance"], r["models"]
+        parts = [f"SH9 {_pct(sh9['mean'])} / {_pct(sh9['max'])}"] + [
+            f"{t} {_pct(models[t]['flux_luminance']['mean'])} / {_pct(models[t]['flux_luminance']['max'])}"
+            for t in present if t in models]
+        stored = _closer(models["zh3_stored"]["flux_luminance"], sh9, "mean")
+        line = (f"ZH3 vs SH9 on {name} ({r['kind']}, {r.get('sun_share', 0.0):.0%} of Φ_Y within 5° of the "
+                f"brightest texel): flux-normalised error mean / max — {', '.join(parts)}. Stored ZH3 (4 + 1 "
+                f"numbers per channel) is {stored} SH9 (9) on the mean")
+        if "zh3_hallucinated" in models and "sh1" in models:
+            hall = _closer(models["zh3_hallucinated"]["flux_luminance"], models["sh1"]["flux_luminance"], "mean")
+            line += f"; hallucinated ZH3 (4 numbers) is {hall} L1 SH (4) on the mean"
+        out.append(line + ".")
+    closer = [n for n, r in envs.items() if "zh3_stored" in r["models"] and r["models"]["zh3_stored"]["flux_luminance"]
+              ["mean"] + r["models"]["zh3_stored"]["flux_luminance"]["mean_uncertainty"]
+              < r["errors"]["flux_luminance"]["mean"]]
+    out.append(f"Stored ZH3 has a lower mean error than SH9 on {len(closer)} of {len(envs)} environments"
+               + (f" ({', '.join(closer[:6])}{' …' if len(closer) > 6 else ''})" if closer else "")
+               + "; Roughton et al. 2024 compare ZH3 with L1 SH (which it beats), not with SH9, which keeps 4 more "
+                 "numbers per channel.")
+    return out
+
+
+def _identical_channels(coeffs: np.ndarray) -> bool:
+    return bool(np.allclose(coeffs[:, 0], coeffs[:, 1], rtol=1e-6)
+                and np.allclose(coeffs[:, 0], coeffs[:, 2], rtol=1e-6))
+
+
+def cmgen_findings(m: Measurements) -> list[str]:
+    """The cut-off cmgen's auto window picks per map, and what the window costs at the peak."""
+    rows = {e: r["cmgen_auto"] for e, r in m.environments.items() if r.get("cmgen_auto")}
+    if not rows:
+        return []
+    cuts = ", ".join(f"{e} {r['cutoff']:.2f}" for e, r in rows.items())
+    worst = max(rows, key=lambda e: m.environments[e]["models"].get(CMGEN, {}).get("flux_luminance", {}).get("max", 0))
+    r, w = rows[worst], rows[worst]["weights"]
+    st = m.environments[worst]["models"][CMGEN]["flux_luminance"]
+    sh9 = m.environments[worst]["errors"]["flux_luminance"]
+    out = [f"cmgen auto window: cut-off (bands, bisected in [3, 13]) per environment: {cuts}. Worst: {worst}, "
+           f"w = ({w[0]:.3f}, {w[1]:.3f}, {w[2]:.3f}), error {_pct(st['mean'])} mean / {_pct(st['max'])} max of Φ "
+           f"(SH9 {_pct(sh9['mean'])} / {_pct(sh9['max'])}): no ringing, at the price of the peak (kernel bound "
+           f"{_pct(r['kernel_bound'])}; unwindowed min {_pct(-r['negative_unwindowed'])} of Φ)."]
+    grey = [e for e, r in rows.items() if len({round(b[0], 6) for b in r["brackets"]}) > 1
+            and _identical_channels(np.array(m.environments[e]["coefficients"]))]
+    if grey:
+        out.append(f"cmgen auto window on grey lighting ({', '.join(grey)}): identical channels end with different "
+                   "brackets, because each channel's bisection starts at the previous channel's answer and stops "
+                   "after a 0.1-band bracket, so the cut-off shrinks by up to 0.1 band per channel without any "
+                   "channel failing (as in CubemapSH::windowSH).")
     return out
 
 
@@ -280,7 +413,7 @@ def findings(m: Measurements) -> list[str]:
             out.append(f"{name}: SH9 error {_pct(st['mean'])} mean / {_pct(st['max'])} max of Φ — beyond "
                        "the paper's 1 %/5 % (expected for concentrated light: a sun or small bright source), "
                        "still within the 3.07 %/9.375 % directional bound.")
-    return out + technique_findings(m) + foreign_thresholds()
+    return out + technique_findings(m) + zh3_findings(m) + cmgen_findings(m) + foreign_thresholds()
 
 
 __all__ = ["Measurements", "claims", "findings", "PAPER_MEAN", "PAPER_MAX", "BANDLIMITED_EXACT", "CONVERGENCE",

@@ -13,7 +13,13 @@ Per environment (:func:`analyse_environment`, run through ``ctx.map``):
 * every registered ``irradiance`` technique through ``family.call`` (output contract checked), at the
   normals and at the normals mirrored x → −x (a handedness bug: the power check of its claims);
 * the closed form where one exists (:mod:`.sh9_closed_forms`), the published coefficients where the
-  probe is one of the paper's (:mod:`validate.metrics.published`), or why not.
+  probe is one of the paper's (:mod:`validate.metrics.published`), or why not;
+* Filament cmgen's automatic window (:mod:`validate.local_models.cmgen_window`, technique
+  ``sh9_cmgen_auto``): the cut-off it picks for this map, the Hölder bound of that map's kernel, and the
+  windowed irradiance's minimum over :data:`DENSE_NORMALS` normals (float64) at the chosen cut-off, at the
+  smallest cut-off the bisection rejected and without a window (:func:`cmgen_check`);
+* the sun share: the fraction of the luminance flux within :data:`SUN_CAP_DEG` of the brightest texel
+  (:func:`sun_share`; picks the strongest-sun probe for the findings).
 
 :func:`pathtrace_crosscheck` judges the reference by a path-traced Lambertian sphere.
 """
@@ -25,8 +31,10 @@ from typing import Any
 
 import numpy as np
 
+from ..local_models import cmgen_window
 from ..local_models import irradiance as irradiance_family
 from ..local_models import sh as shm
+from ..local_models.windowed_sh import kernel_bound
 from ..metrics.irradiance_error import ErrorStats, irradiance_errors
 from ..metrics.published import fit_exposure
 from ..reference import pathtrace
@@ -75,6 +83,11 @@ MIRRORED = "normals mirrored x → −x (a handedness bug)"
 REFERENCE_BIAS = 0.01  # power of the reference claims: the reference biased by 1 %
 CROSSCHECK_BIAS = 0.02  # power of the path-traced bias claim: the quadrature biased by 2 %
 CROSSCHECK_FLIP = "quadrature image flipped upside down (the film's v axis inverted)"
+CMGEN = "sh9_cmgen_auto"
+# normals of the non-negativity check: 20 000 spherical-Fibonacci points (mean spacing 1.6°); the windowed
+# irradiance is a quadratic on the sphere, so its negative lobes (tens of degrees wide) cannot slip between them
+DENSE_NORMALS = 20000
+SUN_CAP_DEG = 5.0  # the sun (0.27° radius) and its aureole
 
 
 def stats_json(stats: dict[str, ErrorStats]) -> dict[str, dict[str, float]]:
@@ -138,6 +151,40 @@ def measure_techniques(env: Environment, normals: np.ndarray, e_ref: np.ndarray,
         mirrored[tech.name] = stats_json(irradiance_errors(e_ref, e[k:2 * k], flux, unc))
         at_extra[tech.name] = e[2 * k:]
     return metrics, mirrored, at_extra
+
+
+def worst_negative(coeffs: np.ndarray, cutoff: float, normals: np.ndarray, flux: np.ndarray) -> float:
+    """max over channels with Φ_c > 0 of −min_n E′_c(n) / Φ_c for the sinc⁴ window at ``cutoff`` (float64)."""
+    e = cmgen_window.render_windowed_exact(coeffs, cutoff, normals)
+    return float(max(-e[:, c].min() / flux[c] for c in range(3) if flux[c] > 0))
+
+
+def cmgen_check(env: Environment, flux: np.ndarray) -> dict | None:
+    """cmgen's auto window on this map: cut-off, weights, the kernel's Hölder bound and the windowed
+    irradiance's worst negative value at the chosen / the smallest rejected / no window (None when the
+    technique is not registered or the map has no flux)."""
+    if CMGEN not in irradiance_family or not np.any(flux > 0):
+        return None
+    coeffs = shm.project_environment(env.radiance, 2)  # as the technique does
+    win = cmgen_window.auto_window(coeffs)
+    dense = latlong.fibonacci_sphere(DENSE_NORMALS)
+    return {"cutoff": win.cutoff, "rejected": win.rejected, "weights": win.weights.tolist(),
+            "brackets": [list(b) for b in win.brackets], "kernel_bound": kernel_bound(win.weights),
+            "negative": worst_negative(coeffs, win.cutoff, dense, flux),
+            "negative_rejected": None if win.rejected is None else worst_negative(coeffs, win.rejected, dense, flux),
+            "negative_unwindowed": worst_negative(coeffs, np.inf, dense, flux)}
+
+
+def sun_share(env: Environment, cap_deg: float = SUN_CAP_DEG) -> float:
+    """Fraction of the luminance flux Φ_Y within ``cap_deg`` of the brightest texel (by luminance)."""
+    h, w = env.height, env.width
+    y = latlong.luminance(np.asarray(env.radiance, dtype=np.float64)) * latlong.row_solid_angles(h, w)[:, None]
+    total = float(y.sum())
+    if total <= 0:
+        return 0.0
+    d = latlong.texel_directions(h, w)
+    peak = d[np.unravel_index(int(np.argmax(latlong.luminance(env.radiance))), (h, w))]
+    return float(y[d @ peak >= np.cos(np.radians(cap_deg))].sum() / total)
 
 
 def closed_form_check(env: Environment, normals: np.ndarray, e_ref: np.ndarray, unc: np.ndarray) -> dict | None:
@@ -214,6 +261,10 @@ def analyse_environment(env: Environment, settings: Settings, published: dict, a
     cf = closed_form_check(env, n_fib, e_ref, unc)
     if cf is not None:
         out["closed_form"] = cf
+    cm = cmgen_check(env, flux)
+    if cm is not None:
+        out["cmgen_auto"] = cm
+    out["sun_share"] = sun_share(env)
     out.update(published_check(env, published, aliases))
     gh, gw = settings.grid
     err_grid = (np.abs(latlong.luminance(e_sh9_all[k1:k2]) - latlong.luminance(ref.irradiance[k1:k2]))

@@ -4,9 +4,10 @@ family.
 Family ``specular_arealight``
   ``fn(light, brdf, points (N, 3), normals (N, 3) unit, views (N, 3) unit towards the viewer) -> (N, 3)`` outgoing
   radiance L_o = ∫_light L_e f_r(l, v) (n·l) dω_l of a one-sided uniform emitter (front face towards
-  ``normal``; a sphere emits everywhere). ``light``: {'shape': 'rectangle' | 'disc' | 'sphere', 'center': (3,),
-  'normal': (3,) (rectangle, disc), 'radius' (disc, sphere), 'size': (w, h) and 'tangent': (3,) along w
-  (rectangle), 'radiance': L_e}. ``brdf``: {'alpha': GGX α, 'f0': F₀ (scalar or RGB; Schlick's Fresnel)}; the
+  ``normal``; a sphere and a tube emit everywhere). ``light``: {'shape': 'rectangle' | 'disc' | 'sphere' | 'tube',
+  'center': (3,), 'normal': (3,) (rectangle, disc), 'radius' (disc, sphere, tube), 'size': (w, h) and 'tangent':
+  (3,) along w (rectangle), 'axis': (3,) unit and 'length' ℓ ≥ 0 (tube: the capsule swept by a sphere of radius
+  'radius' along the segment center ± (ℓ/2)·axis, a cylinder closed by two hemispheres), 'radiance': L_e}. ``brdf``: {'alpha': GGX α, 'f0': F₀ (scalar or RGB; Schlick's Fresnel)}; the
   microfacet BRDF is Walter et al. 2007 eq. 20 with separable Smith G (Mitsuba's ``roughconductor``). A technique
   lists its shapes as meta ``shapes``.
 
@@ -29,7 +30,9 @@ LTC (Heitz, Dupuy, Hill, Neubelt 2016 [1])
   clipped to the horizon, F = (1/2π) Σ_edges acos(p_i·p_j) ẑ·(p_i × p_j)/‖p_i × p_j‖ (Lambert/Arvo, [1] eq. 11).
   L_o = L_e (F₀ E + (1 − F₀) E_f) F ([1] §5.2). A disc is integrated as its inscribed regular 64-gon scaled to the
   disc's area; a sphere as the disc through its centre, facing the receiver, that subtends the same cone
-  (radius r d/√(d² − r²)); neither rule is exact (the paper's own disc/sphere extension, Heitz & Hill 2017,
+  (radius r d/√(d² − r²)); a tube as the stadium in the plane through its axis facing the receiver (width
+  2R h/√(h² − R²) for the axis at distance h, the cylinder's silhouette; ends two inscribed 32-segment half-circles
+  of the same radius); no rule is exact (the paper's own disc/sphere extension, Heitz & Hill 2017,
   approximates ellipses differently) — they keep the LTC's error measurable on its own.
 
 References
@@ -56,12 +59,13 @@ from .registry import define_family
 DATA = Path(__file__).with_name("data") / "ltc_ggx.npz"
 MIN_ALPHA = 1e-3
 DISC_SIDES = 64
-SHAPES = ("rectangle", "disc", "sphere")
+SHAPES = ("rectangle", "disc", "sphere", "tube")
+TUBE_ARC_SIDES = 32  # segments per half-circle end of a tube's stadium polygon
 
 specular_arealight = define_family(
     "specular_arealight",
-    "fn(light: mapping {'shape': 'rectangle'|'disc'|'sphere', 'center', 'normal', 'radius' or 'size' + 'tangent', "
-    "'radiance'}, brdf: mapping {'alpha': GGX α, 'f0': F0}, points: (N, 3), normals: (N, 3) unit, views: (N, 3) unit "
+    "fn(light: mapping {'shape': 'rectangle'|'disc'|'sphere'|'tube', 'center', 'normal', 'radius' or 'size' + "
+    "'tangent', 'axis' + 'length' (tube capsule), 'radiance'}, brdf: mapping {'alpha': GGX α, 'f0': F0}, points: (N, 3), normals: (N, 3) unit, views: (N, 3) unit "
     "towards the viewer) -> (N, 3) outgoing radiance ∫_light L_e f_r (n·l) dω of a GGX microfacet BRDF",
     lambda light, brdf, points, normals, views, **_: (len(points), 3),
     lower=0.0,
@@ -304,7 +308,37 @@ def light_polygon(light: Mapping[str, Any], points: np.ndarray, who: str) -> np.
         b = np.cross(nrm, t)
         sc = np.asarray(scale, dtype=np.float64).reshape(-1, 1, 1) if np.ndim(scale) else scale
         return c + sc * (np.cos(ang)[None, :, None] * t[:, None, :] + np.sin(ang)[None, :, None] * b[:, None, :])
+    if shape == "tube":
+        return tube_polygon(light, points, who)
     raise ValidateError(f"technique '{who}' (specular_arealight): light shape {shape!r}; expected one of {SHAPES}")
+
+
+def tube_polygon(light: Mapping[str, Any], points: np.ndarray, who: str) -> np.ndarray:
+    """The stadium (N, 2·(TUBE_ARC_SIDES + 1), 3) standing in for a capsule seen from each receiver: in the plane
+    through the axis whose normal points at the receiver, the rectangle ℓ × 2R′ closed by half-circles of radius
+    R′ = R h/√(h² − R²) about the ends (h: the receiver's distance to the axis)."""
+    c = np.asarray(light["center"], dtype=np.float64)
+    ax = np.asarray(light.get("axis", (0.0, 0.0, 0.0)), dtype=np.float64)
+    length, r = float(light.get("length", -1.0)), float(light.get("radius", 0.0))
+    if ax.shape != (3,) or not np.linalg.norm(ax) > 0.0 or not length >= 0.0 or not r > 0.0:
+        raise ValidateError(f"technique '{who}' (specular_arealight): tube needs 'axis' (3,) non-zero, 'length' >= 0 "
+                            f"and 'radius' > 0; got axis={ax.tolist()!r}, length={length!r}, radius={r!r}")
+    ax = ax / np.linalg.norm(ax)
+    q = np.asarray(points, dtype=np.float64) - c
+    qp = q - (q @ ax)[:, None] * ax
+    h = np.linalg.norm(qp, axis=-1, keepdims=True)
+    if np.any(h <= r):
+        raise ValidateError(f"technique '{who}' (specular_arealight): a receiver lies within the tube's radius of "
+                            "its axis")
+    b = _unit(np.cross(qp / h, ax))
+    rr = r * h / np.sqrt(h * h - r * r)  # (N, 1)
+    th = np.linspace(-0.5 * np.pi, 0.5 * np.pi, TUBE_ARC_SIDES + 1)
+    ends = []
+    for sign in (1.0, -1.0):
+        centre = c + sign * 0.5 * length * ax
+        arc = sign * (np.cos(th)[None, :, None] * ax + np.sin(th)[None, :, None] * b[:, None, :])
+        ends.append(centre + rr[:, :, None] * arc)
+    return np.concatenate(ends, axis=1)
 
 
 def clipped_form_factor(poly: np.ndarray) -> np.ndarray:
@@ -370,7 +404,7 @@ def ltc_integral(light: Mapping[str, Any], alpha: float, points: np.ndarray, nor
     local = np.einsum("nij,nkj->nki", frames, poly)
     front = np.sum((np.asarray(light.get("center"), dtype=np.float64) - points)
                    * np.asarray(light.get("normal", (0.0, 0.0, 0.0)), dtype=np.float64), -1) < 0.0
-    if light.get("shape") == "sphere":
+    if light.get("shape") in ("sphere", "tube"):
         front = np.ones(len(points), dtype=bool)
     trans = np.einsum("nij,nkj->nki", m_inv, local)
     ff = clipped_form_factor(trans)
@@ -378,7 +412,8 @@ def ltc_integral(light: Mapping[str, Any], alpha: float, points: np.ndarray, nor
 
 
 @specular_arealight.register("ltc", "Linearly Transformed Cosines (Heitz et al. 2016), GGX table fitted here "
-                             "(scripts/fit_ltc.py); disc as an equal-area 64-gon, sphere as its silhouette disc",
+                             "(scripts/fit_ltc.py); disc as an equal-area 64-gon, sphere as its silhouette disc, tube as its "
+                             "silhouette stadium",
                              shapes=SHAPES)
 def ltc(light: Mapping[str, Any], brdf: Mapping[str, Any], points: np.ndarray, normals: np.ndarray,
         views: np.ndarray) -> np.ndarray:
@@ -390,4 +425,4 @@ def ltc(light: Mapping[str, Any], brdf: Mapping[str, Any], points: np.ndarray, n
 
 __all__ = ["specular_arealight", "fit_entry", "fit_quadrature", "ggx_cos", "ltc_density", "table_axes", "alpha_of",
            "pack", "load_table", "Table", "Entry", "clipped_form_factor", "light_polygon", "local_frames",
-           "ltc_integral", "brdf_params"]
+           "ltc_integral", "brdf_params", "tube_polygon"]

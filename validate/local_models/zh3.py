@@ -22,6 +22,17 @@ Two ways to get z2 (both registered):
 
 Both parts are irradiance E (not E/π): the zonal term carries A2 = π/4, the linear part A0, A1.
 
+Declared threshold of ``zh3_hallucinated`` (judged on ``near_directional``): it depends on L only through
+L00 and L1, so for grey lighting of flux Φ and mean direction vector ρ m̂ (L00 = Y00 Φ, L1 = √(3/4π) Φ ρ m̂,
+r = √3 ρ) its output is Φ k_ρ(n·m̂) with the closed-form kernel (:func:`hallucinated_kernel`)
+
+    k_ρ(x) = ¼ + ρx/2 + A2 √(5/16π) Y00 (0.08 r + 0.6 r²) (3x² − 1),   r = √3 ρ,
+
+for a directional light (ρ = 1) k = ¼ + x/2 + 0.13546 (3x² − 1): error |k − max(x, 0)| ≤ 0.1145 at the
+horizon (SH9: 3/32 = 0.094 there; plain L1: ¼). Widened for the disc and its texels as in
+:func:`.windowed_sh.near_directional_bound` (Jensen below, the cone above), plus the reference's closed-form
+tolerance (:data:`.windowed_sh.REFERENCE_TOLERANCE`).
+
 References
   [1] T. Roughton, P.-P. Sloan, A. Silvennoinen, M. Iwanicki, P. Shirley, "ZH3: Quadratic Zonal
       Harmonics", Proc. ACM Comput. Graph. Interact. Tech. (i3D) 2024.
@@ -38,6 +49,7 @@ import numpy as np
 
 from . import sh
 from .families import irradiance as _irradiance
+from .windowed_sh import REFERENCE_TOLERANCE, near_directional_bound, near_directional_half_angle
 
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 Y20_NORM = math.sqrt(5.0 / (16.0 * math.pi))
@@ -88,7 +100,28 @@ def zh3_stored(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
     return render_zh3(coeffs, axis, stored_z2(coeffs, axis), normals)
 
 
-@_irradiance.register("zh3_hallucinated", "ZH3 hallucinated from L1 (Roughton et al. 2024 §3.4.3 curve fit)")
+def hallucinated_kernel(rho: float, x: np.ndarray) -> np.ndarray:
+    """Per unit flux, from [1] §3.4.3's formulas (not from :func:`zh3_hallucinated`): linear part
+    A0 Y00² + A1 (3/4π) ρ x = ¼ + ρx/2; zonal part A2 √(5/16π) (3x² − 1) z2 with z2 = Y00 (0.08 r + 0.6 r²),
+    r = √3 ρ (|L1·a| / L00 for L1 = √(3/4π) ρ a)."""
+    x = np.asarray(x, dtype=np.float64)
+    y00 = math.sqrt(1.0 / (4.0 * math.pi))
+    r = math.sqrt(3.0) * rho
+    z2 = y00 * (HALLUCINATE_LINEAR * r + HALLUCINATE_QUADRATIC * r * r)
+    return 0.25 + 0.5 * rho * x + A2 * Y20_NORM * (3.0 * x * x - 1.0) * z2
+
+
+HALLUCINATED_BOUND = near_directional_bound(hallucinated_kernel, near_directional_half_angle())
+
+
+@_irradiance.register("zh3_hallucinated", "ZH3 hallucinated from L1 (Roughton et al. 2024 §3.4.3 curve fit)",
+                      thresholds={"flux_rgb.max": HALLUCINATED_BOUND + REFERENCE_TOLERANCE},
+                      environments=("near_directional",),
+                      source="closed form on a directional light (Roughton et al. 2024 §3.4.3: z2 = L00 (0.08 r "
+                             "+ 0.6 r²), r = √3: kernel ¼ + x/2 + 0.1355 (3x² − 1), error ≤ 0.1145 Φ at the "
+                             "horizon), widened for near_directional's 0.5° disc + one texel by Jensen's "
+                             "inequality and the cone (validate.local_models.windowed_sh.near_directional_bound: "
+                             f"{HALLUCINATED_BOUND:.5f}) + 0.1 % Φ, the reference's closed-form tolerance")
 def zh3_hallucinated(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
     coeffs = sh.project_environment(radiance, 1)
     axis = zonal_axis(coeffs)

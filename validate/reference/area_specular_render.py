@@ -1,5 +1,5 @@
-"""Reference radiance of a GGX ``roughconductor`` under rectangle, disc and sphere emitters: Mitsuba's own BSDF
-evaluation integrated over the emitter by deterministic quadrature.
+"""Reference radiance of a GGX ``roughconductor`` under rectangle, disc, sphere and tube (capsule) emitters: Mitsuba's
+own BSDF evaluation integrated over the emitter by deterministic quadrature.
 
     L_o(p, v) = ∫_light L_e f_r(l, v) (n·l) dω_l
 
@@ -10,7 +10,17 @@ emits everywhere). The quadrature (Gauss–Legendre, n nodes per axis) runs over
 
 * rectangle: the two edge coordinates, dω = cos θ_light dA / r²;
 * disc: ρ² ∈ [0, R²] (Gauss–Legendre) × φ (2n uniform), dA = ½ dρ² dφ;
-* sphere: the cone of directions it subtends, cos θ ∈ [cos σ, 1], sin σ = R/d (Gauss–Legendre) × φ (2n uniform).
+* sphere: the cone of directions it subtends, cos θ ∈ [cos σ, 1], sin σ = R/d (Gauss–Legendre) × φ (2n uniform);
+* tube: a capsule (the segment c ± (ℓ/2)a swept by a sphere of radius R: a cylinder closed by two hemispheres),
+  integrated over the part of its surface the receiver sees, dω = cos θ_light dA / r² (a convex emitter: every
+  direction towards it meets exactly one front-facing surface point). Cylinder side: s ∈ [−ℓ/2, ℓ/2] × the visible
+  arc φ ∈ [−β, β] about the receiver's side, cos β = R/h (h the receiver's distance to the axis), dA = R ds dφ.
+  Each cap (outer hemisphere about its end e, outward axis a_e): the visible cap of its sphere in polar angle t
+  about the direction u from e to the receiver, t ∈ [0, γ], cos γ = R/‖p − e‖, split where the hemisphere's rim
+  enters (tan t = |u·a_e| / √(1 − (u·a_e)²)), and for each t the azimuth range on the outer half,
+  cos φ ≥ −(u·a_e) cos t / (√(1 − (u·a_e)²) sin t), dA = R² sin t dt dφ. Every factor is Gauss–Legendre with n
+  nodes; the integration limits follow the visibility and rim boundaries, so each integrand is smooth (no
+  indicator functions) apart from the receiver's horizon, as for the other shapes.
 
 Uncertainty: |L(n) − L(n/2)| per receiver (the quadrature's own convergence; Mitsuba's float32 evaluation adds
 ~10⁻⁶ relative). The sharp lobes of small α need n large enough to resolve the lobe's footprint on the light;
@@ -20,6 +30,7 @@ the uncertainty says when it is not.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -41,8 +52,17 @@ def _perp(n: np.ndarray) -> np.ndarray:
     return _unit(np.cross(n, a))
 
 
-def _gl(n: int, a: float, b: float) -> tuple[np.ndarray, np.ndarray]:
+@lru_cache(maxsize=32)
+def _leggauss(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss–Legendre nodes and weights on [−1, 1] (cached: the tube's caps ask for them per polar node)."""
     x, w = np.polynomial.legendre.leggauss(n)
+    x.flags.writeable = False
+    w.flags.writeable = False
+    return x, w
+
+
+def _gl(n: int, a: float, b: float) -> tuple[np.ndarray, np.ndarray]:
+    x, w = _leggauss(n)
     return a + (b - a) * 0.5 * (x + 1.0), (b - a) * 0.5 * w
 
 
@@ -51,6 +71,12 @@ def light_directions(light: Mapping[str, Any], point: np.ndarray, n: int) -> tup
     light's back face is seen."""
     shape = light.get("shape")
     c = np.asarray(light["center"], dtype=np.float64)
+    if shape == "tube":
+        pts, nrm, da = _tube_surface(light, np.asarray(point, dtype=np.float64), n)
+        vec = pts - point
+        dist = np.linalg.norm(vec, axis=-1)
+        dirs = vec / dist[:, None]
+        return dirs, da * np.maximum(-np.sum(dirs * nrm, -1), 0.0) / dist ** 2
     if shape == "sphere":
         r = float(light["radius"])
         to_c = c - point
@@ -86,12 +112,86 @@ def light_directions(light: Mapping[str, Any], point: np.ndarray, n: int) -> tup
         pts = c + rho[:, None, None] * (np.cos(phi)[None, :, None] * t + np.sin(phi)[None, :, None] * b)
         da = np.outer(0.5 * w2, np.full(2 * n, np.pi / n))
     else:
-        raise ValidateError(f"area_specular_render: light shape {shape!r}; expected rectangle, disc or sphere")
+        raise ValidateError(f"area_specular_render: light shape {shape!r}; expected rectangle, disc, sphere or tube")
     vec = pts.reshape(-1, 3) - point
     dist = np.linalg.norm(vec, axis=-1)
     dirs = vec / dist[:, None]
     cos_light = np.maximum(-(dirs @ nrm), 0.0)
     return dirs, da.ravel() * cos_light / dist ** 2
+
+
+def tube_geometry(light: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """(centre, unit axis, length ℓ ≥ 0, radius R > 0) of a tube light mapping; ValidateError on bad values."""
+    c = np.asarray(light["center"], dtype=np.float64)
+    a = np.asarray(light.get("axis", (0.0, 0.0, 0.0)), dtype=np.float64)
+    length, radius = float(light.get("length", -1.0)), float(light.get("radius", 0.0))
+    if a.shape != (3,) or not np.linalg.norm(a) > 0.0 or not length >= 0.0 or not radius > 0.0:
+        raise ValidateError(f"area_specular_render: tube light needs 'axis' (3,) non-zero, 'length' >= 0 and "
+                            f"'radius' > 0; got axis={a.tolist()!r}, length={length!r}, radius={radius!r}")
+    return c, a / np.linalg.norm(a), length, radius
+
+
+def _tube_surface(light: Mapping[str, Any], p: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(points (M, 3), outward normals (M, 3), area weights (M,)) on the part of the capsule visible from p."""
+    c, a, length, r = tube_geometry(light)
+    q = p - c
+    s_p = float(q @ a)
+    qp = q - s_p * a
+    h = float(np.linalg.norm(qp))
+    pts, nrm, da = [], [], []
+    if h > r and length > 0.0:  # cylinder side
+        u = qp / h
+        b = np.cross(a, u)
+        beta = np.arccos(r / h)
+        s, ws = _gl(n, -0.5 * length, 0.5 * length)
+        phi, wp = _gl(n, -beta, beta)
+        nn = np.cos(phi)[:, None] * u + np.sin(phi)[:, None] * b
+        pts.append((c + s[:, None, None] * a + r * nn[None, :, :]).reshape(-1, 3))
+        nrm.append(np.broadcast_to(nn, (n, n, 3)).reshape(-1, 3))
+        da.append((r * np.outer(ws, wp)).ravel())
+    for sign in (-1.0, 1.0):
+        e = c + sign * 0.5 * length * a
+        cap = _cap_surface(e, sign * a, r, p, n)
+        if cap is not None:
+            pts.append(cap[0])
+            nrm.append(cap[1])
+            da.append(cap[2])
+    if not pts:
+        raise ValidateError("area_specular_render: receiver inside the tube light")
+    return np.concatenate(pts), np.concatenate(nrm), np.concatenate(da)
+
+
+def _cap_surface(e: np.ndarray, ax: np.ndarray, r: float, p: np.ndarray, n: int
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """The visible part of the hemisphere {e + R m : m·ax ≥ 0}: polar angle t about u = (p − e)/‖p − e‖ up to the
+    visibility limit cos γ = R/‖p − e‖, azimuth (from the projection of ax) limited to the outer half."""
+    dvec = p - e
+    d = float(np.linalg.norm(dvec))
+    if d <= r:
+        return None
+    u = dvec / d
+    ua = float(u @ ax)
+    t1 = ax - ua * u
+    sa = float(np.linalg.norm(t1))
+    t1 = t1 / sa if sa > 1e-12 else _perp(u)
+    t2 = np.cross(u, t1)
+    gamma = float(np.arccos(r / d))
+    t_star = float(np.arctan2(abs(ua), sa))  # where the rim circle m·ax = 0 becomes tangent to the t-circle
+    edges = [0.0, *([t_star] if 0.0 < t_star < gamma else []), gamma]
+    pts, nrm, da = [], [], []
+    for lo, hi in zip(edges[:-1], edges[1:], strict=True):
+        t, wt = _gl(n, lo, hi)
+        st = np.maximum(np.sin(t), 1e-300)
+        phi_max = np.arccos(np.clip(-ua * np.cos(t) / (max(sa, 1e-300) * st), -1.0, 1.0))
+        x, wx = _leggauss(n)
+        phi = np.outer(phi_max, x)  # (n_t, n_φ) on [−φ_max, φ_max]
+        w = np.outer(wt * st * phi_max, wx) * r * r
+        m = (np.cos(t)[:, None, None] * u + st[:, None, None] * (np.cos(phi)[..., None] * t1
+                                                                 + np.sin(phi)[..., None] * t2))
+        pts.append((e + r * m).reshape(-1, 3))
+        nrm.append(m.reshape(-1, 3))
+        da.append(w.ravel())
+    return np.concatenate(pts), np.concatenate(nrm), np.concatenate(da)
 
 
 def radiance(light: Mapping[str, Any], alpha: float, points: np.ndarray, normals: np.ndarray, views: np.ndarray,
@@ -134,9 +234,6 @@ def reference(light: Mapping[str, Any], alpha: float, points: np.ndarray, normal
     return full, np.abs(full - half)
 
 
-
-
-
 # ---------------------------------------------------------------------------------------------
 # Mitsuba render of the same configuration (validates the quadrature reference)
 
@@ -152,6 +249,8 @@ def emitter_dict(light: Mapping[str, Any]) -> dict[str, Any]:
 
     emitter = {"type": "area", "radiance": {"type": "rgb", "value": float(light.get("radiance", 1.0))}}
     c = np.asarray(light["center"], dtype=np.float64)
+    if light["shape"] == "tube":
+        raise ValidateError("area_specular_render: a tube is three Mitsuba shapes; use emitter_shapes")
     if light["shape"] == "sphere":
         return {"type": "sphere", "center": c.tolist(), "radius": float(light["radius"]), "emitter": emitter}
     n = _unit(light["normal"])
@@ -164,6 +263,26 @@ def emitter_dict(light: Mapping[str, Any]) -> dict[str, Any]:
         return {"type": "rectangle", "to_world": mi.ScalarTransform4f(m), "emitter": emitter}
     r = float(light["radius"])
     return {"type": "disk", "to_world": mi.ScalarTransform4f(_frame_matrix(c, t, b, n, r, r)), "emitter": emitter}
+
+
+def emitter_shapes(light: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
+    """Scene entries for a light mapping: one shape, or for a tube Mitsuba's open ``cylinder`` (p0, p1, radius; normals
+    outward) closed by two ``sphere`` caps, each with its own ``area`` emitter. The caps' inner halves lie inside the
+    cylinder and are never seen from outside (first-hit visibility), so the union emits as the capsule."""
+    if light["shape"] != "tube":
+        return {"light": emitter_dict(light)}
+    c, a, length, r = tube_geometry(light)
+    le = float(light.get("radiance", 1.0))
+
+    def emitter() -> dict[str, Any]:
+        return {"type": "area", "radiance": {"type": "rgb", "value": le}}
+
+    p0, p1 = c - 0.5 * length * a, c + 0.5 * length * a
+    out = {f"light_cap{i}": {"type": "sphere", "center": e.tolist(), "radius": r, "emitter": emitter()}
+           for i, e in enumerate((p0, p1))}
+    if length > 0.0:
+        out["light"] = {"type": "cylinder", "p0": p0.tolist(), "p1": p1.tolist(), "radius": r, "emitter": emitter()}
+    return out
 
 
 def render(light: Mapping[str, Any], alpha: float, point: np.ndarray, normal: np.ndarray, view: np.ndarray,
@@ -185,11 +304,13 @@ def render(light: Mapping[str, Any], alpha: float, point: np.ndarray, normal: np
     cam = (mi.ScalarTransform4f().look_at(origin=(p + 0.05 * v).tolist(), target=p.tolist(), up=up.tolist())
            @ mi.ScalarTransform4f().scale([1e-4, 1e-4, 1.0]))
     scene = mi.load_dict({
-        "type": "scene", "integrator": {"type": "direct"}, "plane": plane, "light": emitter_dict(light),
+        "type": "scene", "integrator": {"type": "direct"}, "plane": plane, **emitter_shapes(light),
         "sensor": {"type": "orthographic", "to_world": cam, "near_clip": 1e-3, "far_clip": 10.0,
                    "film": {"type": "hdrfilm", "width": pixels, "height": pixels, "rfilter": {"type": "box"},
                             "pixel_format": "rgb"},
                    "sampler": {"type": "independent", "sample_count": spp}}})
     img = np.asarray(mi.render(scene, spp=spp, seed=seed), dtype=np.float64)[..., 1].ravel()
     return float(img.mean()), float(img.std(ddof=1) / np.sqrt(img.size))
-__all__ = ["light_directions", "radiance", "reference", "emitter_dict", "render"]
+
+
+__all__ = ["light_directions", "radiance", "reference", "emitter_dict", "emitter_shapes", "render", "tube_geometry"]
