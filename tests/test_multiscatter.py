@@ -54,7 +54,8 @@ def test_bad_alpha_is_one_line_error():
 
 def test_experiment_claims_pass_and_power_fails(tmp_path):
     s = ms.Settings(alphas=(0.5, 1.0), mus=(0.3, 1.0), metalness=(0.0, 0.5, 1.0), nodes=64, walkers=50_000,
-                    walk_alphas=(0.6, 1.0))
+                    walk_alphas=(0.6, 1.0), chi2_cases=((0.3, 30.0), (1.0, 20.0)), chi2_samples=200_000, chi2_res=31,
+                    recip_f0s=(1.0,), recip_lanes=128, furnace_mus=(0.5,), furnace_directions=100_000, render_spp=16)
     ctx = Context(out_dir=tmp_path, quick=True, show_progress=False)
     m = ms.compute(ctx, s)
     claims = {c.id: c for c in ms.claims(m)}
@@ -64,8 +65,10 @@ def test_experiment_claims_pass_and_power_fails(tmp_path):
     bug = claims["multiscatter.regression.ggx_metalness_blended_f0_bug.furnace_error.metalness"]
     assert bug.passed and bug.measured > 0.2 and bug.power.fails
     assert ms.metrics(m, "cook_torrance")["furnace_error.f0_1"]["value"] > 0.6
-    for cid in ("multiscatter.walk.single_scatter", "multiscatter.walk.furnace"):
-        assert claims[cid].passed and claims[cid].power.fails, claims[cid]
+    for cid in ("single_scatter", "furnace", "chi2", "reciprocity", "eval_furnace", "render_furnace",
+                "mitsuba_single_scatter"):
+        c = claims[f"multiscatter.walk.{cid}"]
+        assert c.passed and c.power.fails, c
 
 
 def test_random_walk_reference():
@@ -76,3 +79,71 @@ def test_random_walk_reference():
     assert abs(r.albedo[0] - 1.0) < 1e-12 and r.truncated == 0.0
     assert abs(r.single[0] - ms.e_correlated(0.8, 0.6)) < 4 * r.single_se[0]
     assert r.albedo[1] > r.single[1] + 0.02
+
+
+# ---------------------------------------------------------------- the walk as a Mitsuba BSDF (microsurface_bsdf)
+
+def test_walk_bsdf_chi2_accepts_the_sampler_and_rejects_alpha_times_1_1():
+    """χ² (Mitsuba's histogram, pdf() with its Monte Carlo variance): the walk's sampler fits its pdf at the 1 %
+    level; the sampler with α × 1.1 (eval/pdf unchanged) is rejected far below it."""
+    from validate.reference import microsurface_bsdf as mb
+
+    kw = {"samples": 200_000, "seed": 5, "res": 31, "ires": 6, "walks": 32}
+    ok = mb.chi2_walk(0.6, 50.0, **kw)
+    assert ok["p_value"] > 0.01 and ok["stray_samples"] == 0 and not ok["harness_sanity_fail"], ok
+    assert abs(ok["pdf_mass"] - 1.0) < 5e-3 and ok["histogram_mass"] == 1.0
+    bad = mb.chi2_walk(0.6, 50.0, **kw, sample_alpha_scale=1.1)
+    assert bad["p_value"] < 1e-6, bad
+
+
+def test_walk_bsdf_reciprocity_and_its_power():
+    """|z| of forward vs reverse one-sided eval within the Šidák bound (9 pairs, family-wise 1 %); next-event
+    shadowing by the distant G₁ breaks reciprocity by many standard errors."""
+    from validate.reference import microsurface_bsdf as mb
+
+    bound = ms.sidak_z(9)
+    assert mb.reciprocity_walk(0.8, 1.0, 64, 128, 9)["max_abs_z"] < bound
+    assert mb.reciprocity_walk(0.8, 1.0, 64, 128, 9, nee_distant_g1=True)["max_abs_z"] > 2 * bound
+
+
+def test_walk_bsdf_eval_matches_numpy_walk_and_furnace():
+    """∫ eval dω_o: 1 at F₀ = 1 (theorem) and, at F₀ = 0.5, the numpy walk's albedo (same model, independent
+    float64 code), both within 4 combined standard errors."""
+    from validate.reference import microsurface_bsdf as mb
+    from validate.reference import microsurface_walk as mw
+
+    one = mb.furnace_eval(0.7, 0.4, 1.0, 100_000, 8, 3)
+    assert abs(one["albedo"] - 1.0) < 4 * one["se"], one
+    half = mb.furnace_eval(0.7, 0.4, 0.5, 100_000, 8, 4)
+    ref = mw.walk(0.7, 0.4, (0.5,), 100_000, 4)
+    assert abs(half["albedo"] - ref.albedo[0]) < 4 * np.hypot(half["se"], ref.albedo_se[0]), (half, ref)
+    assert half["albedo"] > ms.e_correlated(0.7, 0.4) * 0.5 + 0.02  # more than F₀ × single scattering
+
+
+def test_walk_bsdf_first_order_is_mitsuba_roughconductor_with_correlated_g2():
+    from validate.reference import microsurface_bsdf as mb
+
+    r = mb.single_scatter_vs_mitsuba(0.5, 5000, 1)
+    assert r["max_rel_diff"] < ms.SS_LIMIT and r["separable_max_rel_diff"] > 0.1
+    assert mb.single_scatter_vs_mitsuba(0.5, 5000, 1, 1.01)["max_rel_diff"] > 10 * ms.SS_LIMIT
+
+
+def test_walk_bsdf_sample_weight_pdf_and_bad_input():
+    """sample(): F₀ = 1 weights are exactly 1, ω_o above the horizon, bs.pdf equals pdf() (the same function of
+    (ω_i, ω_o), as MIS needs); bad properties → one-line ValidateError."""
+    import drjit as dr
+    import mitsuba as mi
+
+    from validate.reference import microsurface_bsdf as mb
+
+    b = mb.load_bsdf(0.6, 1.0, 8, 2)
+    n = 4096
+    si = dr.zeros(mi.SurfaceInteraction3f, n)
+    si.wi = mi.Vector3f(0.6, 0.0, 0.8)
+    rng = mi.PCG32(n)
+    ctx = mi.BSDFContext()
+    bs, w = b.sample(ctx, si, rng.next_float32(), mi.Point2f(rng.next_float32(), rng.next_float32()))
+    assert np.all(np.asarray(w) == 1.0) and np.all(np.asarray(bs.wo.z) > 0.0)
+    assert np.allclose(np.asarray(bs.pdf), np.asarray(b.pdf(ctx, si, bs.wo)), rtol=1e-6)
+    with pytest.raises(ValidateError, match="microsurface_walk.*alpha"):
+        mb.load_bsdf(0.0)

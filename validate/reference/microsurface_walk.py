@@ -14,6 +14,9 @@ The walk's first bounce is the height-correlated single-scattering BRDF D G₂/(
 (§4.3), not Mitsuba's separable G₁G₁; with F = 1 every walker leaves with energy 1 (the microsurface absorbs
 nothing). Fresnel: Schlick's F = F₀ + (1 − F₀)(1 − cos)⁵ at each bounce, several F₀ on the same paths.
 Estimates are means over walkers ± their standard error; deterministic seed.
+
+This numpy walk (float64) is the slow, plain version; :mod:`validate.reference.microsurface_bsdf` runs the same
+walk in drjit as a Mitsuba BSDF (sample / stochastic eval / pdf), and its tests compare the two.
 """
 
 from __future__ import annotations
