@@ -36,7 +36,10 @@ INDEPENDENT_TOL_MAX = 1e-3
 PLUGIN_BOUND, PLUGIN_EXACT = "test_sh9_bound", "test_sh9_exact"
 EXACT_SCOPE = ("two_tone", "bandlimited")
 CLAIM_FAMILIES = ("sh9.bound.", "sh9.worst_case.", "sh9.bandlimited.", "reference.convergence",
-                  "reference.closed_form.", "reference.pathtrace.", "sh9.technique.")
+                  "reference.closed_form.", "reference.pathtrace.", "sh9.technique.", "sh9.cmgen_auto.")
+# built-in techniques with declared thresholds (issue 15): the Hölder bound of their window (all environments)
+# or their directional closed form (near_directional)
+DECLARED = {"sh9_hanning": 8, "sh9_lanczos": 8, "sh1_geomerics": 1, "zh3_hallucinated": 1, "zh3_stored": 1}
 
 
 @pytest.fixture(scope="module")
@@ -82,6 +85,28 @@ def test_every_claim_family_has_a_failing_power_check(quick_result, family: str)
         assert c.power is not None and c.power.perturbation, c.id
         assert c.power.fails, (c.id, c.power)
         assert c.source and "issue" not in c.source.lower(), c.id
+
+
+@pytest.mark.parametrize("name, n_envs", DECLARED.items())
+def test_builtin_declared_thresholds_pass_with_failing_power(quick_result, name: str, n_envs: int) -> None:
+    res, _ = quick_result
+    (c,) = [c for c in res.claims if c.id == f"sh9.technique.{name}.flux_rgb.max"]
+    assert c.passed and c.power.fails and "mirrored" in c.power.perturbation, (c.measured, c.threshold, c.power)
+    assert f"worst over {n_envs} environment" in c.description
+    assert c.measured > 0.95 * c.threshold  # near_directional nearly attains each bound
+
+
+def test_cmgen_auto_claims_and_findings(quick_result) -> None:
+    """cmgen's window is non-negative everywhere and within its map's kernel bound; near_directional needs the
+    strongest window (cut-off near 3), constant lighting none that matters (the bracket's top)."""
+    res, _ = quick_result
+    by_id = {c.id: c for c in res.claims}
+    assert by_id["sh9.cmgen_auto.nonnegative"].measured < 0 < by_id["sh9.cmgen_auto.nonnegative"].power.measured
+    envs = res.data["environments"]
+    assert 3.0 <= envs["near_directional"]["cmgen_auto"]["cutoff"] < 3.5
+    assert envs["constant"]["cmgen_auto"]["rejected"] is None and envs["constant"]["cmgen_auto"]["cutoff"] > 12.5
+    assert any(f.startswith("cmgen auto window: cut-off") for f in res.findings)
+    assert any(f.startswith("ZH3 vs SH9 on ") for f in res.findings)
 
 
 def test_technique_entries_cover_every_registered_technique(quick_result) -> None:
@@ -254,6 +279,23 @@ def test_technique_findings_say_where_a_technique_beats_sh9() -> None:
     (sentence,) = sh9_claims.technique_findings(Measurements(sh9_exp.SETTINGS["quick"], envs))
     assert sentence.startswith("technique t: worst flux-normalised error 3 % mean (b) / 3 % max (b)")
     assert "lower mean error than SH9 on 1 of 2 environments (a)" in sentence
+
+
+def test_zh3_findings_name_grace_and_the_sunniest_probe() -> None:
+    """Per selected environment the numbers of SH9, stored / hallucinated ZH3 and L1 SH, and which is closer."""
+    def env(kind: str, share: float, sh9: float, stored: float, hall: float, sh1: float) -> dict:
+        models = {"zh3_stored": _stats(stored), "zh3_hallucinated": _stats(hall), "sh1": _stats(sh1)}
+        return {"kind": kind, "sun_share": share, "errors": _stats(sh9), "models": models}
+
+    m = Measurements(sh9_exp.SETTINGS["quick"], {"grace_probe": env("probe", 0.05, 0.0086, 0.0080, 0.02, 0.05),
+                                                 "sunny": env("probe", 0.7, 0.02, 0.025, 0.03, 0.06),
+                                                 "near_directional": env("procedural", 1.0, 0.03, 0.03, 0.03, 0.1)})
+    found = sh9_claims.zh3_findings(m)
+    assert len(found) == 3 and found[0].startswith("ZH3 vs SH9 on grace_probe") and " on sunny " in found[1]
+    assert "closer to the truth than SH9 (9) by 0.06 %" in found[0]
+    assert "farther from it than SH9 (9) by 0.5 %" in found[1]
+    assert "closer to the truth than L1 SH (4) by 3 %" in found[1]
+    assert found[2].startswith("Stored ZH3 has a lower mean error than SH9 on 1 of 3 environments (grace_probe)")
 
 
 def test_thresholds_on_other_experiments_metrics_are_findings_not_errors() -> None:

@@ -310,21 +310,24 @@ def technique_findings(m: Measurements) -> list[str]:
     return out
 
 
-def _closer(a: dict, b: dict, stat: str) -> str:
-    """'closer to the truth than' / 'farther from it than' / 'level with' for flux_luminance stats a vs b."""
+def _closer(a: dict, b: dict, stat: str, other: str) -> str:
+    """'closer to the truth than <other> by x' / 'farther from it than <other> by x' / 'level with <other>'
+    for flux_luminance stats a vs b (level: the difference is within the two uncertainties)."""
     diff = b[stat] - a[stat]
     unc = a[f"{stat}_uncertainty"] + b[f"{stat}_uncertainty"]
     if abs(diff) <= unc:
-        return f"level with (difference {_pct(abs(diff))} ≤ ±{_pct(unc)})"
-    return f"{'closer to the truth than' if diff > 0 else 'farther from it than'} by {_pct(abs(diff))}"
+        return f"level with {other} (difference {_pct(abs(diff))} ≤ ±{_pct(unc)})"
+    return f"{'closer to the truth than' if diff > 0 else 'farther from it than'} {other} by {_pct(abs(diff))}"
 
 
 def zh3_environments(m: Measurements) -> list[str]:
-    """grace_probe when present and the probe with the largest sun share (the built-in environment with the
-    largest sun share when no probe was run)."""
+    """grace_probe when present and the probe with the largest sun share (without probes: the built-in
+    environment with the largest, other than near_directional, where stored ZH3 = SH9 by construction)."""
     envs = m.environments
     picked = [n for n in envs if n == "grace_probe"]
-    probes = [n for n, r in envs.items() if r["kind"] == "probe"] or list(envs)
+    probes = [n for n, r in envs.items() if r["kind"] == "probe"] or [n for n in envs if n != ATTAINS_BOUND]
+    if not probes:
+        return picked
     sunny = max(probes, key=lambda n: envs[n].get("sun_share", 0.0))
     return picked + [sunny] if sunny not in picked else picked
 
@@ -343,13 +346,14 @@ def zh3_findings(m: Measurements) -> list[str]:
         parts = [f"SH9 {_pct(sh9['mean'])} / {_pct(sh9['max'])}"] + [
             f"{t} {_pct(models[t]['flux_luminance']['mean'])} / {_pct(models[t]['flux_luminance']['max'])}"
             for t in present if t in models]
-        stored = _closer(models["zh3_stored"]["flux_luminance"], sh9, "mean")
+        stored = _closer(models["zh3_stored"]["flux_luminance"], sh9, "mean", "SH9 (9)")
         line = (f"ZH3 vs SH9 on {name} ({r['kind']}, {r.get('sun_share', 0.0):.0%} of Φ_Y within 5° of the "
                 f"brightest texel): flux-normalised error mean / max — {', '.join(parts)}. Stored ZH3 (4 + 1 "
-                f"numbers per channel) is {stored} SH9 (9) on the mean")
+                f"numbers per channel) is {stored} on the mean")
         if "zh3_hallucinated" in models and "sh1" in models:
-            hall = _closer(models["zh3_hallucinated"]["flux_luminance"], models["sh1"]["flux_luminance"], "mean")
-            line += f"; hallucinated ZH3 (4 numbers) is {hall} L1 SH (4) on the mean"
+            hall = _closer(models["zh3_hallucinated"]["flux_luminance"], models["sh1"]["flux_luminance"], "mean",
+                           "L1 SH (4)")
+            line += f"; hallucinated ZH3 (4 numbers) is {hall} on the mean"
         out.append(line + ".")
     closer = [n for n, r in envs.items() if "zh3_stored" in r["models"] and r["models"]["zh3_stored"]["flux_luminance"]
               ["mean"] + r["models"]["zh3_stored"]["flux_luminance"]["mean_uncertainty"]
