@@ -293,7 +293,7 @@ def test_zh3_findings_name_grace_and_the_sunniest_probe() -> None:
     found = sh9_claims.zh3_findings(m)
     assert len(found) == 3 and found[0].startswith("ZH3 vs SH9 on grace_probe") and " on sunny " in found[1]
     assert "closer to the truth than SH9 (9) by 0.06 %" in found[0]
-    assert "farther from it than SH9 (9) by 0.5 %" in found[1]
+    assert "farther from the truth than SH9 (9) by 0.5 %" in found[1]
     assert "closer to the truth than L1 SH (4) by 3 %" in found[1]
     assert found[2].startswith("Stored ZH3 has a lower mean error than SH9 on 1 of 3 environments (grace_probe)")
 

@@ -1,9 +1,13 @@
-"""ZH3 (stored, hallucinated), windowed SH9 and L1 Geomerics (validate.local_models.zh3, .windowed_sh).
+"""ZH3 (stored, hallucinated), windowed SH9, L1 Geomerics and Filament cmgen's auto window
+(validate.local_models.zh3, .windowed_sh, .cmgen_window).
 
 Checked against properties that hold exactly (small lat-long maps; QUADRATURE_TOL is
 the texel quadrature's leak into the coefficients): a radiance that is zonal about its own L1 axis up to
 order 2 is represented exactly by ZH3 with the stored coefficient, so zh3_stored = sh9 there;
 constant lighting gives E = πL for every technique; Geomerics' reconstruction has the exact mean R0.
+The declared thresholds: the windowed kernels' Hölder bound (3/32 for the plain SH9 window), the closed-form
+kernels of the L1-based techniques, each threshold met on near_directional and failed under the mirror;
+cmgen's window: Filament's sinc⁴, the exact sphere minimum, non-negativity on a sunny map.
 """
 
 from __future__ import annotations

@@ -311,13 +311,13 @@ def technique_findings(m: Measurements) -> list[str]:
 
 
 def _closer(a: dict, b: dict, stat: str, other: str) -> str:
-    """'closer to the truth than <other> by x' / 'farther from it than <other> by x' / 'level with <other>'
+    """'closer to the truth than <other> by x' / 'farther from the truth than <other> by x' / 'level with <other>'
     for flux_luminance stats a vs b (level: the difference is within the two uncertainties)."""
     diff = b[stat] - a[stat]
     unc = a[f"{stat}_uncertainty"] + b[f"{stat}_uncertainty"]
     if abs(diff) <= unc:
         return f"level with {other} (difference {_pct(abs(diff))} ≤ ±{_pct(unc)})"
-    return f"{'closer to the truth than' if diff > 0 else 'farther from it than'} {other} by {_pct(abs(diff))}"
+    return f"{'closer to the truth than' if diff > 0 else 'farther from the truth than'} {other} by {_pct(abs(diff))}"
 
 
 def zh3_environments(m: Measurements) -> list[str]:
