@@ -257,7 +257,9 @@ def test_quick_experiment_end_to_end(quick_result) -> None:
     assert sum(i.startswith("arealights.cap.mitsuba.") for i in ids) == 3
     # the range's end: order 2 meets 5 % of Φ from α* ≈ 19.9° on (Brent on the float32 closed form)
     assert 19.5 < res.data["alpha_range"]["crossing_deg"] < 20.0
-    assert set(res.techniques) >= {"cap_exact", "sh_order2", "inverse_square"}
+    assert set(res.techniques) >= {"cap_exact", "sh_order2", "inverse_square", "representative_point_tube",
+                                   "representative_point_tube_unnormalized"}
+    assert "rel_err.tube.a0.1" in res.techniques["representative_point_tube"]["metrics"]
     for entry in res.techniques.values():
         assert all({"value", "uncertainty"} <= set(v) for v in entry["metrics"].values())
     figs = [f.path for s in res.sections for f in s.figures]
@@ -268,7 +270,10 @@ def test_quick_experiment_end_to_end(quick_result) -> None:
 FAMILIES = {"arealights.seed_sh": "band sign", "arealights.cap.quadrature": "horizon clamp",
             "arealights.cap.mitsuba": "reference bias", "arealights.sh2.five_percent.range": "neighbouring α",
             "arealights.sh2.five_percent.below": "neighbouring α",
-            "arealights.sh2.five_percent.mitsuba": "other side of the range"}
+            "arealights.sh2.five_percent.mitsuba": "other side of the range",
+            "arealights.specular.reference_vs_render": "reference bias",
+            "arealights.specular.ltc.bound_ratio.tube": "α/roughness confusion",
+            "arealights.specular.representative_point_tube": "normalisation left out / line factor squared"}
 
 
 @pytest.mark.parametrize("family", list(FAMILIES))

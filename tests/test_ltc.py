@@ -92,7 +92,11 @@ def test_specular_claims_pass_and_powers_fail():
     assert {c.id for c in claims} >= {"arealights.specular.ltc_polygon_exact",
                                       "arealights.specular.reference_vs_render",
                                       "arealights.specular.ltc.bound_ratio.rectangle",
-                                      "arealights.specular.representative_point.normalisation"}
+                                      "arealights.specular.representative_point.normalisation",
+                                      "arealights.specular.ltc.bound_ratio.tube",
+                                      "arealights.specular.representative_point_tube.normalisation",
+                                      "arealights.specular.representative_point_tube.line_normalisation",
+                                      "arealights.specular.representative_point_tube.line_not_squared"}
     for c in claims:
         assert c.passed and c.power is not None and c.power.fails, c
     d = asp.technique_metrics(m, "ltc")

@@ -15,8 +15,9 @@ supports (meta ``shapes``): a row in the technique table, a curve in the α and 
 ``techniques[<name>]`` with every metric ± uncertainty, and a claim per declared threshold.
 
 Specular part (:mod:`.arealights_specular`): every ``specular_arealight`` technique (LTC, Karis's representative
-point, plug-ins) against Mitsuba's GGX ``roughconductor`` integrated over rectangle, disc and sphere emitters
-(:mod:`validate.reference.area_specular_render`), by roughness and light size.
+point for spheres and tubes, plug-ins) against Mitsuba's GGX ``roughconductor`` integrated over rectangle, disc,
+sphere and tube (capsule) emitters (:mod:`validate.reference.area_specular_render`), by roughness and light size
+(a tube's: its length).
 
 Error normalisations (unit radiance; :mod:`.arealights_compute`): ``flux`` = |E′ − E| / Φ with Φ =
 2π(1 − cos σ) the cap's flux (R&H's normalisation); ``peak`` = |E′ − E| / E(0); ``mitsuba_flux`` the same

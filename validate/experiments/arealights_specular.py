@@ -36,8 +36,8 @@ import numpy as np
 
 from ..local_models import family
 from ..local_models.ltc import fit_quadrature, ggx_cos, load_table, local_frames, ltc_density, ltc_integral
-from ..local_models.representative_point import representative_point_tube
 from ..local_models.registry import Technique
+from ..local_models.representative_point import representative_point_tube
 from ..reference import area_specular_render as asr
 from ..stats import sidak_critical
 from .base import Claim, Figure, Section, Table
@@ -197,6 +197,9 @@ def technique_metrics(m: dict[str, Any], tech: str) -> dict[str, dict[str, float
             out[f"rel_err.{shape}.a{a:g}"] = _rel([r for r in rows if r["alpha"] == a], tech)
         for sg in s["sigmas_deg"]:
             out[f"rel_err.{shape}.s{sg:g}"] = _rel([r for r in rows if r["sigma_deg"] == sg], tech)
+        if shape == "tube":
+            for ax in TUBE_AXES:
+                out[f"rel_err.tube.{ax}"] = _rel([r for r in rows if r.get("axis") == ax], tech)
         if tech == "ltc":
             out[f"bound_ratio.{shape}"] = {"value": _bound_ratio(rows, "ltc"), "uncertainty": 0.0}
     return out
@@ -224,7 +227,9 @@ def measured(m: dict[str, Any], tech: str) -> dict[str, Measured]:
     for k, v in technique_metrics(m, tech).items():
         parts = k.split(".")
         rows = [r for r in m["rows"] if r["shape"] == parts[1]]
-        if len(parts) == 3:
+        if len(parts) == 3 and parts[2] in TUBE_AXES:
+            rows = [r for r in rows if r.get("axis") == parts[2]]
+        elif len(parts) == 3:
             key = "alpha" if parts[2].startswith("a") else "sigma_deg"
             rows = [r for r in rows if f"{r[key]:g}" == parts[2][1:]]
         pert = _rel(rows, tech, BIAS)["value"] if parts[0] == "rel_err" else None
@@ -233,7 +238,7 @@ def measured(m: dict[str, Any], tech: str) -> dict[str, Measured]:
 
 
 def claims(m: dict[str, Any]) -> list[Claim]:
-    return [*_render_claims(m), *_ltc_claims(m), *_rp_claims(m), *_declared_claims(m)]
+    return [*_render_claims(m), *_ltc_claims(m), *_rp_claims(m), *tube_claims(m), *_declared_claims(m)]
 
 
 def _render_claims(m: dict[str, Any]) -> list[Claim]:
@@ -276,6 +281,51 @@ def _rp_claims(m: dict[str, Any]) -> list[Claim]:
             .with_power("normalisation left out (eq. 14 omitted)", 1.0)]
 
 
+TUBE = "representative_point_tube"
+TUBE_UNNORMALIZED = "representative_point_tube_unnormalized"
+
+
+def _tube_rel(rows: list[dict[str, Any]], variant: str) -> dict[str, float]:
+    """Σ|L − L_ref|/ΣL_ref of the tube technique (``TUBE``, ``TUBE_UNNORMALIZED``) or of one of TUBE_VARIANTS."""
+    if variant in TUBE_VARIANTS:
+        ref = sum(r["ref"] for r in rows)
+        return {"value": sum(abs(r["tube_variants"][variant] - r["ref"]) for r in rows) / ref,
+                "uncertainty": sum(r["unc"] for r in rows) / ref}
+    return _rel(rows, variant)
+
+
+def _ratio(a: dict[str, float], b: dict[str, float]) -> tuple[float, float]:
+    """a/b ± its first-order bound |a/b| (u_a/a + u_b/b) (the reference's quadrature uncertainty, propagated)."""
+    r = a["value"] / b["value"]
+    return r, abs(r) * (a["uncertainty"] / max(a["value"], 1e-300) + b["uncertainty"] / max(b["value"], 1e-300))
+
+
+def tube_claims(m: dict[str, Any]) -> list[Claim]:
+    """Karis's tube normalisation: with it vs without; its line factor vs none; α/α′_line vs (α/α′_line)²."""
+    rows = [r for r in m["rows"] if r["shape"] == "tube" and TUBE in r["techniques"]]
+    if not rows or not all(TUBE_UNNORMALIZED in r["techniques"] for r in rows):
+        return []
+    ours = _tube_rel(rows, TUBE)
+    scope = f"tube lights, {len(rows)} configurations (α × length × geometry × axis), Σ|ΔL|/ΣL"
+    out = []
+    for cid, other, text, src, power in (
+            ("normalisation", TUBE_UNNORMALIZED, "Karis's tube energy normalisation (α/α′_line)(α/α′_sphere)² "
+             "brings the representative point closer to Mitsuba", "Karis 2013 eq. 14 and its line form (FlaxEngine "
+             "LightingCommon.hlsl AreaLightSpecular): without it the widened highlight carries the whole tube's "
+             "power in the sharp lobe", "normalisation left out (both factors)"),
+            ("line_normalisation", "no_line", "the line factor α/α′_line improves on the sphere factor (α/α′_sphere)² "
+             "alone", "Karis 2013 'Tube lights': the segment widens the lobe along its length, so the sphere's "
+             "normalisation alone leaves the length's energy gain", "line factor left out"),
+            ("line_not_squared", "line_squared", "the line factor enters once (α/α′_line), not squared as for a "
+             "sphere", "Karis 2013 'Tube lights': a segment widens the lobe in one dimension only, so its "
+             "normalisation is the square root of the sphere's", "line factor squared (the lobe widened in both "
+             "dimensions)")):
+        val, unc = _ratio(ours, _tube_rel(rows, other))
+        out.append(Claim(f"{NAME}.specular.{TUBE}.{cid}", f"{text} ({scope} with / without)", "error ratio", 1.0,
+                         val, unc, source=src).with_power(power, 1.0))
+    return out
+
+
 def _ltc_claims(m: dict[str, Any]) -> list[Claim]:
     e = m["exactness"]
     out = [Claim(f"{NAME}.specular.ltc_polygon_exact",
@@ -313,7 +363,8 @@ def findings(m: dict[str, Any]) -> list[str]:
             bias = sum(r["techniques"][t] - r["ref"] for r in rows) / sum(r["ref"] for r in rows)
             out.append(f"{t} under a {shape} light vs Mitsuba roughconductor (GGX, F = 1): Σ|ΔL|/ΣL = "
                        f"{100 * d[f'rel_err.{shape}']['value']:.2f} ± {100 * d[f'rel_err.{shape}']['uncertainty']:.2f} "
-                       f"% over {len(CONFIGS)} configurations × {len(s['alphas'])} α × {len(s['sigmas_deg'])} σ "
+                       f"% over {len(rows) // (len(s['alphas']) * len(s['sigmas_deg']))} configurations × "
+                       f"{len(s['alphas'])} α × {len(s['sigmas_deg'])} σ "
                        f"(signed Σ ΔL/ΣL = {100 * bias:+.1f} %); by roughness {by_a}; by size {by_s}.")
     rc = m.get("render_check") or []
     if rc:
@@ -322,11 +373,56 @@ def findings(m: dict[str, Any]) -> list[str]:
         out.insert(0, f"The specular reference (Mitsuba BSDF.eval integrated over the emitter) agrees with Mitsuba's "
                       f"rendered radiance in all {len(rc)} shape × α × configuration checks: max |z| = {max(z):.2f} "
                       f"(render standard errors ≤ {100 * rel:.2f} % of L).")
+    out += tube_findings(m)
     t = load_table()
     out.append(f"LTC table ({t.size}×{t.size}, fitted by scripts/fit_ltc.py): fit error ∫|E·D − f cos|/E mean "
                f"{t.l1_error.mean():.3f}, median {np.median(t.l1_error):.3f}, max {t.l1_error.max():.3f} (at grazing "
                "view, mid roughness).")
     return out
+
+
+def tube_findings(m: dict[str, Any]) -> list[str]:
+    """Karis's tube light and its variants vs Mitsuba: by roughness, length and axis orientation."""
+    rows = [r for r in m["rows"] if r["shape"] == "tube" and TUBE in r["techniques"]]
+    if not rows:
+        return []
+    s = m["settings"]
+    names = [TUBE, *(n for n in (TUBE_UNNORMALIZED,) if n in rows[0]["techniques"]), *TUBE_VARIANTS]
+    ref = sum(r["ref"] for r in rows)
+
+    def val(r: dict[str, Any], n: str) -> float:
+        return r["tube_variants"][n] if n in TUBE_VARIANTS else r["techniques"][n]
+
+    parts = []
+    for n in names:
+        signed = sum(val(r, n) - r["ref"] for r in rows) / ref
+        by_a = ", ".join(f"{100 * _tube_rel([r for r in rows if r['alpha'] == a], n)['value']:.1f}"
+                         for a in s["alphas"])
+        by_l = ", ".join(f"{100 * _tube_rel([r for r in rows if r['sigma_deg'] == x], n)['value']:.1f}"
+                         for x in s["sigmas_deg"])
+        by_ax = ", ".join(f"{ax} {100 * _tube_rel([r for r in rows if r['axis'] == ax], n)['value']:.1f}"
+                          for ax in TUBE_AXES)
+        parts.append(f"{n}: {100 * _tube_rel(rows, n)['value']:.1f} % (signed {100 * signed:+.1f} %; by α "
+                     f"{by_a} %; by length {by_l} %; {by_ax} %)")
+    lengths = ", ".join(f"{2 * math.tan(math.radians(x)):.2f}" for x in s["sigmas_deg"])
+    p_best, err_best = best_line_power(rows)
+    return [f"Tube lights (capsule of radius {TUBE_RADIUS:.3f}, length ℓ = {lengths} at unit distance; α = "
+            f"{', '.join(f'{a:g}' for a in s['alphas'])}; {len(rows)} configurations) vs Mitsuba, Σ|ΔL|/ΣL: "
+            + "; ".join(parts) + f". Over powers p of the line factor (α/α′_line)^p on a 0.05 grid in [0, 2], "
+            f"Σ|ΔL|/ΣL is smallest at p = {p_best:.2f} ({100 * err_best:.1f} %): Karis's p = 1 over-darkens these "
+            "tubes on aggregate, p = 0 over-brightens them."]
+
+
+def best_line_power(rows: list[dict[str, Any]]) -> tuple[float, float]:
+    """(p, Σ|ΔL|/ΣL) minimising the error of L(p) = L_no_line · (L_tube / L_no_line)^p — the tube technique with its
+    line factor raised to p — over p ∈ {0, 0.05, …, 2} (per row L_tube / L_no_line is the line factor itself)."""
+    ref = np.array([r["ref"] for r in rows])
+    base = np.array([r["tube_variants"]["no_line"] for r in rows])
+    factor = np.array([r["techniques"][TUBE] for r in rows]) / np.maximum(base, 1e-300)
+    ps = np.round(np.arange(0.0, 2.0 + 1e-9, 0.05), 2)
+    errs = [float(np.sum(np.abs(base * factor ** p - ref)) / ref.sum()) for p in ps]
+    i = int(np.argmin(errs))
+    return float(ps[i]), errs[i]
 
 
 def section(m: dict[str, Any], ctx: Any) -> Section:
@@ -348,7 +444,8 @@ def section(m: dict[str, Any], ctx: Any) -> Section:
                         cells.append("—")
                 rows.append([shape, f"{a:g}", f"{sg:g}°", *cells])
     table = Table(["shape", "α", "σ", *techs], rows, "Σ|L − L_ref| / Σ L_ref over the configurations (θ_v, θ_l, Δφ) "
-                  f"= {', '.join(str(c) for c in CONFIGS)}; ± the reference quadrature.")
+                  f"= {', '.join(str(c) for c in CONFIGS)}; ± the reference quadrature. A tube's σ is the half-angle "
+                  f"of its length (ℓ = 2 tan σ; radius {TUBE_RADIUS:.3f}), both axis orientations pooled.")
     rtab = Table(["shape", "α", "(θ_v, θ_l, Δφ)", "Mitsuba render", "quadrature", "z"],
                  [[r["shape"], f"{r['alpha']:g}", str(tuple(r["config"])), f"{r['render']:.5f} ± {r['se']:.5f}",
                    f"{r['quadrature']:.5f}", f"{(r['render'] - r['quadrature']) / max(r['se'], 1e-300):+.2f}"]
@@ -366,11 +463,13 @@ def section(m: dict[str, Any], ctx: Any) -> Section:
     plots.save_line_plot(p2, s["sigmas_deg"], series2, xlabel="light half-angle σ (degrees)", ylabel="Σ|ΔL| / ΣL",
                          title="Specular area lights vs Mitsuba", logy=True)
     return Section("Specular area lights: LTC and representative point vs Mitsuba roughconductor", [
-        "GGX (F = 1) under rectangle, disc and sphere emitters of half-angle σ at unit distance; reference = Mitsuba's "
+        "GGX (F = 1) under rectangle, disc, sphere and tube (capsule) emitters of half-angle σ at unit distance; "
+        "reference = Mitsuba's "
         f"BSDF.eval integrated over the emitter ({s['nodes']} Gauss–Legendre nodes per axis, ± the difference to "
         f"{s['nodes'] // 2}), itself checked against Mitsuba's rendered radiance."],
         figures=[Figure(rel, "error vs roughness", 480), Figure(rel2, "error vs light size", 480)],
         tables=[rtab, table])
 
 
-__all__ = ["SPECULAR", "compute", "claims", "findings", "section", "entries", "technique_metrics"]
+__all__ = ["SPECULAR", "compute", "claims", "findings", "section", "entries", "technique_metrics", "tube_claims",
+           "tube_findings"]

@@ -7,9 +7,10 @@ Family ``specular_arealight``
   ``normal``; a sphere and a tube emit everywhere). ``light``: {'shape': 'rectangle' | 'disc' | 'sphere' | 'tube',
   'center': (3,), 'normal': (3,) (rectangle, disc), 'radius' (disc, sphere, tube), 'size': (w, h) and 'tangent':
   (3,) along w (rectangle), 'axis': (3,) unit and 'length' ℓ ≥ 0 (tube: the capsule swept by a sphere of radius
-  'radius' along the segment center ± (ℓ/2)·axis, a cylinder closed by two hemispheres), 'radiance': L_e}. ``brdf``: {'alpha': GGX α, 'f0': F₀ (scalar or RGB; Schlick's Fresnel)}; the
-  microfacet BRDF is Walter et al. 2007 eq. 20 with separable Smith G (Mitsuba's ``roughconductor``). A technique
-  lists its shapes as meta ``shapes``.
+  'radius' along the segment center ± (ℓ/2)·axis, a cylinder closed by two hemispheres), 'radiance': L_e}.
+  ``brdf``: {'alpha': GGX α, 'f0': F₀ (scalar or RGB; Schlick's Fresnel)}; the microfacet BRDF is Walter et al.
+  2007 eq. 20 with separable Smith G (Mitsuba's ``roughconductor``). A technique lists its shapes as meta
+  ``shapes``.
 
 LTC (Heitz, Dupuy, Hill, Neubelt 2016 [1])
   A linear transform M of the clamped cosine D_o(ω_o) = max(0, z)/π gives the distribution
@@ -65,8 +66,9 @@ TUBE_ARC_SIDES = 32  # segments per half-circle end of a tube's stadium polygon
 specular_arealight = define_family(
     "specular_arealight",
     "fn(light: mapping {'shape': 'rectangle'|'disc'|'sphere'|'tube', 'center', 'normal', 'radius' or 'size' + "
-    "'tangent', 'axis' + 'length' (tube capsule), 'radiance'}, brdf: mapping {'alpha': GGX α, 'f0': F0}, points: (N, 3), normals: (N, 3) unit, views: (N, 3) unit "
-    "towards the viewer) -> (N, 3) outgoing radiance ∫_light L_e f_r (n·l) dω of a GGX microfacet BRDF",
+    "'tangent', 'axis' + 'length' (tube capsule), 'radiance'}, brdf: mapping {'alpha': GGX α, 'f0': F0}, points: "
+    "(N, 3), normals: (N, 3) unit, views: (N, 3) unit towards the viewer) -> (N, 3) outgoing radiance "
+    "∫_light L_e f_r (n·l) dω of a GGX microfacet BRDF",
     lambda light, brdf, points, normals, views, **_: (len(points), 3),
     lower=0.0,
     bounds_reason="reflected radiance of a non-negative emitter through a non-negative BRDF is ≥ 0",
@@ -412,8 +414,8 @@ def ltc_integral(light: Mapping[str, Any], alpha: float, points: np.ndarray, nor
 
 
 @specular_arealight.register("ltc", "Linearly Transformed Cosines (Heitz et al. 2016), GGX table fitted here "
-                             "(scripts/fit_ltc.py); disc as an equal-area 64-gon, sphere as its silhouette disc, tube as its "
-                             "silhouette stadium",
+                             "(scripts/fit_ltc.py); disc as an equal-area 64-gon, sphere as its silhouette disc, tube "
+                             "as its silhouette stadium",
                              shapes=SHAPES)
 def ltc(light: Mapping[str, Any], brdf: Mapping[str, Any], points: np.ndarray, normals: np.ndarray,
         views: np.ndarray) -> np.ndarray:

@@ -29,6 +29,7 @@ the uncertainty says when it is not.
 
 from __future__ import annotations
 
+import tempfile
 from collections.abc import Mapping
 from functools import lru_cache
 from typing import Any
@@ -265,10 +266,18 @@ def emitter_dict(light: Mapping[str, Any]) -> dict[str, Any]:
     return {"type": "disk", "to_world": mi.ScalarTransform4f(_frame_matrix(c, t, b, n, r, r)), "emitter": emitter}
 
 
-def emitter_shapes(light: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
-    """Scene entries for a light mapping: one shape, or for a tube Mitsuba's open ``cylinder`` (p0, p1, radius; normals
-    outward) closed by two ``sphere`` caps, each with its own ``area`` emitter. The caps' inner halves lie inside the
-    cylinder and are never seen from outside (first-hit visibility), so the union emits as the capsule."""
+CAP_RINGS, CAP_SEGMENTS = 48, 192  # tessellation of a tube's hemispherical caps (polar rings × azimuth segments)
+
+
+def emitter_shapes(light: Mapping[str, Any], workdir: str | None = None) -> dict[str, dict[str, Any]]:
+    """Scene entries for a light mapping: one shape, or for a tube Mitsuba's open ``cylinder`` (p0, p1, radius;
+    normals outward) closed by two hemispherical caps, each with its own ``area`` emitter.
+
+    The caps are triangle meshes (``obj`` files written to ``workdir``: CAP_RINGS × CAP_SEGMENTS, vertices on the
+    sphere, so the area is short by ≈ (π/CAP_SEGMENTS)²/3 ≈ 10⁻⁴ of the caps'), not ``sphere`` shapes: full spheres
+    would put their inner halves just behind the cylinder's wall, and Mitsuba's shadow rays stop short of their target
+    by a relative ShadowEpsilon (~10⁻³), so emitter samples on the inner half within ~√(2R·10⁻³ d) of the rim pass the
+    visibility test — measured: +35 % on the caps' radiance with emitter sampling, exact with BSDF sampling only."""
     if light["shape"] != "tube":
         return {"light": emitter_dict(light)}
     c, a, length, r = tube_geometry(light)
@@ -277,12 +286,41 @@ def emitter_shapes(light: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
     def emitter() -> dict[str, Any]:
         return {"type": "area", "radiance": {"type": "rgb", "value": le}}
 
+    if length == 0.0:
+        return {"light": {"type": "sphere", "center": c.tolist(), "radius": r, "emitter": emitter()}}
+    if workdir is None:
+        raise ValidateError("area_specular_render: a tube's caps need a workdir for their mesh files")
     p0, p1 = c - 0.5 * length * a, c + 0.5 * length * a
-    out = {f"light_cap{i}": {"type": "sphere", "center": e.tolist(), "radius": r, "emitter": emitter()}
-           for i, e in enumerate((p0, p1))}
-    if length > 0.0:
-        out["light"] = {"type": "cylinder", "p0": p0.tolist(), "p1": p1.tolist(), "radius": r, "emitter": emitter()}
+    out = {"light": {"type": "cylinder", "p0": p0.tolist(), "p1": p1.tolist(), "radius": r, "emitter": emitter()}}
+    for i, (e, ax) in enumerate(((p0, -a), (p1, a))):
+        path = f"{workdir}/cap{i}.obj"
+        write_hemisphere_obj(path, e, ax, r)
+        out[f"light_cap{i}"] = {"type": "obj", "filename": path, "face_normals": True, "emitter": emitter()}
     return out
+
+
+def write_hemisphere_obj(path: str, center: np.ndarray, axis: np.ndarray, radius: float,
+                         rings: int = CAP_RINGS, segments: int = CAP_SEGMENTS) -> None:
+    """A hemisphere {center + R m : m·axis ≥ 0} as an OBJ triangle mesh, faces wound counter-clockwise seen from
+    outside (outward face normals): the pole, then ``rings`` rings at polar angles kπ/(2·rings)."""
+    t = _perp(axis)
+    b = np.cross(axis, t)
+    th = np.arange(1, rings + 1) * (0.5 * np.pi / rings)
+    ph = np.arange(segments) * (2.0 * np.pi / segments)
+    ring = (np.cos(th)[:, None, None] * axis + np.sin(th)[:, None, None]
+            * (np.cos(ph)[None, :, None] * t + np.sin(ph)[None, :, None] * b))
+    verts = np.concatenate([[center + radius * axis], (center + radius * ring).reshape(-1, 3)])
+    faces = []
+    for j in range(segments):  # 1-based OBJ indices; vertex 1 is the pole
+        k = (j + 1) % segments
+        faces.append((1, 2 + j, 2 + k))
+        for i in range(rings - 1):
+            a0, a1 = 2 + i * segments + j, 2 + i * segments + k
+            b0, b1 = a0 + segments, a1 + segments
+            faces += [(a0, b0, b1), (a0, b1, a1)]
+    lines = [f"v {x:.9g} {y:.9g} {z:.9g}" for x, y, z in verts] + [f"f {i} {j} {k}" for i, j, k in faces]
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
 
 
 def render(light: Mapping[str, Any], alpha: float, point: np.ndarray, normal: np.ndarray, view: np.ndarray,
@@ -303,14 +341,16 @@ def render(light: Mapping[str, Any], alpha: float, point: np.ndarray, normal: np
     up = _perp(v)
     cam = (mi.ScalarTransform4f().look_at(origin=(p + 0.05 * v).tolist(), target=p.tolist(), up=up.tolist())
            @ mi.ScalarTransform4f().scale([1e-4, 1e-4, 1.0]))
-    scene = mi.load_dict({
-        "type": "scene", "integrator": {"type": "direct"}, "plane": plane, **emitter_shapes(light),
-        "sensor": {"type": "orthographic", "to_world": cam, "near_clip": 1e-3, "far_clip": 10.0,
-                   "film": {"type": "hdrfilm", "width": pixels, "height": pixels, "rfilter": {"type": "box"},
-                            "pixel_format": "rgb"},
-                   "sampler": {"type": "independent", "sample_count": spp}}})
+    with tempfile.TemporaryDirectory(prefix="validate_tube_") as work:
+        scene = mi.load_dict({
+            "type": "scene", "integrator": {"type": "direct"}, "plane": plane, **emitter_shapes(light, work),
+            "sensor": {"type": "orthographic", "to_world": cam, "near_clip": 1e-3, "far_clip": 10.0,
+                       "film": {"type": "hdrfilm", "width": pixels, "height": pixels, "rfilter": {"type": "box"},
+                                "pixel_format": "rgb"},
+                       "sampler": {"type": "independent", "sample_count": spp}}})
     img = np.asarray(mi.render(scene, spp=spp, seed=seed), dtype=np.float64)[..., 1].ravel()
     return float(img.mean()), float(img.std(ddof=1) / np.sqrt(img.size))
 
 
-__all__ = ["light_directions", "radiance", "reference", "emitter_dict", "emitter_shapes", "render", "tube_geometry"]
+__all__ = ["light_directions", "radiance", "reference", "emitter_dict", "emitter_shapes", "render", "tube_geometry",
+           "write_hemisphere_obj"]
