@@ -175,16 +175,33 @@ def cmgen_check(env: Environment, flux: np.ndarray) -> dict | None:
             "negative_unwindowed": worst_negative(coeffs, np.inf, dense, flux)}
 
 
+SUN_SHARE_BLOCK_TEXELS = 1 << 20  # texels per row block of :func:`sun_share` (~24 MiB of float64 directions)
+
+
 def sun_share(env: Environment, cap_deg: float = SUN_CAP_DEG) -> float:
-    """Fraction of the luminance flux Φ_Y within ``cap_deg`` of the brightest texel (by luminance)."""
+    """Fraction of the luminance flux Φ_Y within ``cap_deg`` of the brightest texel (by luminance),
+    Σ_{d_ij·d_peak ≥ cos cap} Y_ij Ω_i / Σ Y_ij Ω_i, in two passes over row blocks (no full-size temporaries:
+    memory stays a small multiple of the map on 8k probes)."""
     h, w = env.height, env.width
-    y = latlong.luminance(np.asarray(env.radiance, dtype=np.float64)) * latlong.row_solid_angles(h, w)[:, None]
-    total = float(y.sum())
+    rad = env.radiance
+    step = max(1, SUN_SHARE_BLOCK_TEXELS // w)
+    omega, theta, phi = latlong.row_solid_angles(h, w), latlong.row_theta(h), latlong.col_phi(w)
+    total, best, peak_at = 0.0, -np.inf, (0, 0)
+    for s in range(0, h, step):
+        y = latlong.luminance(np.asarray(rad[s:s + step], dtype=np.float64))
+        total += float(y.sum(axis=1) @ omega[s:s + step])
+        k = int(np.argmax(y))
+        if y.flat[k] > best:
+            best, peak_at = float(y.flat[k]), (s + k // w, k % w)
     if total <= 0:
         return 0.0
-    d = latlong.texel_directions(h, w)
-    peak = d[np.unravel_index(int(np.argmax(latlong.luminance(env.radiance))), (h, w))]
-    return float(y[d @ peak >= np.cos(np.radians(cap_deg))].sum() / total)
+    peak = latlong.spherical_to_direction(theta[peak_at[0]], phi[peak_at[1]])
+    cos_cap, inside = np.cos(np.radians(cap_deg)), 0.0
+    for s in range(0, h, step):
+        d = latlong.spherical_to_direction(theta[s:s + step, None], phi[None, :])
+        y = latlong.luminance(np.asarray(rad[s:s + step], dtype=np.float64)) * omega[s:s + step, None]
+        inside += float(y[d @ peak >= cos_cap].sum())
+    return inside / total
 
 
 def closed_form_check(env: Environment, normals: np.ndarray, e_ref: np.ndarray, unc: np.ndarray) -> dict | None:
