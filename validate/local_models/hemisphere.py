@@ -115,7 +115,14 @@ def worst_red_book_deviation() -> tuple[float, float]:
 # (E(U) = π L_s when the whole upper hemisphere has radiance L_s): then ``hemisphere`` is the exact
 # irradiance [2]. E(±U) is a cosine-weighted sum over the texels with their exact solid angles
 # (:func:`pole_colours`), O(H·W), cheaper than an SH projection.
-from ..scenes.latlong import row_theta, texel_directions, texel_solid_angles  # noqa: E402
+from ..scenes.latlong import (  # noqa: E402
+    col_phi,
+    row_solid_angles,
+    row_sums,
+    row_theta,
+    spherical_to_direction,
+    texel_solid_angles,
+)
 from .families import irradiance as _irradiance  # noqa: E402
 
 WORLD_UP = np.array([0.0, 1.0, 0.0])
@@ -124,19 +131,23 @@ WORLD_UP = np.array([0.0, 1.0, 0.0])
 def pole_colours(radiance: np.ndarray, up: np.ndarray = WORLD_UP) -> tuple[np.ndarray, np.ndarray]:
     """(C_sky, C_ground) = (E(U)/π, E(−U)/π) of a lat-long map (H, W, 3), E(n) = Σ_t L_t max(0, n·ω_t) Ω_t
     with the texels' exact solid angles Ω_t (:func:`validate.scenes.latlong.texel_solid_angles`)."""
-    rad = np.asarray(radiance, dtype=np.float64)
+    rad = np.asarray(radiance)
     if rad.ndim != 3 or rad.shape[2] != 3 or rad.shape[0] < 2:
         raise ValidateError(f"hemisphere lighting: radiance must be an (H ≥ 2, W, 3) map, got shape {rad.shape}")
     h, w = rad.shape[:2]
     u = np.asarray(up, dtype=np.float64)
     if np.allclose(u, WORLD_UP):  # U is the map's pole axis: ω·U = cos θ_row for a whole row (one pass over L)
         cos_u = np.cos(row_theta(h))
-        rows = rad.sum(axis=1) * texel_solid_angles(h, 1)[:, :1] / w  # Σ_cols L_t Ω_t per row, (H, 3)
+        rows = row_sums(rad) * texel_solid_angles(h, 1)[:, :1] / w  # Σ_cols L_t Ω_t per row, (H, 3)
         return (np.maximum(cos_u, 0.0) @ rows / np.pi, np.maximum(-cos_u, 0.0) @ rows / np.pi)
-    cos_u = texel_directions(h, w) @ u
-    dw = texel_solid_angles(h, w)
-    sky = np.einsum("hwc,hw->c", rad, np.maximum(cos_u, 0.0) * dw) / np.pi
-    ground = np.einsum("hwc,hw->c", rad, np.maximum(-cos_u, 0.0) * dw) / np.pi
+    sky, ground = np.zeros(3), np.zeros(3)
+    omega, theta, phi = row_solid_angles(h, w), row_theta(h), col_phi(w)
+    step = max(1, (1 << 20) // w)  # row blocks: no full-size float64 temporaries
+    for s in range(0, h, step):
+        cos_u = spherical_to_direction(theta[s:s + step, None], phi[None, :]) @ u
+        block = np.asarray(rad[s:s + step], dtype=np.float64) * omega[s:s + step, None, None]
+        sky += np.einsum("hwc,hw->c", block, np.maximum(cos_u, 0.0)) / np.pi
+        ground += np.einsum("hwc,hw->c", block, np.maximum(-cos_u, 0.0)) / np.pi
     return sky, ground
 
 

@@ -53,15 +53,32 @@ def supersample_for(height: int, face_size: int) -> int:
     return int(min(max(s, 2), MAX_SUPERSAMPLE))
 
 
+ROW_BLOCK_TEXELS = 1 << 20  # texels per row block when scanning the map (no full-size float64 temporaries)
+
+
+def _row_blocks(height: int, width: int) -> range:
+    return range(0, height, max(1, ROW_BLOCK_TEXELS // max(width, 1)))
+
+
 def hot_texels(radiance: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(rows, cols) of the texels brighter than ``HOT_CONTRAST`` × the mean radiance Φ_Y/4π (at most
-    ``MAX_HOT``, those holding the most flux)."""
-    y = latlong.luminance(radiance.astype(np.float64))
-    f = y * latlong.texel_solid_angles(*radiance.shape[:2])
-    idx = np.flatnonzero(y.ravel() > HOT_CONTRAST * f.sum() / (4.0 * np.pi))
-    if len(idx) > MAX_HOT:
-        idx = idx[np.argsort(f.ravel()[idx])[::-1][:MAX_HOT]]
-    return np.unravel_index(idx, y.shape)
+    ``MAX_HOT``, those holding the most flux), in row-major order; two passes over row blocks."""
+    h, w = radiance.shape[:2]
+    omega = latlong.row_solid_angles(h, w)
+    step = max(1, ROW_BLOCK_TEXELS // max(w, 1))
+    total = sum(float(latlong.luminance(np.asarray(radiance[s:s + step], dtype=np.float64)).sum(axis=1)
+                      @ omega[s:s + step]) for s in _row_blocks(h, w))
+    limit = HOT_CONTRAST * total / (4.0 * np.pi)
+    idx, flux = [], []
+    for s in _row_blocks(h, w):
+        y = latlong.luminance(np.asarray(radiance[s:s + step], dtype=np.float64))
+        k = np.flatnonzero(y.ravel() > limit)
+        idx.append(k + s * w)
+        flux.append(y.ravel()[k] * omega[s + k // w])
+    idx_all, flux_all = np.concatenate(idx), np.concatenate(flux)
+    if len(idx_all) > MAX_HOT:
+        idx_all = np.sort(idx_all[np.argsort(flux_all)[::-1][:MAX_HOT]])
+    return np.unravel_index(idx_all, (h, w))
 
 
 def hot_nodes_for(height: int, face_size: int) -> int:
@@ -95,20 +112,35 @@ def _sampling_plan(h: int, w: int, n: int, s: int) -> tuple[np.ndarray, ...]:
     return tuple(a for idx, wb in taps for a in (idx.ravel(), (wb * wt[None]).ravel()))
 
 
-def _supersampled(radiance: np.ndarray, n: int, s: int) -> np.ndarray:
-    """Σ_k L(ω_k) r_k⁻³ / Σ_k r_k⁻³ over the s × s sub-texel points of each texel, (6, N, N, 3)."""
+def _supersampled(radiance: np.ndarray, n: int, s: int, hot: np.ndarray | None = None) -> np.ndarray:
+    """Σ_k L₀(ω_k) r_k⁻³ / Σ_k r_k⁻³ over the s × s sub-texel points of each texel, (6, N, N, 3), where L₀ is
+    the map with the texels of flat index ``hot`` (sorted) zeroed — read through the taps, never copied."""
     h, w = radiance.shape[:2]
     plan = _sampling_plan(h, w, n, s)
     flat = radiance.reshape(-1, 3)
     acc = np.zeros((6 * n * s * n * s, 3))
     for idx, wb in zip(plan[0::2], plan[1::2], strict=True):
-        acc += flat[idx] * wb[:, None]
+        wk = wb if hot is None or len(hot) == 0 else np.where(_is_hot(idx, hot), 0.0, wb)
+        acc += flat[idx] * wk[:, None]
     return acc.reshape(6, n, s, n, s, 3).sum(axis=(2, 4))
 
 
-def _splat_hot(d_map: np.ndarray, rows: np.ndarray, cols: np.ndarray, n: int, g: int) -> np.ndarray:
-    """Flux of the bilinear function ``d_map`` (non-zero only at the hot texels) per cube texel."""
-    h, w = d_map.shape[:2]
+def _is_hot(idx: np.ndarray, hot: np.ndarray) -> np.ndarray:
+    """Whether each flat texel index is in the sorted array ``hot``."""
+    pos = np.minimum(np.searchsorted(hot, idx), len(hot) - 1)
+    return hot[pos] == idx
+
+
+def _hot_values(radiance: np.ndarray, hot: np.ndarray, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+    """D(i, j): the map's radiance at texel (i, j) if it is hot, else 0 (float64, (..., 3))."""
+    idx = i * radiance.shape[1] + j
+    return np.asarray(radiance.reshape(-1, 3)[idx], dtype=np.float64) * _is_hot(idx, hot)[..., None]
+
+
+def _splat_hot(radiance: np.ndarray, rows: np.ndarray, cols: np.ndarray, n: int, g: int) -> np.ndarray:
+    """Flux of the bilinear function D (the map at the hot texels ``rows, cols``, zero elsewhere) per cube texel."""
+    h, w = radiance.shape[:2]
+    hot = np.sort(rows.astype(np.int64) * w + cols)
     pi = np.concatenate([rows - 1, rows - 1, rows, rows])
     pj = np.concatenate([cols - 1, cols, cols - 1, cols]) % w
     keep = (pi >= 0) & (pi < h - 1)
@@ -126,8 +158,10 @@ def _splat_hot(d_map: np.ndarray, rows: np.ndarray, cols: np.ndarray, n: int, g:
     theta = latlong.row_theta(h)[i][:, None, None] + a * dth
     phi = latlong.col_phi(w)[j][:, None, None] + b * dph
     a, b = a[None, ..., None], b[None, ..., None]
-    lv = ((1 - a) * (1 - b) * d_map[i, j][:, None, None] + (1 - a) * b * d_map[i, j1][:, None, None]
-          + a * (1 - b) * d_map[i + 1, j][:, None, None] + a * b * d_map[i + 1, j1][:, None, None])
+    def d(ii: np.ndarray, jj: np.ndarray) -> np.ndarray:
+        return _hot_values(radiance, hot, ii, jj)[:, None, None]
+
+    lv = ((1 - a) * (1 - b) * d(i, j) + (1 - a) * b * d(i, j1) + a * (1 - b) * d(i + 1, j) + a * b * d(i + 1, j1))
     weight = dth * dph * wab[None] * np.sin(theta)
     face, x, y = face_coords(latlong.spherical_to_direction(theta, phi), n)
     idx = (face * n + np.clip(np.floor(y), 0, n - 1).astype(np.int64)) * n + np.clip(np.floor(x), 0, n - 1).astype(
@@ -143,15 +177,12 @@ def render_faces(radiance: np.ndarray, face_size: int, supersample: int | None =
         raise ValidateError(f"cube faces: radiance must be an (H ≥ 2, W, 3) lat-long map, got {radiance.shape}")
     if not 1 <= face_size <= 4096:
         raise ValidateError(f"cube faces: face size {face_size} outside [1, 4096]")
-    n = face_size
-    rad = np.asarray(radiance, dtype=np.float64)
-    rows, cols = hot_texels(rad)
-    smooth = rad.copy()
-    smooth[rows, cols] = 0.0
-    faces = _supersampled(smooth, n, supersample or supersample_for(rad.shape[0], n))
+    n, h, w = face_size, radiance.shape[0], radiance.shape[1]
+    rows, cols = hot_texels(radiance)
+    hot = np.sort(rows.astype(np.int64) * w + cols)
+    faces = _supersampled(radiance, n, supersample or supersample_for(h, n), hot)
     if len(rows):
-        hot = rad - smooth
-        flux = _splat_hot(hot, rows, cols, n, hot_nodes_for(rad.shape[0], n)).reshape(6, n, n, 3)
+        flux = _splat_hot(radiance, rows, cols, n, hot_nodes_for(h, n)).reshape(6, n, n, 3)
         faces += flux / cube_texel_solid_angles(n)[None, :, :, None]
     return faces.astype(np.float32)
 

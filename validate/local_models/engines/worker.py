@@ -158,7 +158,10 @@ def close_workers() -> None:
 
 def radiance_digest(radiance: np.ndarray) -> str:
     a = np.ascontiguousarray(radiance, dtype=np.float32)
-    return hashlib.blake2b(a.tobytes() + str(a.shape).encode(), digest_size=16).hexdigest()
+    digest = hashlib.blake2b(digest_size=16)
+    digest.update(memoryview(a.reshape(-1)).cast("B"))  # the buffer itself: no copy of the map
+    digest.update(str(a.shape).encode())
+    return digest.hexdigest()
 
 
 def faces_for(radiance: np.ndarray, size: int, digest: str | None = None) -> np.ndarray:
