@@ -169,9 +169,10 @@ def pole_check(env: Environment, e_poles: np.ndarray, unc_poles: np.ndarray) -> 
     (solid-angle weighted, no cosine) — the power check: a plausible calibration bug."""
     e = irradiance.call("hemisphere", env.radiance, np.array([UP, -UP]))
     h, w = env.radiance.shape[:2]
-    up = latlong.texel_directions(h, w)[..., 1] > 0
-    dw = latlong.texel_solid_angles(h, w)
-    mean = [(env.radiance[m] * dw[m][:, None]).sum(axis=0) / dw[m].sum() for m in (up, ~up)]
+    up = latlong.spherical_to_direction(latlong.row_theta(h), np.zeros(h))[:, 1] > 0  # rows above the horizon
+    flux_rows, omega_rows = latlong.row_sums(env.radiance) * latlong.row_solid_angles(h, w)[:, None], \
+        latlong.row_solid_angles(h, w) * w
+    mean = [flux_rows[m].sum(axis=0) / omega_rows[m].sum() for m in (up, ~up)]
     z = float(_y(e_poles[0]))
     return {"deviation": float(np.max(np.abs(_y(e) - _y(e_poles))) / z), "uncertainty": float(_y(unc_poles).max() / z),
             "mean_radiance_deviation": float(np.max(np.abs(_y(np.pi * np.array(mean)) - _y(e_poles))) / z)}

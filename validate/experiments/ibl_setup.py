@@ -121,9 +121,14 @@ def make_environment(name: str, scale: int) -> Environment:
 
 def key_direction(env: Environment) -> np.ndarray:
     """Direction of the brightest texel (the key light)."""
-    y = latlong.luminance(env.radiance)
-    i, j = np.unravel_index(int(np.argmax(y)), y.shape)
-    return latlong.texel_directions(env.height, env.width)[i, j]
+    best, at = -np.inf, (0, 0)
+    step = max(1, (1 << 20) // env.width)  # row blocks: no full-size luminance or directions
+    for s in range(0, env.height, step):
+        y = latlong.luminance(env.radiance[s:s + step])
+        k = int(np.argmax(y))
+        if y.flat[k] > best:
+            best, at = float(y.flat[k]), (s + k // env.width, k % env.width)
+    return latlong.spherical_to_direction(latlong.row_theta(env.height)[at[0]], latlong.col_phi(env.width)[at[1]])
 
 
 def random_rotation(seed: int) -> np.ndarray:
