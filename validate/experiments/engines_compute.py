@@ -153,7 +153,7 @@ def measure_faces(env: Environment, settings: Settings) -> dict:
     point-sampled at the texel centres (the power check of the flux claim); the largest texel; the clamp."""
     faces = worker.faces_for(env.radiance, settings.face_size)
     flux = env.total_flux()
-    point = latlong.bilinear_lookup(env.radiance.astype(np.float64), cube_texel_directions(settings.face_size))
+    point = latlong.bilinear_lookup(env.radiance, cube_texel_directions(settings.face_size))  # taps widen to float64
     ok = flux > 0
     return {
         "kind": env.kind, "resolution": [env.width, env.height], "face_size": settings.face_size,
