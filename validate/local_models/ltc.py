@@ -54,6 +54,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ValidateError
+from ..scenes.area_lights import tube_geometry
 from .classic_brdfs import ggx_d, smith_g1
 from .registry import define_family
 
@@ -319,13 +320,7 @@ def tube_polygon(light: Mapping[str, Any], points: np.ndarray, who: str) -> np.n
     """The stadium (N, 2·(TUBE_ARC_SIDES + 1), 3) standing in for a capsule seen from each receiver: in the plane
     through the axis whose normal points at the receiver, the rectangle ℓ × 2R′ closed by half-circles of radius
     R′ = R h/√(h² − R²) about the ends (h: the receiver's distance to the axis)."""
-    c = np.asarray(light["center"], dtype=np.float64)
-    ax = np.asarray(light.get("axis", (0.0, 0.0, 0.0)), dtype=np.float64)
-    length, r = float(light.get("length", -1.0)), float(light.get("radius", 0.0))
-    if ax.shape != (3,) or not np.linalg.norm(ax) > 0.0 or not length >= 0.0 or not r > 0.0:
-        raise ValidateError(f"technique '{who}' (specular_arealight): tube needs 'axis' (3,) non-zero, 'length' >= 0 "
-                            f"and 'radius' > 0; got axis={ax.tolist()!r}, length={length!r}, radius={r!r}")
-    ax = ax / np.linalg.norm(ax)
+    c, ax, length, r = tube_geometry(light, f"technique '{who}' (specular_arealight)")
     q = np.asarray(points, dtype=np.float64) - c
     qp = q - (q @ ax)[:, None] * ax
     h = np.linalg.norm(qp, axis=-1, keepdims=True)

@@ -59,6 +59,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ValidateError
+from ..scenes.area_lights import tube_geometry
 from .classic_brdfs import Geometry, fresnel_schlick, ggx_d, smith_g1
 from .ltc import brdf_params, specular_arealight
 
@@ -119,12 +120,7 @@ def tube_light(light: Mapping[str, Any], who: str) -> tuple[np.ndarray, np.ndarr
     if light.get("shape") != "tube":
         raise ValidateError(f"technique '{who}' (specular_arealight): handles tube lights only, got "
                             f"{light.get('shape')!r}")
-    a = np.asarray(light.get("axis", (0.0, 0.0, 0.0)), dtype=np.float64)
-    length, radius = float(light.get("length", -1.0)), float(light.get("radius", 0.0))
-    if a.shape != (3,) or not np.linalg.norm(a) > 0.0 or not length >= 0.0 or not radius > 0.0:
-        raise ValidateError(f"technique '{who}' (specular_arealight): tube needs 'axis' (3,) non-zero, 'length' >= 0 "
-                            f"and 'radius' > 0; got axis={a.tolist()!r}, length={length!r}, radius={radius!r}")
-    return np.asarray(light["center"], dtype=np.float64), a / np.linalg.norm(a), length, radius
+    return tube_geometry(light, f"technique '{who}' (specular_arealight)")
 
 
 def tube_solid_angle(center: np.ndarray, axis: np.ndarray, length: float, radius: float,

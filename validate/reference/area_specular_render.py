@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ValidateError
+from ..scenes import area_lights
 from ..scenes import brdf_scenes as bs
 from . import brdf_render as br
 
@@ -122,14 +123,9 @@ def light_directions(light: Mapping[str, Any], point: np.ndarray, n: int) -> tup
 
 
 def tube_geometry(light: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray, float, float]:
-    """(centre, unit axis, length ℓ ≥ 0, radius R > 0) of a tube light mapping; ValidateError on bad values."""
-    c = np.asarray(light["center"], dtype=np.float64)
-    a = np.asarray(light.get("axis", (0.0, 0.0, 0.0)), dtype=np.float64)
-    length, radius = float(light.get("length", -1.0)), float(light.get("radius", 0.0))
-    if a.shape != (3,) or not np.linalg.norm(a) > 0.0 or not length >= 0.0 or not radius > 0.0:
-        raise ValidateError(f"area_specular_render: tube light needs 'axis' (3,) non-zero, 'length' >= 0 and "
-                            f"'radius' > 0; got axis={a.tolist()!r}, length={length!r}, radius={radius!r}")
-    return c, a / np.linalg.norm(a), length, radius
+    """(centre, unit axis, length ℓ ≥ 0, radius R > 0) of a tube light mapping
+    (:func:`validate.scenes.area_lights.tube_geometry`)."""
+    return area_lights.tube_geometry(light, "area_specular_render")
 
 
 def _tube_surface(light: Mapping[str, Any], p: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

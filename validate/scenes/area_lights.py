@@ -142,3 +142,16 @@ def tilted_normals(thetas_deg: np.ndarray, axis: np.ndarray, towards: np.ndarray
     t = t / np.linalg.norm(t)
     th = np.radians(np.asarray(thetas_deg, dtype=np.float64))
     return np.cos(th)[:, None] * a[None, :] + np.sin(th)[:, None] * t[None, :]
+
+
+def tube_geometry(light: Any, who: str) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """(centre, unit axis, length ℓ ≥ 0, radius R > 0) of a tube (capsule) light mapping {'center', 'axis', 'length',
+    'radius'}: the segment centre ± (ℓ/2)·axis swept by a sphere of radius R. ``who`` names the caller in the one-line
+    ValidateError on bad values."""
+    c = np.asarray(light["center"], dtype=np.float64)
+    a = np.asarray(light.get("axis", (0.0, 0.0, 0.0)), dtype=np.float64)
+    length, radius = float(light.get("length", -1.0)), float(light.get("radius", 0.0))
+    if a.shape != (3,) or not np.linalg.norm(a) > 0.0 or not length >= 0.0 or not radius > 0.0:
+        raise ValidateError(f"{who}: tube needs 'axis' (3,) non-zero, 'length' >= 0 and 'radius' > 0; got "
+                            f"axis={a.tolist()!r}, length={length!r}, radius={radius!r}")
+    return c, a / np.linalg.norm(a), length, radius
