@@ -119,6 +119,18 @@ class Measurements:
     bsdf: dict[str, Any] = field(default_factory=dict)  # the walk as a Mitsuba BSDF: χ², reciprocity, furnaces
 
 
+def chi2_case(alpha: float, theta_i: float, kw: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
+    """One χ² case of the walk BSDF (:func:`validate.reference.microsurface_bsdf.chi2_walk`), its pdf walks quadrupled
+    (with :data:`PDF_REPEATS` seeds) until max Var Ê/Ê ≤ :data:`MAX_PDF_VARIANCE_RATIO` (see there); returns the row
+    (with the walks and repeats used) and the keyword arguments, for the power check to use the same."""
+    kw = dict(kw)
+    row = mbsdf.chi2_walk(alpha, theta_i, **kw)
+    while row["variance_ratio"] > MAX_PDF_VARIANCE_RATIO and kw["walks"] < MAX_CHI2_WALKS:
+        kw |= {"walks": 4 * kw["walks"], "repeats": PDF_REPEATS}
+        row = mbsdf.chi2_walk(alpha, theta_i, **kw)
+    return row | {"walks": kw["walks"], "repeats": kw.get("repeats", 4)}, kw
+
+
 def _furnace(tech: Technique, params: dict[str, Any], mus: tuple[float, ...], nodes: int) -> np.ndarray:
     """W(μ_v) for each μ in ``mus`` (luminance), q through the registry (contract checked)."""
     dirs, w = bs.hemisphere_quadrature(nodes, 2 * nodes)
@@ -287,11 +299,8 @@ def bsdf_checks(s: Settings, seed: int) -> dict[str, Any]:
     for k, (a, th) in enumerate(s.chi2_cases):
         kw = {"samples": s.chi2_samples, "seed": seed + k, "res": s.chi2_res, "ires": 6, "walks": s.chi2_walks,
               "test_count": len(s.chi2_cases), "significance": FAMILY_WISE}
-        row = mbsdf.chi2_walk(a, th, **kw)
-        while row["variance_ratio"] > MAX_PDF_VARIANCE_RATIO and kw["walks"] < MAX_CHI2_WALKS:
-            kw |= {"walks": 4 * kw["walks"], "repeats": PDF_REPEATS}
-            row = mbsdf.chi2_walk(a, th, **kw)
-        out["chi2"].append(row | {"walks": kw["walks"], "repeats": kw.get("repeats", 4)})
+        row, kw = chi2_case(a, th, kw)
+        out["chi2"].append(row)
         out["chi2_power"].append(mbsdf.chi2_walk(a, th, **kw, **CHI2_POWER))
     for k, (a, f0) in enumerate((a, f0) for a in s.walk_alphas for f0 in s.recip_f0s):
         out["reciprocity"].append(mbsdf.reciprocity_walk(a, f0, 64, s.recip_lanes, seed + 100 + k))
