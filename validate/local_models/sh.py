@@ -239,9 +239,15 @@ def _cpus() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-@functools.lru_cache(maxsize=1)
+_POOL: dict[int, ThreadPoolExecutor] = {}  # per process id: a forked child must not reuse its parent's (dead) threads
+
+
 def _pool() -> ThreadPoolExecutor:
-    return ThreadPoolExecutor(max_workers=_cpus(), thread_name_prefix="validate-rows")
+    pid = os.getpid()
+    if pid not in _POOL:
+        _POOL.clear()
+        _POOL[pid] = ThreadPoolExecutor(max_workers=_cpus(), thread_name_prefix="validate-rows")
+    return _POOL[pid]
 
 
 def project_environment(radiance: np.ndarray, lmax: int = 2) -> np.ndarray:
