@@ -1,6 +1,6 @@
 """A plug-in with one technique in every technique family, as a user would write it (one file).
 
-Used by tests/test_plugins.py: ``python -m validate all --quick --plugin tests/plugins/every_family.py``
+Used by tests/local_models/test_plugins.py: ``python -m validate all --quick --plugin tests/plugins/every_family.py``
 must give each technique a row, ``results.json`` entries and its declared-threshold claims.
 """
 

@@ -65,7 +65,7 @@ class Settings:
 
 SETTINGS = {
     # quick: one cross-check, the environment with a closed form and the sharpest light (two_tone,
-    # disc_on_sky and a real probe are also tested in tests/test_pathtrace.py)
+    # disc_on_sky and a real probe are also tested in tests/reference/test_pathtrace.py)
     "quick": Settings(2500, 64, (24, 48), 48, ("near_directional",)),
     "full": Settings(10000, 64, (48, 96), 96,
                      ("two_tone", "disc_on_sky", "near_directional", "sunsky_30deg", "grace_probe")),

@@ -41,7 +41,7 @@ Conventions
     c. Bilinear filtering inside the padded face then blends across edges and corners without special
     cases, and stays second-order accurate: on a smooth test function the corner error at N = 32 is
     4.9·10⁻⁴ against 2.2·10⁻³ when a corner is the mean of the three corner texels (what seamless
-    hardware filtering does; first order) — see ``tests/test_ibl.py``.
+    hardware filtering does; first order) — see ``tests/local_models/test_ibl.py``.
   * *Sparse maps*: ``needed=`` directions restrict the (expensive) convolution to the texels the
     bilinear lookups of those directions read; every other texel is NaN, so a lookup outside the
     declared footprint shows up as NaN instead of a silently wrong value.

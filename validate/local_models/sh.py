@@ -315,7 +315,7 @@ def angular_map_samples_rh2001(angular: np.ndarray) -> tuple[np.ndarray, np.ndar
 
     Note: like R&H's ``prefilter.c`` this samples at pixel *corners* (j, i), not centres (j+½, i+½);
     the half-pixel shift changes L00 by ~5e-3 relative on a 1000² map (measured in
-    ``tests/test_published.py``) — well inside the ±0.01 comparison with the table."""
+    ``tests/local_models/test_published.py``) — well inside the ±0.01 comparison with the table."""
     w = angular.shape[0]
     i, j = np.meshgrid(np.arange(w, dtype=np.float64), np.arange(w, dtype=np.float64), indexing="ij")
     u = (j - w / 2) / (w / 2)

@@ -80,7 +80,7 @@ from .irradiance_map import (
 from .prefiltered_specular import array_digest, block_deg_for_width, cached, face_size_for_width, reflect
 
 ALPHA_RANGE = (1e-3, 1.0)
-DFG_SAMPLES = 2048  # Hammersley points per table cell (QMC error ≲ 10⁻³ of A + B, tests/test_ibl.py)
+DFG_SAMPLES = 2048  # Hammersley points per table cell (QMC error ≲ 10⁻³ of A + B, tests/local_models/test_ibl.py)
 DFG_SIZE = 32  # table cells per axis; cell centres μ = (i + ½)/32, α = (j + ½)/32, as a texture
 ALBEDO_MU = 64  # μ samples of the plastic transmittance table (Mitsuba uses 64 as well)
 

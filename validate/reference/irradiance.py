@@ -62,7 +62,7 @@ MAX_REFINED_NODES = 1 << 14  # enough for a sun or a small disc (a few cells); b
 MAX_REFINED_NODES_TEXEL = 1 << 16
 TEXEL_PATH_MAX_SMALL = 512  # maps with more rows take the streamed texel path (all built-ins have ≤ 512)
 BLOCK_BYTES = 32 << 20  # texel-path row blocks: ~32 MiB of float64 patch data at a time
-# Mitsuba evaluates in float32 (see tests/test_latlong.py: measured 1.8e-6 of the values on random
+# Mitsuba evaluates in float32 (see tests/reference/test_latlong.py: measured 1.8e-6 of the values on random
 # directions); a convention slip is an O(1) difference.
 CONVENTION_TOL = 1e-4
 Nodes = tuple[np.ndarray, np.ndarray]  # (Φ_c (M, 3), ω_c (M, 3))

@@ -1,7 +1,7 @@
 """Ask Mitsuba for radiance: ``emitter.eval`` at arbitrary world directions.
 
 A direction d points from the scene *towards* the environment; Mitsuba's ``eval`` takes the
-incident direction ``si.wi = −d`` (measured in ``tests/test_latlong.py``).
+incident direction ``si.wi = −d`` (measured in ``tests/reference/test_latlong.py``).
 """
 
 from __future__ import annotations

@@ -15,7 +15,7 @@ radiance. Here Mitsuba computes the same quantity by a different road — light 
   calling :func:`~validate.reference.irradiance.reference_irradiance` on the concatenated sub-pixel
   normals. Only pixels whose footprint lies entirely inside the silhouette are compared.
 
-Image ↔ world mapping (measured with an ``aov`` ``sh_normal`` render; ``tests/test_pathtrace.py``):
+Image ↔ world mapping (measured with an ``aov`` ``sh_normal`` render; ``tests/reference/test_pathtrace.py``):
 the sensor's ``to_world = look_at(origin, target, up)`` has columns (left, up', forward, origin);
 film column u ∈ [0, 1] maps to camera x = 1 − 2u (column 0 is the camera's *left*, +x local), film
 row v to camera y = 1 − 2v (row 0 is the top). The visible sphere point of camera (x, y) has normal

@@ -1,6 +1,6 @@
 """Lat-long (equirectangular) geometry in Mitsuba 3's ``envmap`` convention.
 
-Conventions (measured against ``emitter.eval`` — see ``tests/test_latlong.py``):
+Conventions (measured against ``emitter.eval`` — see ``tests/reference/test_latlong.py``):
 
 * y is up. A direction d = (x, y, z) has θ = acos(y) ∈ [0, π] and φ = atan2(x, −z) ∈ [0, 2π):
   d = (sin φ sin θ, cos θ, −cos φ sin θ). So u = φ/2π = 0 is −z, u = 1/4 is +x.

@@ -155,7 +155,7 @@ def sunsky(elevation_deg: float, height: int = 512, supersample: int = 4) -> Env
         height, supersample = min(height, 64), 1
     w = direction_from_elevation(elevation_deg, 45.0)
     # the sky's zenith follows to_world (z → +y); sun_direction is taken in world space (measured:
-    # the baked sun lands on this vector, tests/test_procedural.py)
+    # the baked sun lands on this vector, tests/reference/test_procedural.py)
     emitter = mi.load_dict({
         "type": "sunsky", "sun_direction": [float(v) for v in w], "turbidity": 3.0,
         "to_world": mi.ScalarTransform4f().rotate([1, 0, 0], -90),

@@ -22,7 +22,7 @@ s = (j + ½)/N, t = (i + ½)/N of OpenGL's cube-map selection table [1, Table 8.
 (:func:`validate.local_models.irradiance_map.face_direction`). Both engines read faces in exactly this
 layout: three.js's ``LightProbeGenerator.fromCubeRenderTarget`` (WebGL readback rows, bottom-up) and
 Babylon.js's ``CubeMapToSphericalPolynomialTools._FileFaces`` (right, left, up, down, front, back) —
-checked texel by texel in ``tests/test_engines.py``.
+checked texel by texel in ``tests/experiments/test_engines.py``.
 
 References
   [1] M. Segal, K. Akeley, "The OpenGL Graphics System: A Specification (4.6 Core)", §8.13, Table 8.19.

@@ -18,8 +18,8 @@ from validate.experiments import discover
 from validate.local_models import FAMILIES, irradiance, shadow
 from validate.local_models.registry import define_family
 
-ROOT = Path(__file__).resolve().parents[1]
-PLUGINS = Path(__file__).parent / "plugins"
+ROOT = Path(__file__).resolve().parents[2]
+PLUGINS = Path(__file__).resolve().parents[1] / "plugins"
 PROBES = Path(os.environ.get("VALIDATE_PROBES") or ROOT.parent / "shared" / "probes").resolve()
 
 

@@ -212,7 +212,7 @@ def test_without_node_nothing_is_registered(tmp_path: Path) -> None:
             "print(sorted(t.name for t in irradiance if t.meta.get('engine')), 'sh9' in irradiance)\n"
             "print(UNAVAILABLE)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env,
-                         cwd=Path(__file__).resolve().parents[1], timeout=120)
+                         cwd=Path(__file__).resolve().parents[2], timeout=120)
     assert out.returncode == 0, out.stderr
     first, reason = out.stdout.strip().splitlines()[:2]
     assert first == "[] True"
@@ -223,7 +223,7 @@ def test_importing_starts_no_node_process() -> None:
     code = ("import validate.local_models, validate.experiments\nvalidate.experiments.discover()\n"
             "from validate.local_models.engines import worker\nprint(len(worker._WORKERS))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         cwd=Path(__file__).resolve().parents[1], timeout=120)
+                         cwd=Path(__file__).resolve().parents[2], timeout=120)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip().splitlines()[-1] == "0"
 

@@ -39,7 +39,7 @@ HALF_PIXEL_TOL = 1e-2
 CENTRED_TOL = 5e-4
 
 
-SHARED_REFERENCE = Path(__file__).resolve().parents[2] / "shared" / "reference"
+SHARED_REFERENCE = Path(__file__).resolve().parents[3] / "shared" / "reference"
 
 
 def test_published_figures_ship_with_the_package(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

@@ -25,7 +25,7 @@ import pytest
 from validate.errors import ValidateError
 from validate.experiments.base import Context
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 VOLATILE = {"wall_time_s", "generated", "command"}  # keys that differ between runs by nature
 
 

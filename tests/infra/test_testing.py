@@ -23,7 +23,7 @@ from validate.errors import ValidateError
 from validate.experiments.sh9_claims import BANDLIMITED_EXACT
 from validate.local_models import sh
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "examples" / "test_my_model.py"
 # the deliberately wrong variant of the example: its lat-long directions built z-up (a convention bug)
 CORRECT_LINE = "    d = np.stack([np.sin(p) * np.sin(t), np.cos(t), -np.cos(p) * np.sin(t)], axis=-1)"
