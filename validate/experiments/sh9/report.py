@@ -6,13 +6,13 @@ from typing import Any
 
 import numpy as np
 
-from ..local_models import irradiance as irradiance_family
-from ..local_models import sh as shm
-from ..metrics.published import PUBLISHED_TOLERANCE
-from ..report import plots
-from .base import Context, Figure, Section, Table
-from .formatting import pct as _pct
-from .sh9_claims import PAPER_MAX, PAPER_MEAN, Measurements
+from ...local_models import irradiance as irradiance_family
+from ...local_models import sh as shm
+from ...metrics.published import PUBLISHED_TOLERANCE
+from ...report import plots
+from ..base import Context, Figure, Section, Table
+from ..formatting import pct as _pct
+from .claims import PAPER_MAX, PAPER_MEAN, Measurements
 
 EXPERIMENT = "sh9"
 

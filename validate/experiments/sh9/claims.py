@@ -12,13 +12,13 @@ from typing import Any
 
 import numpy as np
 
-from ..local_models import irradiance as irradiance_family
-from ..local_models.windowed_sh import REFERENCE_TOLERANCE
-from ..metrics.irradiance_error import METRIC_NAMES, WORST_CASE_MAX, WORST_CASE_MEAN
-from ..metrics.published import PUBLISHED_TOLERANCE
-from .base import Claim
-from .formatting import pct as _pct
-from .sh9_compute import (
+from ...local_models import irradiance as irradiance_family
+from ...local_models.windowed_sh import REFERENCE_TOLERANCE
+from ...metrics.irradiance_error import METRIC_NAMES, WORST_CASE_MAX, WORST_CASE_MEAN
+from ...metrics.published import PUBLISHED_TOLERANCE
+from ..base import Claim
+from ..formatting import pct as _pct
+from .compute import (
     CMGEN,
     CROSSCHECK_BIAS,
     CROSSCHECK_FLIP,
@@ -28,7 +28,7 @@ from .sh9_compute import (
     REFERENCE_BIAS,
     Settings,
 )
-from .techniques import Measured, technique_claims, technique_scope
+from ..techniques import Measured, technique_claims, technique_scope
 
 RH2001 = "Ramamoorthi & Hanrahan, 'An Efficient Representation for Irradiance Environment Maps', SIGGRAPH 2001"
 RH_JOSA = "Ramamoorthi & Hanrahan, JOSA A 18(10) 2001"

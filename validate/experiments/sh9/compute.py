@@ -31,18 +31,18 @@ from typing import Any
 
 import numpy as np
 
-from ..local_models import cmgen_window
-from ..local_models import irradiance as irradiance_family
-from ..local_models import sh as shm
-from ..local_models.windowed_sh import kernel_bound
-from ..metrics.irradiance_error import ErrorStats, irradiance_errors
-from ..metrics.published import fit_exposure
-from ..reference import pathtrace
-from ..reference.irradiance import reference_irradiance
-from ..scenes import latlong
-from ..scenes.environment import Environment
-from ..scenes.probes import published_status
-from .sh9_closed_forms import closed_form
+from ...local_models import cmgen_window
+from ...local_models import irradiance as irradiance_family
+from ...local_models import sh as shm
+from ...local_models.windowed_sh import kernel_bound
+from ...metrics.irradiance_error import ErrorStats, irradiance_errors
+from ...metrics.published import fit_exposure
+from ...reference import pathtrace
+from ...reference.irradiance import reference_irradiance
+from ...scenes import latlong
+from ...scenes.environment import Environment
+from ...scenes.probes import published_status
+from .closed_forms import closed_form
 
 
 @dataclass(frozen=True)

@@ -28,11 +28,11 @@ from __future__ import annotations
 from functools import partial
 from typing import Any
 
-from ..local_models import irradiance as irradiance_family
-from ..metrics.irradiance_error import METRIC_NAMES
-from ..scenes.probes import read_aliases, read_published_sh9
-from .base import Context, ExperimentResult, register_experiment
-from .sh9_claims import (
+from ...local_models import irradiance as irradiance_family
+from ...metrics.irradiance_error import METRIC_NAMES
+from ...scenes.probes import read_aliases, read_published_sh9
+from ..base import Context, ExperimentResult, register_experiment
+from .claims import (
     ATTAINS_BOUND,
     BANDLIMITED_EXACT,
     CLOSED_FORM,
@@ -44,10 +44,10 @@ from .sh9_claims import (
     claims,
     findings,
 )
-from .sh9_compute import SETTINGS, Settings, pathtrace_crosscheck, sphere_normals
-from .sh9_compute import analyse_environment as _analyse
-from .sh9_sections import sections
-from .techniques import technique_entry
+from .compute import SETTINGS, Settings, pathtrace_crosscheck, sphere_normals
+from .compute import analyse_environment as _analyse
+from .report import sections
+from ..techniques import technique_entry
 
 TITLE = "SH9 irradiance vs Mitsuba (Ramamoorthi & Hanrahan 2001)"
 

@@ -31,9 +31,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..local_models.sphere_cap import cap_irradiance
-from ..scenes import procedural
-from ..scenes.environment import Environment
+from ...local_models.sphere_cap import cap_irradiance
+from ...scenes import procedural
+from ...scenes.environment import Environment
 
 
 @dataclass(frozen=True)
