@@ -15,7 +15,7 @@ import time
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any, ClassVar, TypeVar
+from typing import Any, ClassVar, Protocol, TypeVar, runtime_checkable
 
 T = TypeVar("T")
 
@@ -332,3 +332,36 @@ def register_experiment(name: str, title: str, description: str, order: int = 10
         EXPERIMENTS[name] = Experiment(name, title, description, timed, order)
         return fn
     return deco
+
+
+@runtime_checkable
+class ExperimentModule(Protocol):
+    """The interface every experiment package exposes (its ``__init__``'s ``__all__``, nothing else).
+
+    The stages run ``settings.py`` (``QUICK``, ``FULL``: two instances of one frozen dataclass) →
+    ``compute.py`` (``compute(ctx, s) -> Measurements``, numbers only) → ``claims.py``
+    (``claims(m) -> list[Claim]``) → ``report.py`` (``findings(m) -> list[str]``,
+    ``sections(m, ctx) -> list[Section]``); ``run(ctx)`` only wires them and is registered through
+    :func:`register_experiment` under ``NAME``, ``TITLE``, ``DESCRIPTION`` and ``ORDER``.
+    """
+
+    NAME: str
+    TITLE: str
+    DESCRIPTION: str
+    ORDER: int
+    QUICK: Any
+    FULL: Any
+
+    def compute(self, ctx: Context, s: Any) -> Any: ...
+
+    def claims(self, m: Any) -> list[Claim]: ...
+
+    def findings(self, m: Any) -> list[str]: ...
+
+    def sections(self, m: Any, ctx: Context) -> list[Section]: ...
+
+    def run(self, ctx: Context) -> ExperimentResult: ...
+
+
+EXPERIMENT_INTERFACE = ("NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings",
+                        "sections", "run")

@@ -7,10 +7,7 @@ cite the paper, the theorem or the measured margin; thresholds are named constan
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
-from typing import Any
-
-import numpy as np
+from dataclasses import replace
 
 from ...local_models import irradiance as irradiance_family
 from ...local_models.windowed_sh import REFERENCE_TOLERANCE
@@ -18,6 +15,7 @@ from ...metrics.irradiance_error import METRIC_NAMES, WORST_CASE_MAX, WORST_CASE
 from ...metrics.published import PUBLISHED_TOLERANCE
 from ..base import Claim
 from ..formatting import pct as _pct
+from ..techniques import Measured, technique_claims, technique_scope
 from .compute import (
     CMGEN,
     CROSSCHECK_BIAS,
@@ -26,9 +24,8 @@ from .compute import (
     MIRRORED,
     PERTURBATIONS,
     REFERENCE_BIAS,
-    Settings,
+    Measurements,
 )
-from ..techniques import Measured, technique_claims, technique_scope
 
 RH2001 = "Ramamoorthi & Hanrahan, 'An Efficient Representation for Irradiance Environment Maps', SIGGRAPH 2001"
 RH_JOSA = "Ramamoorthi & Hanrahan, JOSA A 18(10) 2001"
@@ -58,18 +55,6 @@ CMGEN_SOURCE = ("Filament cmgen --sh-window auto (its default; libs/ibl/src/Cube
                 "Spherical Harmonics', 2017)")
 # Findings: the techniques of Roughton et al. 2024's comparison, against this experiment's SH9
 ZH3_COMPARED = ("zh3_stored", "zh3_hallucinated", "sh1", "sh1_geomerics")
-
-
-@dataclass
-class Measurements:
-    """What :func:`validate.experiments.sh9.compute` returns: numbers and the arrays for figures."""
-
-    settings: Settings
-    environments: dict[str, dict[str, Any]]
-    crosschecks: dict[str, dict[str, Any]] = field(default_factory=dict)
-    skipped: list[tuple[str, str]] = field(default_factory=list)
-
-
 
 
 def paper_claims(m: Measurements) -> list[Claim]:
@@ -291,134 +276,5 @@ def claims(m: Measurements) -> list[Claim]:
             + bandlimited_claims(m) + reference_claims(m) + all_technique_claims(m) + cmgen_claims(m))
 
 
-def technique_findings(m: Measurements) -> list[str]:
-    """Per registered technique: its worst environment, and where it beats this experiment's SH9 (the
-    R&H model analysed above, not a registry entry) by more than the reference's uncertainty."""
-    out = []
-    envs = m.environments
-    names = list(dict.fromkeys(t for r in envs.values() for t in r["models"]))
-    for name in names:
-        rows = {e: r["models"][name]["flux_luminance"] for e, r in envs.items() if name in r["models"]}
-        worst_mean = max(rows, key=lambda e: rows[e]["mean"])
-        worst_max = max(rows, key=lambda e: rows[e]["max"])
-        better = [e for e, st in rows.items()
-                  if st["mean"] + st["mean_uncertainty"] < envs[e]["errors"]["flux_luminance"]["mean"]]
-        shown = ", ".join(better[:5]) + (" …" if len(better) > 5 else "")
-        out.append(f"technique {name}: worst flux-normalised error {_pct(rows[worst_mean]['mean'])} mean "
-                   f"({worst_mean}) / {_pct(rows[worst_max]['max'])} max ({worst_max}); lower mean error than SH9 on "
-                   f"{len(better)} of {len(rows)} environments" + (f" ({shown})" if better else "") + ".")
-    return out
-
-
-def _closer(a: dict, b: dict, stat: str, other: str) -> str:
-    """'closer to the truth than <other> by x' / 'farther from the truth than <other> by x' / 'level with <other>'
-    for flux_luminance stats a vs b (level: the difference is within the two uncertainties)."""
-    diff = b[stat] - a[stat]
-    unc = a[f"{stat}_uncertainty"] + b[f"{stat}_uncertainty"]
-    if abs(diff) <= unc:
-        return f"level with {other} (difference {_pct(abs(diff))} ≤ ±{_pct(unc)})"
-    return f"{'closer to the truth than' if diff > 0 else 'farther from the truth than'} {other} by {_pct(abs(diff))}"
-
-
-def zh3_environments(m: Measurements) -> list[str]:
-    """grace_probe when present and the probe with the largest sun share (without probes: the built-in
-    environment with the largest, other than near_directional, where stored ZH3 = SH9 by construction)."""
-    envs = m.environments
-    picked = [n for n in envs if n == "grace_probe"]
-    probes = [n for n, r in envs.items() if r["kind"] == "probe"] or [n for n in envs if n != ATTAINS_BOUND]
-    if not probes:
-        return picked
-    sunny = max(probes, key=lambda n: envs[n].get("sun_share", 0.0))
-    return picked + [sunny] if sunny not in picked else picked
-
-
-def zh3_findings(m: Measurements) -> list[str]:
-    """Is ZH3 closer to the truth than SH9 (Roughton et al. 2024), on which maps, by how much: per selected
-    environment every compared technique's flux-normalised mean / max, then the count over all environments."""
-    envs = m.environments
-    present = [t for t in ZH3_COMPARED if any(t in r["models"] for r in envs.values())]
-    if "zh3_stored" not in present:
-        return []
-    out = []
-    for name in zh3_environments(m):
-        r = envs[name]
-        sh9, models = r["errors"]["flux_luminance"], r["models"]
-        parts = [f"SH9 {_pct(sh9['mean'])} / {_pct(sh9['max'])}"] + [
-            f"{t} {_pct(models[t]['flux_luminance']['mean'])} / {_pct(models[t]['flux_luminance']['max'])}"
-            for t in present if t in models]
-        stored = _closer(models["zh3_stored"]["flux_luminance"], sh9, "mean", "SH9 (9)")
-        line = (f"ZH3 vs SH9 on {name} ({r['kind']}, {r.get('sun_share', 0.0):.0%} of Φ_Y within 5° of the "
-                f"brightest texel): flux-normalised error mean / max — {', '.join(parts)}. Stored ZH3 (4 + 1 "
-                f"numbers per channel) is {stored} on the mean")
-        if "zh3_hallucinated" in models and "sh1" in models:
-            hall = _closer(models["zh3_hallucinated"]["flux_luminance"], models["sh1"]["flux_luminance"], "mean",
-                           "L1 SH (4)")
-            line += f"; hallucinated ZH3 (4 numbers) is {hall} on the mean"
-        out.append(line + ".")
-    closer = [n for n, r in envs.items() if "zh3_stored" in r["models"] and r["models"]["zh3_stored"]["flux_luminance"]
-              ["mean"] + r["models"]["zh3_stored"]["flux_luminance"]["mean_uncertainty"]
-              < r["errors"]["flux_luminance"]["mean"]]
-    out.append(f"Stored ZH3 has a lower mean error than SH9 on {len(closer)} of {len(envs)} environments"
-               + (f" ({', '.join(closer[:6])}{' …' if len(closer) > 6 else ''})" if closer else "")
-               + "; Roughton et al. 2024 compare ZH3 with L1 SH (which it beats), not with SH9, which keeps 4 more "
-                 "numbers per channel.")
-    return out
-
-
-def _identical_channels(coeffs: np.ndarray) -> bool:
-    return bool(np.allclose(coeffs[:, 0], coeffs[:, 1], rtol=1e-6)
-                and np.allclose(coeffs[:, 0], coeffs[:, 2], rtol=1e-6))
-
-
-def cmgen_findings(m: Measurements) -> list[str]:
-    """The cut-off cmgen's auto window picks per map, and what the window costs at the peak."""
-    rows = {e: r["cmgen_auto"] for e, r in m.environments.items() if r.get("cmgen_auto")}
-    if not rows:
-        return []
-    cuts = ", ".join(f"{e} {r['cutoff']:.2f}" for e, r in rows.items())
-    worst = max(rows, key=lambda e: m.environments[e]["models"].get(CMGEN, {}).get("flux_luminance", {}).get("max", 0))
-    r, w = rows[worst], rows[worst]["weights"]
-    st = m.environments[worst]["models"][CMGEN]["flux_luminance"]
-    sh9 = m.environments[worst]["errors"]["flux_luminance"]
-    out = [f"cmgen auto window: cut-off (bands, bisected in [3, 13]) per environment: {cuts}. Worst: {worst}, "
-           f"w = ({w[0]:.3f}, {w[1]:.3f}, {w[2]:.3f}), error {_pct(st['mean'])} mean / {_pct(st['max'])} max of Φ "
-           f"(SH9 {_pct(sh9['mean'])} / {_pct(sh9['max'])}): no ringing, at the price of the peak (kernel bound "
-           f"{_pct(r['kernel_bound'])}; unwindowed min {_pct(-r['negative_unwindowed'])} of Φ)."]
-    grey = [e for e, r in rows.items() if len({round(b[0], 6) for b in r["brackets"]}) > 1
-            and _identical_channels(np.array(m.environments[e]["coefficients"]))]
-    if grey:
-        out.append(f"cmgen auto window on grey lighting ({', '.join(grey)}): identical channels end with different "
-                   "brackets, because each channel's bisection starts at the previous channel's answer and stops "
-                   "after a 0.1-band bracket, so the cut-off shrinks by up to 0.1 band per channel without any "
-                   "channel failing (as in CubemapSH::windowSH).")
-    return out
-
-
-def findings(m: Measurements) -> list[str]:
-    """Sentences with numbers: the paper's probes, strong-sun environments, probes not compared."""
-    out: list[str] = []
-    paper = {k: v for k, v in m.environments.items() if "published" in v}
-    for name, r in paper.items():
-        e = r["errors"]
-        out.append(f"{name}: flux-normalised error {_pct(e['flux_luminance']['mean'])} mean / "
-                   f"{_pct(e['flux_luminance']['max'])} max reproduces the paper's < 1 % / < 5 %; the same "
-                   f"approximation measures {_pct(e['relative']['mean'])} mean / {_pct(e['relative']['max'])} "
-                   f"max per-normal relative error and {_pct(e['peak']['mean'])} mean / "
-                   f"{_pct(e['peak']['max'])} max relative to the peak irradiance.")
-    if not paper:
-        out.append("None of the paper's probes (Debevec angular maps named as in probe_aliases.csv, e.g. "
-                   "grace_probe.hdr) was found, so the paper's own claim was not checked; pass --probes DIR.")
-    for r in m.environments.values():
-        if r.get("published_note"):
-            out.append(r["published_note"])
-    for name, r in m.environments.items():
-        st = r["errors"]["flux_luminance"]
-        if name not in paper and (st["mean"] > PAPER_MEAN or st["max"] > PAPER_MAX):
-            out.append(f"{name}: SH9 error {_pct(st['mean'])} mean / {_pct(st['max'])} max of Φ — beyond "
-                       "the paper's 1 %/5 % (expected for concentrated light: a sun or small bright source), "
-                       "still within the 3.07 %/9.375 % directional bound.")
-    return out + technique_findings(m) + zh3_findings(m) + cmgen_findings(m) + foreign_thresholds()
-
-
-__all__ = ["Measurements", "claims", "findings", "PAPER_MEAN", "PAPER_MAX", "BANDLIMITED_EXACT", "CONVERGENCE",
+__all__ = ["claims", "PAPER_MEAN", "PAPER_MAX", "BANDLIMITED_EXACT", "CONVERGENCE",
            "CLOSED_FORM", "ATTAINS_BOUND", "TIGHT", "SWEEP_METRIC"]

@@ -26,7 +26,8 @@ Per environment (:func:`analyse_environment`, run through ``ctx.map``):
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -41,35 +42,10 @@ from ...reference import pathtrace
 from ...reference.irradiance import reference_irradiance
 from ...scenes import latlong
 from ...scenes.environment import Environment
-from ...scenes.probes import published_status
+from ...scenes.probes import published_status, read_aliases, read_published_sh9
+from ..base import Context
 from .closed_forms import closed_form
-
-
-@dataclass(frozen=True)
-class Settings:
-    """How hard the experiment tries (quick and full are two instances, :data:`SETTINGS`)."""
-
-    normals: int  # spherical-Fibonacci normals for every metric
-    cells: int  # reference quadrature cells (validate.reference.irradiance)
-    grid: tuple[int, int]  # lat-long grid of normals for the heat map
-    sphere_px: int  # sphere images
-    pathtrace: tuple[str, ...]  # environments of the path-traced cross-check (those present)
-    pathtrace_px: int = 48
-    spp: int = 256
-    passes: int = 8
-    max_order: int = 8
-
-    def to_json(self) -> dict[str, Any]:
-        return asdict(self)
-
-
-SETTINGS = {
-    # quick: one cross-check, the environment with a closed form and the sharpest light (two_tone,
-    # disc_on_sky and a real probe are also tested in tests/reference/test_pathtrace.py)
-    "quick": Settings(2500, 64, (24, 48), 48, ("near_directional",)),
-    "full": Settings(10000, 64, (48, 96), 96,
-                     ("two_tone", "disc_on_sky", "near_directional", "sunsky_30deg", "grace_probe")),
-}
+from .settings import Settings
 
 # Model perturbations (power checks of the SH9 claims); values: what the report says.
 CS_FLIP = np.array([1, -1, 1, -1, 1, -1, 1, -1, 1], dtype=np.float64)[:, None]  # m = ±1 of l = 1, 2
@@ -243,8 +219,11 @@ def _figure_arrays(env: Environment, ref_sph: np.ndarray, sh_sph: np.ndarray, ma
             "error_grid": err_grid}
 
 
-def analyse_environment(env: Environment, settings: Settings, published: dict, aliases: dict) -> dict:
-    """Everything measured on one environment: JSON-able numbers, plus ``_arrays`` for the figures."""
+def analyse_environment(env: Environment, settings: Settings, published: dict | None = None,
+                        aliases: dict | None = None) -> dict:
+    """Everything measured on one environment: JSON-able numbers, plus ``_arrays`` for the figures. The
+    published table defaults to none, the aliases to the shipped ones."""
+    published, aliases = published or {}, read_aliases() if aliases is None else aliases
     n_fib = latlong.fibonacci_sphere(settings.normals)
     n_grid = _grid_normals(settings.grid)
     sph, mask = sphere_normals(settings.sphere_px)
@@ -322,3 +301,27 @@ def pathtrace_crosscheck(env: Environment, settings: Settings, seed: int) -> dic
         "flipped_max_abs_z": flipped.max_abs_z,
         "_arrays": {"render": cc.render, "quadrature": cc.quadrature, "z_image": cc.z_image},
     }
+
+
+@dataclass
+class Measurements:
+    """What :func:`validate.experiments.sh9.compute` returns: numbers and the arrays for figures."""
+
+    settings: Settings
+    environments: dict[str, dict[str, Any]]
+    crosschecks: dict[str, dict[str, Any]] = field(default_factory=dict)
+    skipped: list[tuple[str, str]] = field(default_factory=list)
+
+
+def compute(ctx: Context, s: Settings) -> Measurements:
+    """Every environment (``ctx.map``), then the path-traced cross-checks of the reference."""
+    envs, skipped = ctx.environments()
+    published, aliases = read_published_sh9(), read_aliases()
+    results = ctx.map(partial(analyse_environment, settings=s, published=published, aliases=aliases),
+                      envs, "sh9: environments")
+    by_name = {e.name: e for e in envs}
+    checked = [n for n in s.pathtrace if n in by_name]
+    cross = ctx.map(partial(pathtrace_crosscheck, settings=s, seed=ctx.seed), [by_name[n] for n in checked],
+                    "sh9: path-traced cross-checks")
+    return Measurements(s, {e.name: r for e, r in zip(envs, results, strict=True)},
+                        dict(zip(checked, cross, strict=True)), list(skipped))
