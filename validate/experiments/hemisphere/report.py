@@ -6,10 +6,10 @@ from typing import Any
 
 import numpy as np
 
-from ..local_models import hemisphere as hm
-from ..report import plots
-from .base import Context, Figure, Section, Table
-from .formatting import pct as _pct
+from ...local_models import hemisphere as hm
+from ...report import plots
+from ..base import Context, Figure, Section, Table
+from ..formatting import pct as _pct
 
 NAME = "hemisphere"
 EXACT_TOLERANCE = 1e-3  # drawn as the exactness line (hemisphere.EXACT_TOLERANCE)

@@ -31,17 +31,17 @@ from typing import Any
 
 import numpy as np
 
-from ..local_models import hemisphere as hm
-from ..local_models import irradiance
-from ..metrics.irradiance_error import METRIC_NAMES, irradiance_errors
-from ..reference import area_irradiance as ai
-from ..reference.irradiance import reference_irradiance
-from ..scenes import area_lights, latlong, procedural
-from ..scenes.environment import Environment
-from .base import Claim, Context, ExperimentResult, register_experiment
-from .formatting import pct as _pct
-from .hemisphere_report import sections
-from .techniques import Measured, technique_claims, technique_entry
+from ...local_models import hemisphere as hm
+from ...local_models import irradiance
+from ...metrics.irradiance_error import METRIC_NAMES, irradiance_errors
+from ...reference import area_irradiance as ai
+from ...reference.irradiance import reference_irradiance
+from ...scenes import area_lights, latlong, procedural
+from ...scenes.environment import Environment
+from ..base import Claim, Context, ExperimentResult, register_experiment
+from ..formatting import pct as _pct
+from .report import sections
+from ..techniques import Measured, technique_claims, technique_entry
 
 NAME = "hemisphere"
 UP = np.array([0.0, 1.0, 0.0])
