@@ -38,27 +38,15 @@ from ...reference import area_irradiance as ai
 from ...reference.irradiance import reference_irradiance
 from ...scenes import area_lights, latlong, procedural
 from ...scenes.environment import Environment
-from ..base import Claim, Context, ExperimentResult, register_experiment
-from ..formatting import pct as _pct
-from .report import sections
-from ..techniques import Measured, technique_claims, technique_entry
+from ..base import Context
+from ..techniques import Measured
+from .settings import Settings
 
-NAME = "hemisphere"
 UP = np.array([0.0, 1.0, 0.0])
 EXACT_TOLERANCE = 1e-3  # the reference quadrature's agreement with closed forms (README: constant, two-tone,
 #                         band-limited within 0.1 %; measured ≤ 4e-4 of the peak irradiance)
 BIAS = 0.01  # the reference-bias power check: a 1 % scale error of the prediction or of the reference
 ALPHA = ai.DEFAULT_ALPHA
-SETTINGS: dict[str, dict[str, Any]] = {
-    "quick": {"beta_step_deg": 10.0, "azimuths": 8, "cells": 64,
-              "meter_betas_deg": [0, 30, 45, 60, 90, 120, 135, 150, 180], "meter_passes": 8, "meter_spp": 16},
-    "full": {"beta_step_deg": 2.5, "azimuths": 24, "cells": 128,
-             "meter_betas_deg": list(range(0, 181, 15)) + [45, 135], "meter_passes": 16, "meter_spp": 32},
-}
-
-
-def settings(quick: bool) -> dict[str, Any]:
-    return {**SETTINGS["quick" if quick else "full"], "meter_film": area_lights.FILM_SIZE}
 
 
 def tilt_normals(betas_deg: np.ndarray, azimuths: int) -> np.ndarray:
@@ -93,13 +81,13 @@ def red_book_prediction(betas_deg: np.ndarray, swapped: bool = False) -> np.ndar
     return np.abs(a - f) * abs(ys - yg) / (f * ys + (1 - f) * yg)
 
 
-def two_tone_analysis(env: Environment, ctx: Context, s: dict) -> dict:
+def two_tone_analysis(env: Environment, ctx: Context, s: Settings) -> dict:
     """Both formulas vs the quadrature reference (all β) and vs the irradiance meter (a subset)."""
-    betas = np.arange(0.0, 180.0 + 1e-9, s["beta_step_deg"])
+    betas = np.arange(0.0, 180.0 + 1e-9, s.beta_step_deg)
     normals = area_lights.tilted_normals(betas, UP, [1.0, 0.0, 0.0])
-    ref = reference_irradiance(env, normals, cells=s["cells"])
+    ref = reference_irradiance(env, normals, cells=s.cells)
     e_ref, unc = _y(ref.irradiance), _y(ref.uncertainty)
-    out: dict = {"beta_deg": betas.tolist(), "reference_cells": 2 * s["cells"], "formulas": {},
+    out: dict = {"beta_deg": betas.tolist(), "reference_cells": 2 * s.cells, "formulas": {},
                  "red_book_predicted": red_book_prediction(betas).tolist()}
     for formula in hm.FORMULAS:
         e = _y(hm.hemisphere_irradiance(normals, procedural.SKY, procedural.GROUND, UP, formula))
@@ -118,13 +106,13 @@ def two_tone_analysis(env: Environment, ctx: Context, s: dict) -> dict:
     return out
 
 
-def meter_analysis(env: Environment, ctx: Context, s: dict) -> dict:
+def meter_analysis(env: Environment, ctx: Context, s: Settings) -> dict:
     """Mitsuba's irradiance meter (first, red, channel; the sky's radiance maximum bounds a sample) against
     both formulas and against the exact one scaled by 1 + BIAS (the power check)."""
-    mb = np.asarray(s["meter_betas_deg"], dtype=np.float64)
+    mb = np.asarray(s.meter_betas_deg, dtype=np.float64)
     mn = area_lights.tilted_normals(mb, UP, [1.0, 0.0, 0.0])
-    meas = ai.measure_irradiance(area_lights.sky(env, s["meter_film"]), mn, spp=s["meter_spp"],
-                                 passes=s["meter_passes"], seed=ctx.seed % 2048)
+    meas = ai.measure_irradiance(area_lights.sky(env, s.meter_film), mn, spp=s.meter_spp,
+                                 passes=s.meter_passes, seed=ctx.seed % 2048)
     lmax = float(env.radiance.max())
     out: dict = {"beta_deg": mb.tolist(), **meas.to_json(), "tests": {}}
     for formula in hm.FORMULAS:
@@ -135,12 +123,12 @@ def meter_analysis(env: Environment, ctx: Context, s: dict) -> dict:
     return out
 
 
-def sky_analysis(env: Environment, s: dict) -> dict:
+def sky_analysis(env: Environment, s: Settings) -> dict:
     """On the tilt × azimuth normals: both formulas calibrated at the poles (error vs β, peak-normalised) and
     every registered irradiance technique under the metrics of :mod:`validate.metrics.irradiance_error`."""
-    betas = np.arange(0.0, 180.0 + 1e-9, s["beta_step_deg"])
-    nb = tilt_normals(betas, s["azimuths"])
-    ref = reference_irradiance(env, np.concatenate([nb.reshape(-1, 3), np.array([UP, -UP])]), cells=s["cells"])
+    betas = np.arange(0.0, 180.0 + 1e-9, s.beta_step_deg)
+    nb = tilt_normals(betas, s.azimuths)
+    ref = reference_irradiance(env, np.concatenate([nb.reshape(-1, 3), np.array([UP, -UP])]), cells=s.cells)
     e_ref, unc = ref.irradiance[:-2], ref.uncertainty[:-2]
     c_sky, c_ground = ref.irradiance[-2] / np.pi, ref.irradiance[-1] / np.pi
     peak = float(_y(e_ref).max())
@@ -178,15 +166,14 @@ def pole_check(env: Environment, e_poles: np.ndarray, unc_poles: np.ndarray) -> 
             "mean_radiance_deviation": float(np.max(np.abs(_y(np.pi * np.array(mean)) - _y(e_poles))) / z)}
 
 
-def compute(ctx: Context) -> dict[str, Any]:
+def compute(ctx: Context, s: Settings) -> dict[str, Any]:
     """Every number of the experiment (JSON-able)."""
-    s = settings(ctx.quick)
     envs, _ = ctx.environments()
     by_name = {e.name: e for e in envs}
     two_tone = by_name.get("two_tone") or procedural.two_tone()
     suns = [by_name[f"sunsky_{e:g}deg"] for e in procedural.SUN_ELEVATIONS_DEG if f"sunsky_{e:g}deg" in by_name]
     skies = [two_tone, *suns]
-    return {"settings": s, "weights": weight_curves(np.arange(0.0, 180.0 + 1e-9, 0.25)),
+    return {"settings": s.to_json(), "weights": weight_curves(np.arange(0.0, 180.0 + 1e-9, 0.25)),
             "two_tone": two_tone_analysis(two_tone, ctx, s),
             "skies": dict(zip([e.name for e in skies], ctx.map(lambda env: sky_analysis(env, s), skies,
                                                                "hemisphere: skies"), strict=True))}
@@ -208,109 +195,5 @@ def technique_measured(m: dict[str, Any], name: str, skies: list[str] | None = N
     return out
 
 
-# -- claims ------------------------------------------------------------------------------------------
-def claims(m: dict[str, Any]) -> list[Claim]:
-    tt = m["two_tone"]
-    ex, rb, mt = tt["formulas"]["exact"], tt["formulas"]["red_book"], tt["meter"]["tests"]
-    out = [
-        Claim("hemisphere.exact.two_tone.meter",
-              "two-tone sky: ½(1 + N·U) blend = Mitsuba irradiance meter within its uncertainty",
-              f"max |z| over {len(tt['meter']['beta_deg'])} tilts (Student t, {tt['meter']['passes'] - 1} dof → z)",
-              mt["exact"]["critical_z"], mt["exact"]["max_abs_z"], 0.0,
-              source=f"view factor (1 + cos β)/2 (Cohen & Wallace 1993 §4); Šidák-corrected two-sided test (Šidák "
-                     f"1967) at family-wise α = {ALPHA:g}; the uncertainty is inside z"
-              ).with_power(f"prediction scaled by {1 + BIAS:g} (a {BIAS:.0%} bias)", mt["exact_biased"]["max_abs_z"]),
-        Claim("hemisphere.exact.two_tone.quadrature",
-              "two-tone sky: ½(1 + N·U) blend = reference quadrature (max relative error + uncertainty < 0.1 %)",
-              "max_β |E′ − E| / E (luminance)", EXACT_TOLERANCE, ex["max_relative_error"], ex["uncertainty"],
-              unit="%", source="exact by the view factor (1 + cos β)/2 (Cohen & Wallace 1993 §4); 0.1 % = the "
-                               "reference quadrature's verified agreement with closed forms (README, measured ≤ 4e-4)"
-              ).with_power(f"reference biased by {BIAS:.0%}", ex["max_relative_error_biased_reference"]),
-        Claim("hemisphere.red_book.two_tone.accuracy",
-              "two-tone sky (the sky hemisphere lighting is meant for): the Red Book weight's relative error at every "
-              "tilt is the analytic |a − f| |Y_s − Y_g| / (f Y_s + (1 − f) Y_g) — worst "
-              f"{max(tt['red_book_predicted']):.2%} — within 0.1 %",
-              "max_β |measured − predicted relative error|", EXACT_TOLERANCE, rb["deviation_from_prediction"],
-              rb["uncertainty"], unit="%",
-              source="weights a (Red Book, as quoted by the seed) and f = ½(1 + cos β) (Cohen & Wallace 1993 §4) "
-                     "under E = π(w L_s + (1 − w) L_g); 0.1 % = the quadrature's closed-form agreement (README)"
-              ).with_power("the Red Book's two branches swapped (½ sin β above the horizon)", rb["swapped_deviation"]),
-    ]
-    poles = {k: v["poles"] for k, v in m["skies"].items()}
-    worst = max(poles.values(), key=lambda p: p["deviation"])
-    out.append(Claim(
-        "hemisphere.technique.colours_at_poles",
-        "the registered hemisphere techniques take C_sky = E(U)/π, C_ground = E(−U)/π from the map: they reproduce "
-        f"the reference at the zenith and nadir on every sky ({', '.join(poles)}) within 0.1 % of E(U)",
-        "max over skies and poles |E′ − E| / E(U) (luminance)", EXACT_TOLERANCE, worst["deviation"],
-        max(p["uncertainty"] for p in poles.values()), unit="%",
-        source="exact by construction (E′(±U) = π C = E(±U)); 0.1 % = the reference quadrature's closed-form "
-               "agreement (README, measured ≤ 4e-4)"
-    ).with_power("colours = each hemisphere's mean radiance (no cosine weight)",
-                 max(p["mean_radiance_deviation"] for p in poles.values())))
-    for tech in irradiance:
-        # a technique may name the environments its thresholds are meant for (meta environments=…, as in sh9)
-        skies = [k for k in m["skies"] if k in set(tech.meta.get("environments") or m["skies"])]
-        if tech.thresholds and skies:
-            out += technique_claims(NAME, tech, technique_measured(m, tech.name, skies),
-                                    scope=f"worst over {', '.join(skies)}, tilt × azimuth normals")
-    return out
 
 
-# -- findings ----------------------------------------------------------------------------------------
-
-
-def _rel_at(tt: dict, formula: str, beta: float) -> float:
-    betas = np.asarray(tt["beta_deg"])
-    return float(np.asarray(tt["formulas"][formula]["relative_error"])[int(np.argmin(np.abs(betas - beta)))])
-
-
-def findings(m: dict[str, Any]) -> list[str]:
-    tt, w = m["two_tone"], m["weights"]
-    ex, rb, mt = tt["formulas"]["exact"], tt["formulas"]["red_book"], tt["meter"]["tests"]
-    f = [f"The cosine blend f = ½(1 + N·U) is exact for a two-tone sky: against the reference quadrature its largest "
-         f"relative error is {ex['max_relative_error']:.2e} (quadrature uncertainty {ex['uncertainty']:.1e}), and "
-         f"against Mitsuba's irradiance meter its largest |z| is {mt['exact']['max_abs_z']:.2f} "
-         f"(critical {mt['exact']['critical_z']:.2f}).",
-         f"The Red Book's piecewise-sine weight, called 'the actual analytic function', is not: its weight differs "
-         f"from the exact one by up to {w['worst_abs_weight_difference']:.4f} = ½(√2 − 1) at β = "
-         f"{w['worst_beta_deg']:g}° (and 135°), i.e. {_pct(w['worst_abs_weight_difference'])} of the sky−ground "
-         f"difference. On this two-tone sky that is a relative irradiance error of "
-         f"{_pct(_rel_at(tt, 'red_book', 45.0))} "
-         f"at 45° and {_pct(rb['max_relative_error'])} at its worst tilt, {rb['worst_beta_deg']:g}° (luminance; the "
-         f"meter rejects it with |z| = {mt['red_book']['max_abs_z']:.0f})."]
-    for name, r in m["skies"].items():
-        if not name.startswith("sunsky"):
-            continue
-        fe, fr = r["formulas"]["exact"], r["formulas"]["red_book"]
-        fl = {t: r["techniques"][t]["flux_luminance"]["max"] for t in ("hemisphere", "sh1", "sh9")
-              if t in r["techniques"]}
-        f.append(f"{name}: calibrated at the poles (C_sky = E(up)/π, C_ground = E(down)/π), the cosine blend errs by "
-                 f"up to {_pct(fe['max'])} of the peak irradiance (worst tilt {fe['worst_beta_deg']:g}°, mean "
-                 f"{_pct(fe['mean'])}), the Red Book weight by up to {_pct(fr['max'])} (worst tilt "
-                 f"{fr['worst_beta_deg']:g}°): the sun's direction, which neither formula sees, dominates. Flux-"
-                 "normalised max: " + ", ".join(f"{t} {_pct(v)}" for t, v in fl.items()) + ".")
-    return f
-
-
-# -- run ---------------------------------------------------------------------------------------------
-@register_experiment(NAME, "Hemisphere lighting vs Mitsuba (exact sky/ground blend vs the Red Book formula)",
-                     "both blend weights and every irradiance technique under a two-tone sky and sunsky", order=20)
-def run(ctx: Context) -> ExperimentResult:
-    m = compute(ctx)
-    entries = {tech.name: technique_entry(tech, {k: {"value": v.value, "uncertainty": v.uncertainty}
-                                                 for k, v in technique_measured(m, tech.name).items()},
-                                          skies={n: sky["techniques"][tech.name] for n, sky in m["skies"].items()})
-               for tech in irradiance}
-    keep = ("worst_beta_deg", "worst_abs_weight_difference")
-    data = {"weights": {k: v for k, v in m["weights"].items() if k in keep},
-            "two_tone": m["two_tone"], "sunsky": {k: v for k, v in m["skies"].items() if k.startswith("sunsky")},
-            "skies": {k: v["techniques"] for k, v in m["skies"].items()}}
-    return ExperimentResult(
-        name=NAME, title="Hemisphere lighting vs Mitsuba",
-        summary=("Hemisphere lighting C = w·C_sky + (1 − w)·C_ground with the cosine weight w = ½(1 + N·U) and with "
-                 "the Red Book's piecewise-sine weight, against Mitsuba: its irradiance meter and a deterministic "
-                 "quadrature of its radiance, under a two-tone sky and under sunsky (sky + sun); every registered "
-                 "irradiance technique on the same skies."),
-        claims=claims(m), findings=findings(m), sections=sections(m, ctx), data=data, settings=m["settings"],
-        techniques=entries)

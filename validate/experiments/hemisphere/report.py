@@ -7,14 +7,13 @@ from typing import Any
 import numpy as np
 
 from ...local_models import hemisphere as hm
+from ...local_models import irradiance
 from ...report import plots
 from ..base import Context, Figure, Section, Table
 from ..formatting import pct as _pct
-
-NAME = "hemisphere"
-EXACT_TOLERANCE = 1e-3  # drawn as the exactness line (hemisphere.EXACT_TOLERANCE)
-
-
+from ..techniques import technique_entry
+from .compute import EXACT_TOLERANCE, technique_measured
+from .settings import NAME
 
 
 def sections(m: dict[str, Any], ctx: Context) -> list[Section]:
@@ -91,3 +90,62 @@ def _technique_section(m: dict[str, Any]) -> Section:
         "flux-normalised luminance error |Y(E′) − Y(E)| / Φ_Y (mean / max ± the reference's uncertainty); every metric "
         "of validate.metrics.irradiance_error is in results.json."],
         tables=[Table(["technique"] + skies, rows, "flux_luminance mean / max per sky.")])
+
+
+def _rel_at(tt: dict, formula: str, beta: float) -> float:
+    betas = np.asarray(tt["beta_deg"])
+    return float(np.asarray(tt["formulas"][formula]["relative_error"])[int(np.argmin(np.abs(betas - beta)))])
+
+
+def findings(m: dict[str, Any]) -> list[str]:
+    tt, w = m["two_tone"], m["weights"]
+    ex, rb, mt = tt["formulas"]["exact"], tt["formulas"]["red_book"], tt["meter"]["tests"]
+    f = [f"The cosine blend f = ½(1 + N·U) is exact for a two-tone sky: against the reference quadrature its largest "
+         f"relative error is {ex['max_relative_error']:.2e} (quadrature uncertainty {ex['uncertainty']:.1e}), and "
+         f"against Mitsuba's irradiance meter its largest |z| is {mt['exact']['max_abs_z']:.2f} "
+         f"(critical {mt['exact']['critical_z']:.2f}).",
+         f"The Red Book's piecewise-sine weight, called 'the actual analytic function', is not: its weight differs "
+         f"from the exact one by up to {w['worst_abs_weight_difference']:.4f} = ½(√2 − 1) at β = "
+         f"{w['worst_beta_deg']:g}° (and 135°), i.e. {_pct(w['worst_abs_weight_difference'])} of the sky−ground "
+         f"difference. On this two-tone sky that is a relative irradiance error of "
+         f"{_pct(_rel_at(tt, 'red_book', 45.0))} "
+         f"at 45° and {_pct(rb['max_relative_error'])} at its worst tilt, {rb['worst_beta_deg']:g}° (luminance; the "
+         f"meter rejects it with |z| = {mt['red_book']['max_abs_z']:.0f})."]
+    for name, r in m["skies"].items():
+        if not name.startswith("sunsky"):
+            continue
+        fe, fr = r["formulas"]["exact"], r["formulas"]["red_book"]
+        fl = {t: r["techniques"][t]["flux_luminance"]["max"] for t in ("hemisphere", "sh1", "sh9")
+              if t in r["techniques"]}
+        f.append(f"{name}: calibrated at the poles (C_sky = E(up)/π, C_ground = E(down)/π), the cosine blend errs by "
+                 f"up to {_pct(fe['max'])} of the peak irradiance (worst tilt {fe['worst_beta_deg']:g}°, mean "
+                 f"{_pct(fe['mean'])}), the Red Book weight by up to {_pct(fr['max'])} (worst tilt "
+                 f"{fr['worst_beta_deg']:g}°): the sun's direction, which neither formula sees, dominates. Flux-"
+                 "normalised max: " + ", ".join(f"{t} {_pct(v)}" for t, v in fl.items()) + ".")
+    return f
+
+
+HEADING = "Hemisphere lighting vs Mitsuba"
+
+
+def summary(m: dict[str, Any]) -> str:
+    return ("Hemisphere lighting C = w·C_sky + (1 − w)·C_ground with the cosine weight w = ½(1 + N·U) and with "
+            "the Red Book's piecewise-sine weight, against Mitsuba: its irradiance meter and a deterministic "
+            "quadrature of its radiance, under a two-tone sky and under sunsky (sky + sun); every registered "
+            "irradiance technique on the same skies.")
+
+
+def data(m: dict[str, Any]) -> dict[str, Any]:
+    """``experiments.hemisphere``'s own keys: the worst weight difference, the two-tone analysis, the skies."""
+    keep = ("worst_beta_deg", "worst_abs_weight_difference")
+    return {"weights": {k: v for k, v in m["weights"].items() if k in keep},
+            "two_tone": m["two_tone"], "sunsky": {k: v for k, v in m["skies"].items() if k.startswith("sunsky")},
+            "skies": {k: v["techniques"] for k, v in m["skies"].items()}}
+
+
+def techniques(m: dict[str, Any]) -> dict[str, Any]:
+    """``experiments.hemisphere.techniques.<name>``: the worst-sky values and every sky's metrics."""
+    return {tech.name: technique_entry(tech, {k: {"value": v.value, "uncertainty": v.uncertainty}
+                                              for k, v in technique_measured(m, tech.name).items()},
+                                       skies={n: sky["techniques"][tech.name] for n, sky in m["skies"].items()})
+            for tech in irradiance}

@@ -29,9 +29,8 @@ from . import report
 from .claims import claims
 from .compute import compute
 from .report import findings, sections
-from .settings import FULL, QUICK
+from .settings import FULL, NAME, QUICK
 
-NAME = "sh9"
 TITLE = "SH9 irradiance vs Mitsuba (Ramamoorthi & Hanrahan 2001)"
 DESCRIPTION = ("SH9 coefficients, errors under every metric, error vs order, published table, every registered "
                "irradiance technique, claims")

@@ -17,10 +17,7 @@ from ..formatting import pct as _pct
 from ..techniques import technique_entry
 from .claims import ATTAINS_BOUND, CMGEN, PAPER_MAX, PAPER_MEAN, ZH3_COMPARED, foreign_thresholds
 from .compute import Measurements
-
-EXPERIMENT = "sh9"
-
-
+from .settings import NAME
 
 
 def _pm(st: dict[str, float], stat: str) -> str:
@@ -30,18 +27,18 @@ def _pm(st: dict[str, float], stat: str) -> str:
 def environment_figures(name: str, r: dict[str, Any], ctx: Context) -> list[Figure]:
     """Environment thumbnail, reference and SH9 spheres (one exposure), heat map, error vs order."""
     a = r["_arrays"]
-    p_thumb, r_thumb = ctx.figure_path(EXPERIMENT, f"{name}_env.png")
+    p_thumb, r_thumb = ctx.figure_path(NAME, f"{name}_env.png")
     plots.save_image(p_thumb, a["thumb"])
     exposure = plots.auto_exposure(a["sphere_reference"])
-    p_ref, r_ref = ctx.figure_path(EXPERIMENT, f"{name}_sphere_reference.png")
-    p_sh, r_sh = ctx.figure_path(EXPERIMENT, f"{name}_sphere_sh9.png")
+    p_ref, r_ref = ctx.figure_path(NAME, f"{name}_sphere_reference.png")
+    p_sh, r_sh = ctx.figure_path(NAME, f"{name}_sphere_sh9.png")
     plots.save_image(p_ref, a["sphere_reference"], exposure=exposure)
     plots.save_image(p_sh, a["sphere_sh9"], exposure=exposure)
-    p_err, r_err = ctx.figure_path(EXPERIMENT, f"{name}_error_flux.png")
+    p_err, r_err = ctx.figure_path(NAME, f"{name}_error_flux.png")
     plots.save_heatmap(p_err, a["error_grid"], title=f"{name}: |E_SH9 − E| / Φ (all normals, lat-long)",
                        label="error / total flux", percent=True)
     sweep = r["order_sweep"]
-    p_ord, r_ord = ctx.figure_path(EXPERIMENT, f"{name}_error_vs_order.png")
+    p_ord, r_ord = ctx.figure_path(NAME, f"{name}_error_vs_order.png")
     plots.save_line_plot(p_ord, sweep["lmax"], {"mean": np.array(sweep["mean"]), "max": np.array(sweep["max"])},
                          xlabel="SH order l_max", ylabel="|E′ − E| / Φ (luminance)",
                          title=f"{name}: error vs SH order", logy=True, percent=True,
@@ -60,10 +57,10 @@ def technique_figures(name: str, r: dict[str, Any], ctx: Context) -> list[Figure
     techs = list(a.get("technique_spheres", {}))
     if not techs:
         return []
-    p_sph, r_sph = ctx.figure_path(EXPERIMENT, f"{name}_technique_spheres.png")
+    p_sph, r_sph = ctx.figure_path(NAME, f"{name}_technique_spheres.png")
     plots.save_image_grid(p_sph, [a["sphere_reference"]] + [a["technique_spheres"][t] for t in techs],
                           ["reference"] + techs, exposure=plots.auto_exposure(a["sphere_reference"]), columns=7)
-    p_err, r_err = ctx.figure_path(EXPERIMENT, f"{name}_technique_errors.png")
+    p_err, r_err = ctx.figure_path(NAME, f"{name}_technique_errors.png")
     plots.save_heatmap_grid(p_err, [a["technique_errors"][t] for t in techs], techs,
                             label="|Y(E′) − Y(E)| / Φ_Y", percent=True, columns=6)
     return [Figure(r_sph, f"{name}: every registered irradiance technique, E′/π (same exposure as the reference)"),
@@ -73,9 +70,9 @@ def technique_figures(name: str, r: dict[str, Any], ctx: Context) -> list[Figure
 def crosscheck_figures(name: str, d: dict[str, Any], ctx: Context) -> list[Figure]:
     a = d["_arrays"]
     exposure = plots.auto_exposure(a["render"])
-    p1, r1 = ctx.figure_path(EXPERIMENT, f"{name}_pathtraced.png")
-    p2, r2 = ctx.figure_path(EXPERIMENT, f"{name}_pathtrace_quadrature.png")
-    p3, r3 = ctx.figure_path(EXPERIMENT, f"{name}_pathtrace_z.png")
+    p1, r1 = ctx.figure_path(NAME, f"{name}_pathtraced.png")
+    p2, r2 = ctx.figure_path(NAME, f"{name}_pathtrace_quadrature.png")
+    p3, r3 = ctx.figure_path(NAME, f"{name}_pathtrace_z.png")
     plots.save_image(p1, a["render"], exposure=exposure)
     plots.save_image(p2, a["quadrature"], exposure=exposure)
     absz = np.abs(a["z_image"])

@@ -5,6 +5,8 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 from typing import Any
 
+NAME = "sh9"
+
 
 @dataclass(frozen=True)
 class Settings:
