@@ -6,12 +6,12 @@ from typing import Any
 
 import numpy as np
 
-from ..metrics.irradiance_error import WORST_CASE_MAX
-from ..report import plots
-from . import arealights_compute as ac
-from . import arealights_specular as asp
-from .base import Context, Figure, Section, Table
-from .formatting import pct as _pct
+from ...metrics.irradiance_error import WORST_CASE_MAX
+from ...report import plots
+from . import compute as ac
+from . import specular as asp
+from ..base import Context, Figure, Section, Table
+from ..formatting import pct as _pct
 
 NAME = "arealights"
 FLOOR = 1e-9  # log-scale floor for exact techniques (float32 rounding shows as ~1e-7)

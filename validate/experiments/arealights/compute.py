@@ -22,13 +22,13 @@ from typing import Any
 import numpy as np
 from scipy.optimize import brentq
 
-from ..backend import float_type
-from ..local_models import arealight, disc_sh, point_light, sphere_cap
-from ..local_models import sh as shm
-from ..local_models.registry import Technique
-from ..reference import area_irradiance as ai
-from ..scenes import area_lights, procedural
-from ..stats import sidak_alpha, sidak_critical
+from ...backend import float_type
+from ...local_models import arealight, disc_sh, point_light, sphere_cap
+from ...local_models import sh as shm
+from ...local_models.registry import Technique
+from ...reference import area_irradiance as ai
+from ...scenes import area_lights, procedural
+from ...stats import sidak_alpha, sidak_critical
 
 ORDERS = (2, 4, 8)
 ALPHA = ai.DEFAULT_ALPHA  # family-wise significance level of every Mitsuba decision

@@ -41,15 +41,15 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ValidateError
-from ..local_models import arealight
-from ..local_models.registry import Technique
-from . import arealights_compute as ac
-from . import arealights_specular as asp
-from .arealights_report import sections
-from .base import Claim, Context, ExperimentResult, register_experiment
-from .formatting import pct as _pct
-from .techniques import CheckResult, Measured, Stat, technique_claims, technique_entry
+from ...errors import ValidateError
+from ...local_models import arealight
+from ...local_models.registry import Technique
+from . import compute as ac
+from . import specular as asp
+from .report import sections
+from ..base import Claim, Context, ExperimentResult, register_experiment
+from ..formatting import pct as _pct
+from ..techniques import CheckResult, Measured, Stat, technique_claims, technique_entry
 
 NAME = "arealights"
 SH_THRESHOLD = 0.05  # [2]'s order-2 "maximum error < 5 %", in R&H's flux normalisation

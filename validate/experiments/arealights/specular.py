@@ -34,14 +34,14 @@ from typing import Any
 
 import numpy as np
 
-from ..local_models import family
-from ..local_models.ltc import fit_quadrature, ggx_cos, load_table, local_frames, ltc_density, ltc_integral
-from ..local_models.registry import Technique
-from ..local_models.representative_point import representative_point_tube
-from ..reference import area_specular_render as asr
-from ..stats import sidak_critical
-from .base import Claim, Figure, Section, Table
-from .techniques import Measured, technique_claims, technique_entry
+from ...local_models import family
+from ...local_models.ltc import fit_quadrature, ggx_cos, load_table, local_frames, ltc_density, ltc_integral
+from ...local_models.registry import Technique
+from ...local_models.representative_point import representative_point_tube
+from ...reference import area_specular_render as asr
+from ...stats import sidak_critical
+from ..base import Claim, Figure, Section, Table
+from ..techniques import Measured, technique_claims, technique_entry
 
 NAME = "arealights"
 SPECULAR: dict[str, dict[str, Any]] = {
@@ -426,7 +426,7 @@ def best_line_power(rows: list[dict[str, Any]]) -> tuple[float, float]:
 
 
 def section(m: dict[str, Any], ctx: Any) -> Section:
-    from ..report import plots
+    from ...report import plots
 
     s = m["settings"]
     techs = m["techniques"]
