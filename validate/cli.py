@@ -1,4 +1,4 @@
-"""Command line: ``python -m validate {list, run NAME, all, bench}``.
+"""Command line: ``python -m validate {list, run NAME, all, bench, docs}``.
 
 Outputs go to ``--out`` (default ``reports/``): ``index.html``, ``results.json``, ``figures/``.
 Work is staged in a temporary folder inside ``--out`` and moved into place only when every
@@ -86,6 +86,7 @@ EPILOG = """examples:
   python -m validate all --plugin my_technique.py      # your technique in every experiment of its family
   python -m validate list --plugin my_technique.py     # families, their contracts, registered techniques
   python -m validate bench                             # speed and memory, side by side -> bench.json
+  python -m validate docs --results reports/results.json   # docs/ figures from that run (--check: exit 1 if stale)
 
 environment variables:
   VALIDATE_PROBES   default for --probes
@@ -135,6 +136,12 @@ def _parser() -> argparse.ArgumentParser:
     b.add_argument("--out", type=Path, default=Path("reports"), metavar="DIR")
     b.add_argument("--sizes", default="1024,2048,4096,8192", metavar="H,H,...",
                    help="map heights (rows; width 2H) measured in child processes (default: 1k to 8k)")
+    d = sub.add_parser("docs", help="rewrite the measured-figure blocks of docs/ from a results.json")
+    d.add_argument("--results", type=Path, default=Path("reports") / "results.json", metavar="FILE",
+                   help="results to render (default: reports/results.json)")
+    d.add_argument("--docs", type=Path, default=Path("docs"), metavar="DIR", help="docs folder (default: docs)")
+    d.add_argument("--check", action="store_true",
+                   help="write nothing; exit 1 naming each file whose blocks differ from the results")
     return p
 
 
@@ -192,6 +199,21 @@ def _cmd_list(plugins: list[str]) -> int:
             tag = "" if t.builtin else " [plug-in]"
             thr = "; thresholds " + ", ".join(f"{k} < {v:g}" for k, v in t.thresholds.items()) if t.thresholds else ""
             print(f"  {t.name:24s} {t.description}{tag}{thr}")
+    return 0
+
+
+def _cmd_docs(results: Path, docs: Path, check: bool) -> int:
+    """``docs``: render the generated blocks of ``docs/*.md`` (see :mod:`validate.report.docs`)."""
+    from .report.docs import update_docs
+
+    changed = update_docs(results, docs, check=check)
+    for path in changed:
+        print(f"{'stale' if check else 'updated'}: {path}")
+    if check and changed:
+        print(f"validate: {len(changed)} file(s) in {docs} differ from {results}; "
+              f"run `python -m validate docs --results {results}`", file=sys.stderr)
+        return 1
+    print(f"{docs}: {'up to date with' if not changed else 'rendered from'} {results}")
     return 0
 
 
@@ -331,6 +353,8 @@ def main(argv: list[str] | None = None) -> int:
             except ValueError:
                 raise ValidateError(f"--sizes {args.sizes}: expected heights like 1024,2048") from None
             return run_bench(args.out, sizes)
+        if args.command == "docs":
+            return _cmd_docs(args.results, args.docs, args.check)
     except ValidateError as exc:
         print(f"validate: error: {exc}", file=sys.stderr)
         return 2
