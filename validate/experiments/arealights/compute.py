@@ -16,7 +16,7 @@ incidence, the largest); each as mean and max over the θ grid (uniform in θ). 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -29,6 +29,9 @@ from ...local_models.registry import Technique
 from ...reference import area_irradiance as ai
 from ...scenes import area_lights, procedural
 from ...stats import sidak_alpha, sidak_critical
+from ..base import Context
+from . import specular
+from .settings import Settings
 
 ORDERS = (2, 4, 8)
 ALPHA = ai.DEFAULT_ALPHA  # family-wise significance level of every Mitsuba decision
@@ -97,19 +100,19 @@ def measure_meter(sc: dict[str, Any], thetas_deg: list[float], spp: int, passes:
     return meter, normals, ai.measure_irradiance(meter, normals, spp=spp, passes=passes, seed=seed)
 
 
-def reference_check(name: str, sc: dict[str, Any], s: dict, seed: int) -> dict[str, Any]:
+def reference_check(name: str, sc: dict[str, Any], s: Settings, seed: int) -> dict[str, Any]:
     """Mitsuba's meter vs the closed-form cap; the unclipped form and a 2 % scale error must be rejected."""
-    meter, normals, meas = measure_meter(sc, s["meter_thetas_deg"], s["meter_spp"], s["meter_passes"],
-                                         s["meter_film"], seed)
+    meter, normals, meas = measure_meter(sc, s.meter_thetas_deg, s.meter_spp, s.meter_passes,
+                                         s.meter_film, seed)
     cos_t = normals @ meter.light_direction
     closed = sphere_cap.cap_irradiance(cos_t, sc["sin2_sigma"])
     unclipped = sphere_cap.cap_irradiance_unclipped(cos_t, sc["sin2_sigma"])
     return {"name": name, "sin2_sigma": sc["sin2_sigma"], "sigma_deg": sc["sigma_deg"],
-            "theta_deg": list(s["meter_thetas_deg"]), **meas.to_json(), "closed_form": closed.tolist(),
+            "theta_deg": list(s.meter_thetas_deg), **meas.to_json(), "closed_form": closed.tolist(),
             "unclipped": unclipped.tolist(), "bounds": meter_bounds(meas).tolist(),
             "closed_test": ai.compare(meas, closed, 1.0).to_json(),
             "unclipped_test": ai.compare(meas, unclipped, 1.0).to_json(),
-            "scaled_test": ai.compare(meas, closed * (1 + s["scale_error"]), 1.0).to_json()}
+            "scaled_test": ai.compare(meas, closed * (1 + s.scale_error), 1.0).to_json()}
 
 
 def mitsuba_error(tech: Technique, sc: dict[str, Any], check: dict[str, Any]) -> dict[str, float]:
@@ -122,14 +125,14 @@ def mitsuba_error(tech: Technique, sc: dict[str, Any], check: dict[str, Any]) ->
     return {"value": value, "uncertainty": float((dev + np.asarray(check["bounds"])).max() / phi) - value}
 
 
-def decide_alpha(alpha_deg: float, s: dict, seed: int) -> dict[str, Any]:
+def decide_alpha(alpha_deg: float, s: Settings, seed: int) -> dict[str, Any]:
     """Order-2 SH of a sphere light with sin α = r/d against a long Mitsuba run: the upper bound
     max_n (|E_2 − m_n| + h_n)/Φ and lower bound max_n (|E_2 − m_n| − h_n)/Φ of max_n |E_2 − E_true|/Φ."""
     sc = {"shape": "sphere", "distance": 1.0 / math.sin(math.radians(alpha_deg)),
           "sin2_sigma": math.sin(math.radians(alpha_deg)) ** 2, "sigma_deg": alpha_deg}
-    d = s["decide"]
-    _, _, meas = measure_meter(sc, d["thetas_deg"], d["spp"], d["passes"], s["meter_film"], seed)
-    return decision(sc, d["thetas_deg"], meas)
+    d = s.decide
+    _, _, meas = measure_meter(sc, d.thetas_deg, d.spp, d.passes, s.meter_film, seed)
+    return decision(sc, d.thetas_deg, meas)
 
 
 def decision(sc: dict[str, Any], thetas_deg: list[float], meas: ai.MeterIrradiance) -> dict[str, Any]:
@@ -189,15 +192,15 @@ def alpha_crossing(fn: Callable[[float], float], alphas: np.ndarray, errs: np.nd
     return float(brentq(lambda a: fn(a) - level, alphas[i], alphas[i + 1], xtol=1e-3))
 
 
-def seed_check(s: dict, alpha20_deg: float) -> dict:
+def seed_check(s: Settings, alpha20_deg: float) -> dict:
     """The seed's order-2 formulas vs a numerical projection (quadrature over the cap), and the same
     comparison with the l = 2 band's sign flipped (the power check)."""
     dev, unc, flipped = 0.0, 0.0, 0.0
     rows = []
-    for a_deg in s["alphas_deg"]:
+    for a_deg in s.alphas_deg:
         a = math.radians(a_deg)
-        num = disc_sh.project_cap_numerical(a, np.array([0.0, 0.0, 1.0]), 2, s["projection_nodes"])
-        num2 = disc_sh.project_cap_numerical(a, np.array([0.0, 0.0, 1.0]), 2, 2 * s["projection_nodes"])
+        num = disc_sh.project_cap_numerical(a, np.array([0.0, 0.0, 1.0]), 2, s.projection_nodes)
+        num2 = disc_sh.project_cap_numerical(a, np.array([0.0, 0.0, 1.0]), 2, 2 * s.projection_nodes)
         zon = num[[shm.sh_index(l, 0) for l in range(3)]]
         seed = disc_sh.seed_zonal_order2(a)
         # irradiance polynomial from the numerical projection: k_l = A_l L_l0 √((2l+1)/4π) × (1, 1, ½)
@@ -217,13 +220,13 @@ def seed_check(s: dict, alpha20_deg: float) -> dict:
             "alpha20_seed": list(disc_sh.SEED_E_20DEG), "alpha20_deviation": d20}
 
 
-def elevation_sweep(s: dict, alphas_deg: tuple[float, ...]) -> dict:
+def elevation_sweep(s: Settings, alphas_deg: tuple[float, ...]) -> dict:
     """A receiver facing up and a disc (α = 5°, 20°) at elevation e above its horizon: |E_N − E| / Φ per order.
 
     SH through the engine path (zonal → rotated with Y_lm(d) → Σ Â_l L_lm Y_lm(n)). E depends on d·n only,
     so the light is rotated once, to d = up, and the normals carry the elevation: n(e) at elevation e
     (azimuth 30°) gives d·n = sin e, the same as a light at elevation e over an upward normal."""
-    elev = np.arange(-30.0, 90.0 + 1e-9, s["elevation_step_deg"])
+    elev = np.arange(-30.0, 90.0 + 1e-9, s.elevation_step_deg)
     up = np.array([0.0, 1.0, 0.0])
     normals = np.stack([procedural.direction_from_elevation(x, 30.0) for x in elev])
     out: dict = {"elevation_deg": elev.tolist()}
@@ -237,10 +240,10 @@ def elevation_sweep(s: dict, alphas_deg: tuple[float, ...]) -> dict:
     return out
 
 
-def distance_sweep(s: dict, thetas_deg: np.ndarray, level: float) -> dict:
+def distance_sweep(s: Settings, thetas_deg: np.ndarray, level: float) -> dict:
     """Every technique vs d/r on a sphere and a facing disc (max_θ |E′ − E| / E(0)); the disc's on-axis
     inverse-square error at normal incidence; a sphere replaced by a disc of the same radius (tan α = r/d)."""
-    ratios = np.geomspace(1.1, 100.0, s["distance_ratios"])
+    ratios = np.geomspace(1.1, 100.0, s.distance_ratios)
     out: dict = {"d_over_r": ratios.tolist(), "techniques": {}}
     for tech in arealight:
         for shape in ("sphere", "disc"):
@@ -290,3 +293,83 @@ def _inv_disc_axis(q: float) -> float:
     """|π/q² − E(0)| / E(0) for a facing disc at d/r = q (inverse square at normal incidence)."""
     e0 = float(sphere_cap.cap_irradiance(np.array([1.0]), sphere_cap.sin2_sigma_disc(1.0, q))[0])
     return abs(float(point_light.inverse_square(point_light.disc_intensity(1.0), q, 1.0)) / e0 - 1.0)
+
+
+
+SH_THRESHOLD = 0.05  # [2]'s order-2 "maximum error < 5 %", in R&H's flux normalisation
+
+
+POINT_THRESHOLD = 0.01  # "off by more than 1 %": the level at which the d/r crossing is reported (finding)
+
+
+ALPHA20 = 20.0  # [1]'s worked example; the lower end of the α range the 5 % statement holds on
+
+
+ALPHA_INSIDE, ALPHA_OUTSIDE = 25.0, 19.5  # Mitsuba decisions either side of the range's end
+
+
+def _thetas(s: Settings) -> np.ndarray:
+    return np.arange(0.0, 180.0 + 1e-9, s.theta_step_deg)
+
+
+def compute(ctx: Context, s: Settings) -> dict[str, Any]:
+    """Every number of the experiment (JSON-able)."""
+    seed = ctx.seed % 2048
+    scenes = scene_table(ALPHA20)
+    checks = ctx.map(lambda item: reference_check(item[1][0], item[1][1], s, (seed + item[0]) % 2048),
+                     list(enumerate(scenes.items())), "arealights: Mitsuba")  # independent seeds per scene
+    th = _thetas(s)
+    return {"settings": s.to_json(), "scenes": scenes, "reference_checks": checks,
+            "cap_quadrature": {"max": cap_quadrature_check(np.cos(np.radians(th))),
+                               "unclipped": cap_quadrature_check(np.cos(np.radians(th)), unclipped=True)},
+            "seed_formulas": seed_check(s, ALPHA20),
+            "techniques": measure_techniques(scenes, {c["name"]: c for c in checks}, th),
+            "alpha_sweep": alpha_sweep(s, th), "alpha_range": alpha_range(s, th),
+            "decide": {k: decide_alpha(a, s, (seed + 7 + i) % 2048)
+                       for i, (k, a) in enumerate((("inside", ALPHA_INSIDE), ("outside", ALPHA_OUTSIDE)))},
+            "sh_vs_elevation": elevation_sweep(s, (5.0, ALPHA20)),
+            "point_lights": distance_sweep(s, th, POINT_THRESHOLD),
+            "specular": specular.compute(s.specular)}
+
+
+def measure_techniques(scenes: dict, checks: dict, thetas: np.ndarray,
+                       techniques: Sequence[Technique] | None = None) -> dict[str, dict[str, Any]]:
+    """Per technique and supported scene: closed-form flux/peak errors and the error against Mitsuba."""
+    out: dict[str, dict[str, Any]] = {}
+    for tech in techniques if techniques is not None else list(arealight):
+        out[tech.name] = {}
+        for name, sc in scenes.items():
+            if supports(tech, sc["shape"]):
+                out[tech.name][name] = {**technique_errors(tech, sc, thetas),
+                                        "mitsuba": mitsuba_error(tech, sc, checks[name]) if name in checks else None}
+    return out
+
+
+def alpha_sweep(s: Settings, thetas: np.ndarray) -> dict[str, Any]:
+    """max_θ |E′ − E| / Φ vs α for every technique that handles a sphere (sin α = r/d), and the α at which
+    each falls through 5 % (Brent between grid points)."""
+    alphas = np.asarray(s.alphas_deg, dtype=np.float64)
+    out: dict[str, Any] = {"alpha_deg": alphas.tolist(), "errors": {}, "crossing_5pct": {}}
+    for tech in arealight:
+        if supports(tech, "sphere"):
+            errs = [sphere_alpha_error(tech, a, thetas) for a in alphas]
+            out["errors"][tech.name] = errs
+            out["crossing_5pct"][tech.name] = alpha_crossing(
+                lambda a, t=tech: sphere_alpha_error(t, a, thetas), alphas, np.asarray(errs), SH_THRESHOLD)
+    return out
+
+
+def alpha_range(s: Settings, thetas: np.ndarray) -> dict[str, Any]:
+    """Order-2 SH error on a fine α grid (closed form): where it meets 5 % of Φ and where not."""
+    lo, hi = s.range_deg
+    alphas = np.arange(lo, hi + 1e-9, s.range_step_deg)
+    errs = np.array([sphere_alpha_error("sh_order2", a, thetas) for a in alphas])
+    inside = alphas >= ALPHA20 - 1e-9
+    below = alphas[~inside][-1]
+    # closed-form uncertainty relative to Φ: CAP_QUADRATURE_TOLERANCE·π sin²α / (2π(1 − cos α)) ≤ tolerance
+    return {"alpha_deg": alphas.tolist(), "order2": errs.tolist(), "uncertainty": CAP_QUADRATURE_TOLERANCE,
+            "inside_max": float(errs[inside].max()), "outside_min": float(errs[~inside].min()),
+            "below_deg": float(below), "with_below_max": float(errs[alphas >= below - 1e-9].max()),
+            "with_end_min": float(errs[alphas <= ALPHA20 + 1e-9].min()),
+            "crossing_deg": alpha_crossing(lambda a: sphere_alpha_error("sh_order2", a, thetas),
+                                              alphas, errs, SH_THRESHOLD)}

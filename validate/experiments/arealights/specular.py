@@ -42,14 +42,8 @@ from ...reference import area_specular_render as asr
 from ...stats import sidak_critical
 from ..base import Claim, Figure, Section, Table
 from ..techniques import Measured, technique_claims, technique_entry
+from .settings import NAME, SpecularSettings
 
-NAME = "arealights"
-SPECULAR: dict[str, dict[str, Any]] = {
-    "quick": {"alphas": [0.1, 0.3, 0.6], "sigmas_deg": [5.0, 15.0, 30.0], "nodes": 64, "render_pixels": 64,
-              "render_spp": 64},
-    "full": {"alphas": [0.05, 0.1, 0.2, 0.3, 0.45, 0.6, 0.8], "sigmas_deg": [2.5, 5.0, 10.0, 15.0, 20.0, 30.0],
-             "nodes": 160, "render_pixels": 128, "render_spp": 128},
-}
 # (θ_v, θ_l, Δφ) in degrees: overhead, mirror, off-mirror, grazing, side, a light crossing the horizon
 CONFIGS = ((0.0, 0.0, 0.0), (40.0, 40.0, 180.0), (40.0, 60.0, 180.0), (70.0, 70.0, 180.0), (70.0, 50.0, 180.0),
            (40.0, 40.0, 90.0), (60.0, 80.0, 180.0))
@@ -124,30 +118,30 @@ def measure_config(shape: str, alpha: float, sigma: float, cfg: tuple[float, flo
     return out
 
 
-def compute(s: dict[str, Any]) -> dict[str, Any]:
+def compute(s: SpecularSettings) -> dict[str, Any]:
     """Every configuration × shape × α × σ (JSON-able)."""
     techs = list(family("specular_arealight"))
     rows = []
     for shape in SHAPES:
-        for a in s["alphas"]:
-            for sg in s["sigmas_deg"]:
+        for a in s.alphas:
+            for sg in s.sigmas_deg:
                 for cfg in CONFIGS:
                     for ax in TUBE_AXES if shape == "tube" else ("across",):
                         rows.append({"shape": shape, "alpha": a, "sigma_deg": sg,
-                                     **measure_config(shape, a, sg, cfg, s["nodes"], techs, ax)})
-    return {"settings": s, "rows": rows, "techniques": [t.name for t in techs],
-            "exactness": exactness(s["nodes"]), "render_check": render_check(s)}
+                                     **measure_config(shape, a, sg, cfg, s.nodes, techs, ax)})
+    return {"settings": s.to_json(), "rows": rows, "techniques": [t.name for t in techs],
+            "exactness": exactness(s.nodes), "render_check": render_check(s)}
 
 
-def render_check(s: dict[str, Any]) -> list[dict[str, Any]]:
+def render_check(s: SpecularSettings) -> list[dict[str, Any]]:
     """The quadrature reference against Mitsuba's own render (direct integrator, MIS) of the same scene: every shape
     × α at σ = 15° and the configurations of RENDER_CONFIGS; z = (render − quadrature)/se."""
     out = []
-    for i, (shape, a, cfg) in enumerate((sh, a, c) for sh in SHAPES for a in s["alphas"] for c in RENDER_CONFIGS):
+    for i, (shape, a, cfg) in enumerate((sh, a, c) for sh in SHAPES for a in s.alphas for c in RENDER_CONFIGS):
         light = light_for(shape, cfg[1], cfg[2], RENDER_SIGMA)
         p, n, v = _receiver(cfg[0])
-        mean, se = asr.render(light, a, p[0], n[0], v[0], s["render_pixels"], s["render_spp"], seed=i)
-        ref, unc = asr.reference(light, a, p, n, v, s["nodes"])
+        mean, se = asr.render(light, a, p[0], n[0], v[0], s.render_pixels, s.render_spp, seed=i)
+        ref, unc = asr.reference(light, a, p, n, v, s.nodes)
         out.append({"shape": shape, "alpha": a, "config": list(cfg), "render": mean, "se": se,
                     "quadrature": float(ref[0]), "quadrature_unc": float(unc[0])})
     return out
@@ -471,5 +465,5 @@ def section(m: dict[str, Any], ctx: Any) -> Section:
         tables=[rtab, table])
 
 
-__all__ = ["SPECULAR", "compute", "claims", "findings", "section", "entries", "technique_metrics", "tube_claims",
+__all__ = ["compute", "claims", "findings", "section", "entries", "technique_metrics", "tube_claims",
            "tube_findings"]
