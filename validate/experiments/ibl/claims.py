@@ -11,14 +11,14 @@ from collections.abc import Mapping
 from dataclasses import replace
 from typing import Any
 
-from ..local_models import irradiance, specular
-from ..metrics.irradiance_error import WORST_CASE_MAX
-from ..stats import sidak_critical
-from .base import Claim
-from .ibl_checks import ALPHA
-from .ibl_compute import MAP_MAX_ERROR, Comparison, IblMeasurements
-from .ibl_setup import BLEND_EXPONENT, BLEND_WEIGHT, EXP
-from .techniques import Measured, technique_claims, technique_entry
+from ...local_models import irradiance, specular
+from ...metrics.irradiance_error import WORST_CASE_MAX
+from ...stats import sidak_critical
+from ..base import Claim
+from .reference_checks import ALPHA
+from .compute import MAP_MAX_ERROR, Comparison, IblMeasurements
+from .scene import BLEND_EXPONENT, BLEND_WEIGHT, EXP
+from ..techniques import Measured, technique_claims, technique_entry
 
 DIFFUSE_MAP_SOURCE = ("accuracy criterion from Ramamoorthi & Hanrahan 2001 (abstract: SH9 irradiance with \"average "
                       "errors of only 1 %\"): a tabulated map, which can do better, is held to 1 % of the peak at "

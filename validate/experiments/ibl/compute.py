@@ -15,19 +15,19 @@ from typing import Any
 
 import numpy as np
 
-from ..local_models import irradiance, specular
-from ..local_models import irradiance_map as im
-from ..local_models import prefiltered_specular as ps
-from ..local_models import sh as shm
-from ..local_models.registry import Technique
-from ..metrics import image_error as ie
-from ..metrics.irradiance_error import irradiance_errors
-from ..reference import ibl_render as rr
-from ..reference.irradiance import reference_irradiance
-from ..scenes import latlong
-from ..stats import t_to_z
-from .ibl_checks import Chi2Check, ZCheck
-from .ibl_setup import (
+from ...local_models import irradiance, specular
+from ...local_models import irradiance_map as im
+from ...local_models import prefiltered_specular as ps
+from ...local_models import sh as shm
+from ...local_models.registry import Technique
+from ...metrics import image_error as ie
+from ...metrics.irradiance_error import irradiance_errors
+from ...reference import ibl_render as rr
+from ...reference.irradiance import reference_irradiance
+from ...scenes import latlong
+from ...stats import t_to_z
+from .reference_checks import Chi2Check, ZCheck
+from .scene import (
     ALBEDO,
     ANGLE_BINS,
     BLEND_EXPONENT,

@@ -11,11 +11,11 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ValidateError
-from ..local_models import prefiltered_specular as ps
-from ..reference import ibl_render as rr
-from ..scenes import latlong, procedural
-from ..scenes.environment import Environment
+from ...errors import ValidateError
+from ...local_models import prefiltered_specular as ps
+from ...reference import ibl_render as rr
+from ...scenes import latlong, procedural
+from ...scenes.environment import Environment
 
 EXP = "ibl"
 ALBEDO = 0.8  # grey Lambertian albedo of the diffuse renders

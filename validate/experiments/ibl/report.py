@@ -6,12 +6,12 @@ from typing import Any
 
 import numpy as np
 
-from ..local_models import split_sum as ss
-from ..report import plots
-from .base import Context, Figure, Section, Table
-from .formatting import pct
-from .ibl_compute import CRATER_AO, MAP_MAX_ERROR, Comparison, IblMeasurements
-from .ibl_setup import ALBEDO, ANGLE_BINS, BLEND_EXPONENT, BLEND_WEIGHT, EXP
+from ...local_models import split_sum as ss
+from ...report import plots
+from ..base import Context, Figure, Section, Table
+from ..formatting import pct
+from .compute import CRATER_AO, MAP_MAX_ERROR, Comparison, IblMeasurements
+from .scene import ALBEDO, ANGLE_BINS, BLEND_EXPONENT, BLEND_WEIGHT, EXP
 
 SEC_A = "Diffuse irradiance maps: resolution"
 SEC_B = "Diffuse irradiance on a rendered sphere (maps and irradiance techniques)"

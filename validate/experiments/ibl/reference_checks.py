@@ -41,14 +41,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..local_models import irradiance_map as im
-from ..local_models import prefiltered_specular as ps
-from ..local_models import specular
-from ..local_models import split_sum as ss
-from ..reference import ibl_render as rr
-from ..scenes import latlong
-from ..stats import sidak_alpha, sidak_critical, t_to_z
-from .ibl_setup import Settings
+from ...local_models import irradiance_map as im
+from ...local_models import prefiltered_specular as ps
+from ...local_models import specular
+from ...local_models import split_sum as ss
+from ...reference import ibl_render as rr
+from ...scenes import latlong
+from ...stats import sidak_alpha, sidak_critical, t_to_z
+from .scene import Settings
 
 ALPHA = 0.01  # family-wise significance level of every statistical claim here
 DFG_REFINE = 4  # the table's error is estimated against 4× its Hammersley points

@@ -25,19 +25,19 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ValidateError
-from ..local_models import specular
-from ..local_models.registry import Technique
-from ..metrics import image_error as ie
-from ..reference import ibl_render as rr
-from ..scenes import procedural
-from ..scenes.environment import Environment
-from . import ibl_checks as chk
-from . import ibl_compute as cmp
-from .base import Context, ExperimentResult, register_experiment
-from .ibl_claims import all_claims, technique_results
-from .ibl_report import findings, sections
-from .ibl_setup import (
+from ...errors import ValidateError
+from ...local_models import specular
+from ...local_models.registry import Technique
+from ...metrics import image_error as ie
+from ...reference import ibl_render as rr
+from ...scenes import procedural
+from ...scenes.environment import Environment
+from . import reference_checks as chk
+from . import compute as cmp
+from ..base import Context, ExperimentResult, register_experiment
+from .claims import all_claims, technique_results
+from .report import findings, sections
+from .scene import (
     CAMERA_OFFSET_DEG,
     EXP,
     PLASTIC_ETA,
@@ -49,7 +49,7 @@ from .ibl_setup import (
     render_all,
     settings_for,
 )
-from .techniques import CheckResult, Stat
+from ..techniques import CheckResult, Stat
 
 __all__ = ["run", "compute", "check_specular", "settings_for"]
 
@@ -150,7 +150,7 @@ def _environment(env: str | Environment) -> Environment:
         return env
     if env in procedural.BUILTIN_NAMES:
         return procedural.builtin_environment(env, quick=True)
-    from ..testing import load_named_environment
+    from ...testing import load_named_environment
 
     return load_named_environment(env)
 
