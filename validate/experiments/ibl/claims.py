@@ -15,10 +15,11 @@ from ...local_models import irradiance, specular
 from ...metrics.irradiance_error import WORST_CASE_MAX
 from ...stats import sidak_critical
 from ..base import Claim
-from .reference_checks import ALPHA
-from .compute import MAP_MAX_ERROR, Comparison, IblMeasurements
-from .scene import BLEND_EXPONENT, BLEND_WEIGHT, EXP
 from ..techniques import Measured, technique_claims, technique_entry
+from .compute import MAP_MAX_ERROR, Comparison, IblMeasurements
+from .reference_checks import ALPHA
+from .scene import BLEND_EXPONENT, BLEND_WEIGHT
+from .settings import NAME
 
 DIFFUSE_MAP_SOURCE = ("accuracy criterion from Ramamoorthi & Hanrahan 2001 (abstract: SH9 irradiance with \"average "
                       "errors of only 1 %\"): a tabulated map, which can do better, is held to 1 % of the peak at "
@@ -157,7 +158,7 @@ def technique_results(m: IblMeasurements) -> tuple[dict[str, Any], list[Claim]]:
         # an irradiance technique's thresholds are usually on sh9's metrics (flux_luminance…): judged there;
         # here only those on metrics this experiment measures
         own = replace(tech, thresholds={k: v for k, v in tech.thresholds.items() if k in ms})
-        claims += technique_claims(EXP, own, ms, scope="Lambertian sphere")
+        claims += technique_claims(NAME, own, ms, scope="Lambertian sphere")
     for tech in specular:
         comps = m.specular.comparisons.get(tech.name, {})
         if not comps:
@@ -169,9 +170,9 @@ def technique_results(m: IblMeasurements) -> tuple[dict[str, Any], list[Claim]]:
             ms["normal_incidence.mean"] = _measured([(r.stats.mean, r.stats.mean_uncertainty) for r in crops.values()])
         cases = {k: _json(comparison_metrics([c])) for k, c in comps.items()}
         entries[tech.name] = technique_entry(tech, _json(ms), cases=cases)
-        claims += technique_claims(EXP, tech, ms, scope=f"worst over {len(comps)} BRDF cases")
+        claims += technique_claims(NAME, tech, ms, scope=f"worst over {len(comps)} BRDF cases")
     return entries, claims
 
 
-def all_claims(m: IblMeasurements) -> list[Claim]:
+def claims(m: IblMeasurements) -> list[Claim]:
     return diffuse_claims(m) + bsdf_claims(m) + [phong_ni_claim(m), mix_claim(m)] + technique_results(m)[1]

@@ -26,6 +26,8 @@ from ...reference import ibl_render as rr
 from ...reference.irradiance import reference_irradiance
 from ...scenes import latlong
 from ...stats import t_to_z
+from ..base import Context
+from . import reference_checks as chk
 from .reference_checks import Chi2Check, ZCheck
 from .scene import (
     ALBEDO,
@@ -34,11 +36,13 @@ from .scene import (
     BLEND_WEIGHT,
     BrdfCase,
     Scene,
-    Settings,
     brdf_cases,
+    build_scene,
     masked_image,
     random_rotation,
+    render_all,
 )
+from .settings import Settings
 
 MAP_MAX_ERROR = 0.01  # the sweep's criterion (see ibl_claims.DIFFUSE_MAP_SOURCE)
 CRATER_AO = 0.95  # "crater" pixels: cosine-weighted visibility below 0.95
@@ -381,3 +385,34 @@ class IblMeasurements:
     furnace: ZCheck
     split_constant: ZCheck
     phong_ni: dict[str, dict[str, float]]  # s → {"ratio", "ratio_u", "ratio_s"} (phong_ni in ibl.py)
+
+
+def phong_ni(st: Settings, scene: Scene, renders: Mapping[str, rr.Render],
+             run: SpecularRun) -> dict[str, dict[str, float]]:
+    """Per Phong exponent: Σ|ΔY| of the s + 1 map (and of the same-exponent map) over the θ_v ≤ 5° crop,
+    and Σσ_Y, each over Σ Y(U) of the independent bound (:func:`.chk.phong_bound`)."""
+    out = {}
+    for case in (c for c in run.cases if c.model == "phong"):
+        rc = renders[case.key + "_ni"]
+        a, b = (run.normal_incidence[t][case.key] for t in ("phong_prefiltered", "phong_prefiltered_s"))
+        sel = np.isfinite(a.error) & np.isfinite(b.error)
+        n, v = rc.normal[sel], rc.view[sel]
+        u = chk.luminance_sum(chk.phong_bound(scene.render_env.radiance, case.brdf["exponent"], n, v))
+        out[f"{case.brdf['exponent']:g}"] = {
+            "ratio": float(np.sum(np.abs(a.y_app[sel] - a.y_ref[sel]))) / u,
+            "ratio_s": float(np.sum(np.abs(b.y_app[sel] - b.y_ref[sel]))) / u,
+            "ratio_u": float(np.sum(a.y_se[sel])) / u, "pixels": int(sel.sum())}
+    return out
+
+
+def compute(ctx: Context, st: Settings) -> IblMeasurements:
+    """Every number of the experiment (no claims, no prose)."""
+    scene = build_scene(st, ctx.seed)
+    renders = render_all(ctx, scene)
+    refs = reference_all(ctx, st, scene, renders)
+    maps = diffuse_maps(ctx, st, scene, refs)
+    spec = specular_run(ctx, st, scene, renders)
+    return IblMeasurements(
+        st, scene, renders, maps, diffuse_render(st, scene, renders, refs, maps), spec,
+        mix_shader(st, scene, renders, refs, maps), concave(st, scene, renders, refs, maps),
+        chk.phong_chi2(st), chk.phong_furnace(st), chk.split_sum_constant(st), phong_ni(st, scene, renders, spec))

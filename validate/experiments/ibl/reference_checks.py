@@ -48,7 +48,7 @@ from ...local_models import split_sum as ss
 from ...reference import ibl_render as rr
 from ...scenes import latlong
 from ...stats import sidak_alpha, sidak_critical, t_to_z
-from .scene import Settings
+from .settings import Settings
 
 ALPHA = 0.01  # family-wise significance level of every statistical claim here
 DFG_REFINE = 4  # the table's error is estimated against 4× its Hammersley points

@@ -10,8 +10,10 @@ from ...local_models import split_sum as ss
 from ...report import plots
 from ..base import Context, Figure, Section, Table
 from ..formatting import pct
+from .claims import technique_results
 from .compute import CRATER_AO, MAP_MAX_ERROR, Comparison, IblMeasurements
-from .scene import ALBEDO, ANGLE_BINS, BLEND_EXPONENT, BLEND_WEIGHT, EXP
+from .scene import ALBEDO, ANGLE_BINS, BLEND_EXPONENT, BLEND_WEIGHT, CAMERA_OFFSET_DEG
+from .settings import NAME
 
 SEC_A = "Diffuse irradiance maps: resolution"
 SEC_B = "Diffuse irradiance on a rendered sphere (maps and irradiance techniques)"
@@ -36,7 +38,7 @@ class Figures:
         self.items.setdefault(section, []).append(Figure(rel, caption, width))
 
     def grid(self, section: str, name: str, images: list[np.ndarray], titles: list[str], caption: str) -> None:
-        p, rel = self.ctx.figure_path(EXP, name)
+        p, rel = self.ctx.figure_path(NAME, name)
         plots.save_image_grid(p, [np.nan_to_num(i, nan=0.0) for i in images], titles)
         self.add(section, rel, caption)
 
@@ -45,13 +47,13 @@ class Figures:
         if self.heat_budget is not None and self.heat_count.get(section, 0) >= self.heat_budget:
             return
         self.heat_count[section] = self.heat_count.get(section, 0) + 1
-        p, rel = self.ctx.figure_path(EXP, name)
+        p, rel = self.ctx.figure_path(NAME, name)
         plots.save_heatmap(p, values, title, label, vmax=vmax, percent=label.startswith("relative"))
         self.add(section, rel, caption, 300)
 
     def line(self, section: str, name: str, x: Any, series: dict, xlabel: str, ylabel: str, title: str,
              caption: str, **kw: Any) -> None:
-        p, rel = self.ctx.figure_path(EXP, name)
+        p, rel = self.ctx.figure_path(NAME, name)
         plots.save_line_plot(p, x, series, xlabel, ylabel, title, **kw)
         self.add(section, rel, caption, 400)
 
@@ -270,3 +272,44 @@ def concave_section(m: IblMeasurements, figs: Figures) -> Section:
                            "irradiance (quadrature at the G-buffer normals) isolates the occlusion error from the "
                            "map's own; AO is Mitsuba-ray-cast cosine-weighted visibility."],
                    tables=[Table(["comparison", "mean (all pixels)", "mean (crater)", "bias (crater)", "FLIP"], rows)])
+
+
+def data(m: IblMeasurements) -> dict[str, Any]:
+    """The JSON part of the result (besides claims, findings, sections and techniques)."""
+    z = {name: {"labels": c.labels, "measured": c.measured.tolist(), "expected": c.expected.tolist(),
+                "stderr": c.stderr.tolist(), "allowance": c.allowance.tolist(), "z": c.z().tolist(),
+                "z_perturbed": c.z(c.perturbed).tolist(), "critical": c.critical}
+         for name, c in (("furnace", m.furnace), ("split_sum_constant", m.split_constant))}
+    comps = (m.diffuse.maps + list(m.diffuse.techniques.values()) + [m.mix.comparison]
+             + [c for d in m.specular.comparisons.values() for c in d.values()])
+    return {"resolution_sweep": m.maps.sweeps, "reported_face": m.maps.face, "reported_height": m.maps.height,
+            "sh_vs_convolution": {k: {"max_flux_fraction": v[0], "uncertainty": v[1]} for k, v in m.maps.sh.items()},
+            "phong_normal_incidence": m.phong_ni, "concave": m.concave.data,
+            "mix": {"bias": m.mix.bias, "predicted": m.mix.predicted, "sigma": m.mix.sigma, "z": m.mix.z(),
+                    "bias_unlit": m.mix.bias_unlit, "z_unlit": m.mix.z(m.mix.bias_unlit)},
+            "chi2": {"exponents": m.chi2.exponents, "cos_views": m.chi2.cos_views, "p_values": m.chi2.p_values,
+                     "p_values_off_by_one": m.chi2.p_values_off_by_one, "level": m.chi2.level},
+            **z, "comparisons": [c.row() for c in comps]}
+
+
+HEADING = "IBL convolution vs Mitsuba"
+
+
+def summary(m: IblMeasurements) -> str:
+    return ("Diffuse irradiance maps, specular techniques (Phong-prefiltered maps, split-sum GGX, plug-ins), the "
+            "seed's mixing shader against the irradiance quadrature and Mitsuba path-traced renders of a sphere "
+            f"and a dented sphere under {m.scene.render_env.name} (maps: faces {m.maps.claim_face}²).")
+
+
+def techniques(m: IblMeasurements) -> dict[str, Any]:
+    """``experiments.ibl.techniques.<name>`` (:func:`.claims.technique_results`)."""
+    return technique_results(m)[0]
+
+
+def settings_json(m: IblMeasurements, seed: int) -> dict[str, Any]:
+    """``experiments.ibl.settings``: the sweep's effort, the rendered environment and the run's seed."""
+    st = m.st
+    return {"quick": st.quick, "environments": list(st.sweep_envs), "render_environment": m.scene.render_env.name,
+            "faces": list(st.faces), "heights": list(st.heights), "image": st.size, "spp": st.spp,
+            "passes": st.passes, "exponents": list(st.exponents), "alphas": list(st.alphas),
+            "camera_offset_deg": CAMERA_OFFSET_DEG, "seed": seed}

@@ -1,0 +1,46 @@
+"""Experiment ``ibl``: prefiltered environment maps against Mitsuba path-traced BRDF integrals.
+
+The pipeline, one module per stage:
+
+* :mod:`.settings` — ``QUICK`` and ``FULL``; :mod:`.scene` — BRDF cases, the scene and render jobs;
+* :mod:`.compute` — measurements: the irradiance quadrature, the diffuse-map sweep, every
+  ``irradiance`` technique and map on a rendered Lambertian sphere, every ``specular`` technique on every
+  BRDF case it declares (modified Phong, GGX conductor, GGX plastic), the mixing shader, the dented sphere;
+* :mod:`.reference_checks` — χ² and white-furnace checks of the reference BSDFs, split sum under a constant
+  environment, the independent bound for the Phong map at normal incidence;
+* :mod:`.claims` — claims with sources and power checks; technique entries and declared thresholds;
+* :mod:`.report` — findings and report sections.
+
+Errors on rendered pixels are relative luminance errors with the renders' Monte Carlo standard errors
+(:mod:`validate.metrics.image_error`), FLIP beside them; the map sweep uses the peak-normalised error
+|Y(E′) − Y(E)| / max Y(E) of :mod:`validate.metrics.irradiance_error`.
+
+:func:`.check.check_specular` is the ``validate.testing`` entry point for a specular technique.
+"""
+
+from __future__ import annotations
+
+from ..base import Context, ExperimentResult, register_experiment
+from . import report
+from .claims import claims
+from .compute import compute
+from .report import findings, sections
+from .settings import FULL, NAME, QUICK
+
+TITLE = "IBL convolution: irradiance maps, Phong-prefiltered and split-sum GGX maps vs Mitsuba"
+DESCRIPTION = ("Diffuse irradiance maps (cube 4…256, lat-long, SH), every irradiance and specular technique "
+               "(Phong-prefiltered maps, split-sum GGX, plug-ins), the seed's mixing shader, against Mitsuba "
+               "path-traced BRDF integrals.")
+ORDER = 40
+
+
+@register_experiment(NAME, TITLE, DESCRIPTION, order=ORDER)
+def run(ctx: Context) -> ExperimentResult:
+    m = compute(ctx, QUICK if ctx.quick else FULL)
+    techniques = report.techniques(m)
+    return ExperimentResult(name=NAME, title=report.HEADING, summary=report.summary(m), claims=claims(m),
+                            findings=findings(m), sections=sections(m, ctx), data=report.data(m),
+                            techniques=techniques, settings=report.settings_json(m, ctx.seed))
+
+
+__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections", "run"]
