@@ -10,12 +10,12 @@ from typing import Any
 
 import numpy as np
 
-from ..metrics import shadow_error as se
-from ..report import plots
-from .base import Context, Figure, Section, Table
-from .formatting import pct_fixed as pct
-from .shadows_claims import NAME, PENUMBRA_SHARE_X, error_metrics
-from .shadows_measure import Measurements
+from ...metrics import shadow_error as se
+from ...report import plots
+from ..base import Context, Figure, Section, Table
+from ..formatting import pct_fixed as pct
+from .claims import NAME, PENUMBRA_SHARE_X, error_metrics
+from .compute import Measurements
 
 ERROR_VMAX = 0.5  # error maps clip at 50 % of L_norm
 

@@ -32,15 +32,15 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ValidateError
-from ..local_models import shadow
-from ..local_models import shadow_map as smod
-from ..local_models.registry import Technique
-from ..reference import shadow_render as sr
-from . import shadows_claims as sc
-from . import shadows_report as rep
-from .base import Claim, Context, ExperimentResult, Section, register_experiment
-from .shadows_measure import (
+from ...errors import ValidateError
+from ...local_models import shadow
+from ...local_models import shadow_map as smod
+from ...local_models.registry import Technique
+from ...reference import shadow_render as sr
+from . import claims as sc
+from . import report as rep
+from ..base import Claim, Context, ExperimentResult, Section, register_experiment
+from .compute import (
     FULL,
     QUICK,
     Measurements,
@@ -57,7 +57,7 @@ from .shadows_measure import (
     rate_counts,
     upper_bounds,
 )
-from .techniques import CheckResult, Stat, technique_entry
+from ..techniques import CheckResult, Stat, technique_entry
 
 NAME = sc.NAME
 

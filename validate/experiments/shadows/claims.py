@@ -35,15 +35,15 @@ import math
 
 import numpy as np
 
-from ..local_models import shadow
-from ..local_models import shadow_map as smod
-from ..metrics import shadow_error as se
-from ..scenes import shadow_scenes as ss
-from ..scenes.latlong import luminance
-from .base import Claim
-from .formatting import pct_fixed as pct
-from .shadows_measure import BAND_TEST_ALPHA, Frame, Measurements
-from .techniques import Measured, Stat, technique_claims
+from ...local_models import shadow
+from ...local_models import shadow_map as smod
+from ...metrics import shadow_error as se
+from ...scenes import shadow_scenes as ss
+from ...scenes.latlong import luminance
+from ..base import Claim
+from ..formatting import pct_fixed as pct
+from .compute import BAND_TEST_ALPHA, Frame, Measurements
+from ..techniques import Measured, Stat, technique_claims
 
 NAME = "shadows"
 RATE_SLOPE_MAX = -0.9  # claim 1: first-order rate −1 less 0.1 (measured −1.06 ± 0.06 quick, −0.96 ± 0.03 full)

@@ -14,13 +14,13 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ValidateError
-from ..local_models import shadow
-from ..local_models import shadow_map as smod
-from ..local_models.registry import Technique
-from ..metrics import shadow_error as se
-from ..reference import shadow_render as sr
-from ..scenes import shadow_scenes as ss
+from ...errors import ValidateError
+from ...local_models import shadow
+from ...local_models import shadow_map as smod
+from ...local_models.registry import Technique
+from ...metrics import shadow_error as se
+from ...reference import shadow_render as sr
+from ...scenes import shadow_scenes as ss
 
 BAND_TEST_ALPHA = 1e-3  # per-pixel two-sided t test level (expected exceed fraction 0.1 %)
 BLEEDING_REDUCTION = 0.2  # Lauritzen 2007 (GPU Gems 3, ch. 8) light-bleeding reduction linstep(0.2, 1, p)
@@ -292,7 +292,7 @@ def bleeding_case(techniques: list[Technique]) -> dict[str, Any]:
     technique and case: mean V′ (``leak``) and the fraction of receivers with V′ > 0.1 (``leak_area``)."""
     import mitsuba as mi
 
-    from ..backend import init
+    from ...backend import init
 
     init()
     view = smod.LightView(np.zeros(3), np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0]),
