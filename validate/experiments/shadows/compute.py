@@ -21,37 +21,11 @@ from ...local_models.registry import Technique
 from ...metrics import shadow_error as se
 from ...reference import shadow_render as sr
 from ...scenes import shadow_scenes as ss
+from ..base import Context
+from .settings import Settings
 
 BAND_TEST_ALPHA = 1e-3  # per-pixel two-sided t test level (expected exceed fraction 0.1 %)
 BLEEDING_REDUCTION = 0.2  # Lauritzen 2007 (GPU Gems 3, ch. 8) light-bleeding reduction linstep(0.2, 1, p)
-
-
-@dataclass(frozen=True)
-class Settings:
-    """Quick and full runs differ only in these numbers."""
-
-    width: int
-    height: int
-    spp: int
-    passes: int
-    visibility_side: int
-    radii: tuple[float, ...]
-    resolutions: tuple[int, ...]
-    default_resolution: int  # the comparison tables and images
-    bias_resolution: int
-    kernel_resolution: int  # PCF kernel sweep and PCSS against the best fixed kernel
-    kernel_radii: tuple[float, ...]
-    bias_scales: tuple[float, ...]
-    kernels: tuple[int, ...]
-    rate_grid: int  # ground receivers per side for the hard map's convergence rate
-    flip_radii: tuple[float, ...]  # radii whose images get HDR-FLIP (≈ 0.7 s per image pair)
-
-
-QUICK = Settings(96, 72, 64, 8, 12, (ss.NEAR_POINT_RADIUS, 0.25, 1.0), (256, 1024, 4096), 1024, 1024, 256, (1.0,),
-                 (0.0, 0.125, 0.25, 0.5, 1.0, 2.0, 8.0, 32.0), (1, 3, 5, 9, 13, 17, 25, 33), 256, (1.0,))
-FULL = Settings(160, 120, 64, 16, 16, tuple(ss.LIGHT_RADII), (256, 512, 1024, 2048, 4096), 2048, 1024, 512,
-                (0.25, 1.0), (0.0, 0.0625, 0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0),
-                (1, 2, 3, 5, 7, 9, 13, 17, 25, 33, 49), 512, tuple(ss.LIGHT_RADII))
 
 
 class Frame:
@@ -314,6 +288,53 @@ def bleeding_case(techniques: list[Technique]) -> dict[str, Any]:
     return out
 
 
-__all__ = ["BAND_TEST_ALPHA", "FULL", "QUICK", "Frame", "Measurements", "Settings", "band_test", "bias_sweep",
+__all__ = ["BAND_TEST_ALPHA", "Frame", "Measurements", "Settings", "band_test", "bias_sweep",
            "bleeding_case", "build_frame", "evaluate", "fit_rate", "ground_grid", "kernel_sweep",
            "measure_resolution", "rate_counts", "technique_visibility", "upper_bounds"]
+
+
+def compute(ctx: Context, s: Settings) -> Measurements:
+    """References, every technique at every resolution and radius, the sweeps and the convergence counts."""
+    for what in (s.default_resolution, s.bias_resolution, s.kernel_resolution):
+        if what not in s.resolutions:
+            raise ValidateError(f"shadows settings: resolution {what} is not in the sweep {s.resolutions}")
+    frame = build_frame(s, s.radii, ctx.seed, lambda it: ctx.progress(it, "shadows: references"))
+    m = Measurements(s, frame, list(shadow))
+    light = frame.scenes[m.r_pt].light
+    geometry = sr.load_scene(frame.scenes[m.r_pt], with_light=False)
+    grid_p, grid_n = ground_grid(frame, s.rate_grid)
+    exact = sr.point_visibility(geometry, np.array(light.centre), grid_p, grid_n)
+    counts: dict[int, int] = {}
+    for res in ctx.progress(sorted(s.resolutions), "shadows: shadow-map resolutions"):
+        sm = smod.build_shadow_map(geometry, light, frame.position, res)
+        m.build_seconds[res] = round(sm.build_seconds, 3)
+        measure_resolution(m, sm)
+        if "hard" in shadow:
+            counts[res] = rate_counts(sm, light, grid_p, grid_n, exact)
+        if res == s.bias_resolution:
+            m.bias = bias_sweep(sm, frame, m.r_pt, s.bias_scales)
+        if res == s.kernel_resolution:
+            m.kernels = kernel_sweep(sm, frame, tuple(r for r in s.kernel_radii if r in frame.refs), s.kernels)
+        if res == s.default_resolution:
+            flat = smod.visibility_pcss(sm, frame.position, frame.normal, m.r_max, receiver_plane=False)
+            m.pcss_flat = evaluate(frame, m.r_max, flat.visibility)[0]
+            m.bounds = upper_bounds(sm, frame, m.techniques, m.r_max)
+        if res == max(s.resolutions) and "hard" in shadow:
+            m.band = band_test(sm, frame, geometry, m.r_pt)
+        del sm
+    if counts:
+        m.rate = _rate(counts, s.rate_grid, int(grid_p.shape[0]))
+    m.bleeding = bleeding_case(m.techniques)
+    return m
+
+
+def _rate(counts: dict[int, int], side: int, cells: int) -> dict[str, Any]:
+    """The fitted slope of the misclassified area against resolution, and the same fit with the top
+    resolution capped at the one below it (a texture-size limit or a mip level off by one: the power check)."""
+    ress = sorted(counts)
+    k = [counts[q] for q in ress]
+    b, b_se = fit_rate(ress, k)
+    capped = k[:-1] + [k[-2]] if len(k) > 1 else k
+    cb, cb_se = fit_rate(ress, capped)
+    return {"resolutions": ress, "counts": k, "grid_side": side, "cells": cells, "slope": b, "stderr": b_se,
+            "capped_counts": capped, "capped_slope": cb, "capped_stderr": cb_se}
