@@ -6,10 +6,10 @@ from typing import Any
 
 import numpy as np
 
-from .base import Claim
-from .brdfs_measure import POWER_TEXT, Measurements
-from .formatting import pct as _pct
-from .techniques import Measured, technique_claims
+from ..base import Claim
+from .compute import POWER_TEXT, Measurements
+from ..formatting import pct as _pct
+from ..techniques import Measured, technique_claims
 
 NAME = "brdfs"
 LAMBERT_LIMIT = 0.01  # see the claim's source

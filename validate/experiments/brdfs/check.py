@@ -26,14 +26,14 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ValidateError
-from ..local_models import family
-from ..local_models.registry import Technique
-from . import brdfs_claims as bc
-from . import brdfs_measure as bm
-from . import brdfs_report as rep
-from .base import Context, ExperimentResult, register_experiment
-from .techniques import CheckResult, Stat, technique_entry
+from ...errors import ValidateError
+from ...local_models import family
+from ...local_models.registry import Technique
+from . import claims as bc
+from . import compute as bm
+from . import report as rep
+from ..base import Context, ExperimentResult, register_experiment
+from ..techniques import CheckResult, Stat, technique_entry
 
 NAME = bc.NAME
 LIGHT_DIR = (0.5, 0.6, 0.62)  # the sphere images' light direction (world, viewer at +z)

@@ -37,12 +37,12 @@ from typing import Any
 
 import numpy as np
 
-from ..local_models import family
-from ..local_models.registry import Technique
-from ..reference import brdf_render as br
-from ..reference.ibl_render import register_phong_bsdf
-from ..scenes import brdf_scenes as bs
-from ..scenes.latlong import luminance
+from ...local_models import family
+from ...local_models.registry import Technique
+from ...reference import brdf_render as br
+from ...reference.ibl_render import register_phong_bsdf
+from ...scenes import brdf_scenes as bs
+from ...scenes.latlong import luminance
 
 BIAS = 1.02
 POWER_TEXT = "technique output × 1.02 (a 2 % bias)"
@@ -218,7 +218,7 @@ def term_analysis(m: Measurements, mats: list[bs.Material]) -> None:
     """rel_l1 and reflected-energy ratio vs Mitsuba of each step of :data:`TERM_STEPS` (Beckmann materials), and
     the Fresnel terms alone on the dielectric material: weighted error of Schlick(n·l) and Schlick(v·h) against
     the exact F(v·h)."""
-    from ..local_models.classic_brdfs import Geometry, cook_torrance_printed_terms, fresnel_exact, fresnel_schlick
+    from ...local_models.classic_brdfs import Geometry, cook_torrance_printed_terms, fresnel_exact, fresnel_schlick
 
     lights, views, w = bs.brdf_grid(m.settings.grid, m.settings.grid)
     g = Geometry(_normals(len(lights)), lights, views)
@@ -284,7 +284,7 @@ def minnaert_fit(params: dict[str, Any], lights: np.ndarray, views: np.ndarray, 
 def on_terms(params: dict[str, Any], lights: np.ndarray, views: np.ndarray, ref: np.ndarray) -> dict[str, float]:
     """The full Oren–Nayar model without its inter-reflection term L₂ (power check of the ON claim), and the share
     of L₂ in the full model's light (Σ L₂ / Σ (L₁ + L₂))."""
-    from ..local_models.classic_brdfs import Geometry, oren_nayar_full_terms
+    from ...local_models.classic_brdfs import Geometry, oren_nayar_full_terms
 
     g = Geometry(_normals(len(lights)), lights, views)
     l1, l2 = oren_nayar_full_terms(float(params["sigma"]), np.asarray(params["albedo"], dtype=np.float64), g)
@@ -423,7 +423,7 @@ def env_radiance_local(fn: Any, radiance: np.ndarray, normals: np.ndarray, views
                        nodes: int) -> np.ndarray:
     """L_o(n, v) = Σ_m w_m L(ω_m) q(ω_m, v; n) over a Gauss–Legendre (cos θ) × uniform φ grid of ``nodes`` × 2·nodes
     directions on the hemisphere about each normal, L by Mitsuba's bilinear envmap lookup; (P, 3)."""
-    from ..scenes import latlong
+    from ...scenes import latlong
 
     local, w = bs.hemisphere_quadrature(nodes, 2 * nodes)
     t, b = _frames(normals)
@@ -442,8 +442,8 @@ def env_radiance_local(fn: Any, radiance: np.ndarray, normals: np.ndarray, views
 
 def env_analysis(m: Measurements, mats: list[bs.Material]) -> None:
     """Every technique on a sphere under ``two_tone`` vs Mitsuba's path-traced sphere, per material."""
-    from ..reference import ibl_render as ir
-    from ..scenes import procedural
+    from ...reference import ibl_render as ir
+    from ...scenes import procedural
 
     s = m.settings
     env = procedural.two_tone()

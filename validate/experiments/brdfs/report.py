@@ -6,10 +6,10 @@ from typing import Any
 
 import numpy as np
 
-from ..report import plots
-from .base import Context, Figure, Section, Table
-from .brdfs_claims import NAME
-from .brdfs_measure import Measurements
+from ...report import plots
+from ..base import Context, Figure, Section, Table
+from .claims import NAME
+from .compute import Measurements
 
 
 def _pm(d: dict[str, float] | None) -> str:
