@@ -1,6 +1,6 @@
 """Experiment ``engines``: shipping engines' SH irradiance (three.js, Babylon.js) against the reference.
 
-The engines' own code runs headless in Node (:mod:`validate.local_models.engines`: one process per
+The engines' own code runs headless in Node (:mod:`validate.local_models.irradiance.engines`: one process per
 engine per run, registered as ``irradiance`` techniques ``three_sh``, ``babylon_sh``,
 ``babylon_polynomial``). Per environment each engine's error under every metric of
 :mod:`validate.metrics.irradiance_error` sits beside the suite's own ``sh9``
@@ -14,8 +14,8 @@ from __future__ import annotations
 from functools import partial
 from typing import Any
 
-from ..local_models.engines import UNAVAILABLE
-from ..local_models.engines.worker import package_version
+from ..local_models.irradiance.engines import UNAVAILABLE
+from ..local_models.irradiance.engines.worker import package_version
 from .base import Context, ExperimentResult, register_experiment
 from .engines_claims import Measurements, claims, face_claims, findings
 from .engines_compute import SETTINGS, engine_techniques, measure_environment, measure_face_sizes, measure_faces

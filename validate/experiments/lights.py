@@ -10,7 +10,7 @@ since an area light's shape casts shadows too), the rectangle over the bare grou
 Reference (:mod:`validate.reference.light_render`): Mitsuba's direct lighting at the pixel centres,
 P independent passes → mean ± standard error; the G-buffer of the same rays.
 
-Techniques: every registered ``light`` technique (:mod:`validate.local_models.classic_lights`,
+Techniques: every registered ``light`` technique (:mod:`validate.local_models.light.classic_lights`,
 ``light_attenuation``, ``light_grid`` and plug-ins) shades the G-buffer, L = ρ/π · E, for each
 standard light it models (meta ``lights``), with the scene's own shadow rays; its image errors
 (:mod:`.lights_metrics`: mean, max, bias, each ± uncertainty) go to the comparison table and to
@@ -36,7 +36,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ValidateError
-from ..local_models.classic_lights import light as family
+from ..local_models.light.classic_lights import light as family
 from ..reference import light_render as lr
 from ..scenes import light_scenes as ls
 from ..scenes.latlong import luminance

@@ -5,7 +5,7 @@ Every technique is called through ``light.call`` (the family's output contract);
 references are closed forms: 1/d² itself, Lambert's polygon formula for the rectangle
 (:func:`validate.reference.light_render.rectangle_irradiance`, checked against Mitsuba by the
 experiment's claim), the spherical-cap formula for the sphere (Snyder 1996,
-:mod:`validate.local_models.sphere_cap`). The disc has no closed form off its axis; its reference
+:mod:`validate.local_models.arealight.sphere_cap`). The disc has no closed form off its axis; its reference
 is the 64×64 midpoint grid, whose own error is below 2·10⁻⁵ relative (the rectangle's midpoint
 error at n = 16 is 2·10⁻⁴ and falls as n⁻², so 16× smaller at n = 64).
 """
@@ -17,9 +17,9 @@ from typing import Any
 
 import numpy as np
 
-from ..local_models import sphere_cap
-from ..local_models.classic_lights import light as family
-from ..local_models.light_grid import emitter_points
+from ..local_models.arealight import sphere_cap
+from ..local_models.light.classic_lights import light as family
+from ..local_models.light.light_grid import emitter_points
 from ..reference import light_render as lr
 from ..scenes.light_scenes import Light
 

@@ -2,7 +2,7 @@
 metalness grids, against the closed target (albedo 1 when nothing is absorbed).
 
 Techniques: the ``brdf`` family (every registered technique is measured; the multiple-scattering compensations
-are :mod:`validate.local_models.brdf_multiscatter`). The reference is a theorem, not a render: a microsurface of
+are :mod:`validate.local_models.brdf.brdf_multiscatter`). The reference is a theorem, not a render: a microsurface of
 reflectance F = 1 absorbs nothing, so all the light that reaches it leaves it, W(v) = 1 for every v and α
 (Heitz 2014 §2.4, the furnace test of Heitz et al. 2016 fig. 7; Kulla & Conty 2017 slide 16); with the metalness
 workflow and base colour 1 (diffuse albedo 1, metal F₀ = 1), W = 1 for every metalness.
@@ -44,8 +44,8 @@ import numpy as np
 
 from ..backend import init
 from ..local_models import family
-from ..local_models.brdf_multiscatter import tables
-from ..local_models.classic_brdfs import ggx_d
+from ..local_models.brdf.brdf_multiscatter import tables
+from ..local_models.brdf.classic_brdfs import ggx_d
 from ..local_models.registry import Technique
 from ..reference import microsurface_bsdf as mbsdf
 from ..reference import microsurface_walk as mw

@@ -5,7 +5,7 @@ Ground truth, in two steps (the reference is validated before it judges anything
 1. Mitsuba: ``sphere`` and ``disk`` area emitters seen by a small receiver disc with an
    ``irradiancemeter`` (:mod:`validate.scenes.area_lights`, :mod:`validate.reference.area_irradiance`)
    at normals 0°–180° from the light. The closed-form cap irradiance (Snyder 1996 [3]; Lagarde & de
-   Rousiers 2014 [4], :mod:`validate.local_models.sphere_cap`) must agree within the Monte Carlo
+   Rousiers 2014 [4], :mod:`validate.local_models.arealight.sphere_cap`) must agree within the Monte Carlo
    uncertainty (Student-t/Šidák test) — and the same test must reject a 2 % scale error (power).
 2. The validated closed form is then the reference for dense sweeps (thousands of angles, no noise).
 

@@ -7,14 +7,11 @@ from typing import Any
 import numpy as np
 
 from ..base import Claim
-from .compute import POWER_TEXT, Measurements
-from ..formatting import pct as _pct
 from ..techniques import Measured, technique_claims
+from .compute import POWER_TEXT, Measurements
+from .settings import NAME
 
-NAME = "brdfs"
 LAMBERT_LIMIT = 0.01  # see the claim's source
-
-
 
 
 def measured(m: Measurements, tech: str) -> dict[str, Measured]:
@@ -55,12 +52,12 @@ def _gouraud_claims(m: Measurements) -> list[Claim]:
                   ).with_power("flat shading (one normal per triangle, the missing-vertex-normals bug)", flat)]
 
 
-def _sigmas(m: Measurements) -> list[tuple[str, dict[str, Any]]]:
+def vgroove_sigmas(m: Measurements) -> list[tuple[str, dict[str, Any]]]:
     return list(m.vgroove.get("sigmas", {}).items())
 
 
 def _vgroove_claims(m: Measurements) -> list[Claim]:
-    sig = _sigmas(m)
+    sig = vgroove_sigmas(m)
     out: list[Claim] = []
     if not sig:
         return out
@@ -99,109 +96,3 @@ def _vgroove_claims(m: Measurements) -> list[Claim]:
     return out
 
 
-def findings(m: Measurements) -> list[str]:
-    return [*_microfacet_findings(m), *_plane_findings(m), *_env_findings(m), *_energy_findings(m),
-            *_vgroove_findings(m), *_gouraud_findings(m)]
-
-
-def _plane_findings(m: Measurements) -> list[str]:
-    el = m.plane.get("elongation", {})
-    if "mitsuba" not in el:
-        return []
-    others = ", ".join(f"{t} {v:.2f}" for t, v in el.items() if t != "mitsuba")
-    return [f"Plane under a point light, viewed at 70° (mirror Beckmann α = 0.2): the highlight is "
-            f"{el['mitsuba']:.2f}× "
-            f"longer along the view azimuth than across it in Mitsuba (widths at half maximum on the plane); {others}. "
-            "The r·v lobe keeps Phong's highlight nearly round; the n·h lobe stretches like the microfacet one."]
-
-
-def _env_findings(m: Measurements) -> list[str]:
-    out = []
-    for name, r in m.env.items():
-        errs = ", ".join(f"{t.name} {_pct(_metric(m, t.name, 'env_rel_l1.' + name))}" for t in m.techniques)
-        out.append(f"Sphere under two_tone, {name} (reference noise Σse/ΣY = {_pct(r['reference_noise'])}): "
-                   f"Σ|ΔY|/ΣY {errs}.")
-    return out
-
-
-def _gouraud_findings(m: Measurements) -> list[str]:
-    g = m.gouraud
-    if not g:
-        return []
-    tris = g["triangles"]
-    out = []
-    for sp, rows in g["exponents"].items():
-        pairs = ", ".join(f"{t} triangles {_pct(a)} / {_pct(b)}" for t, a, b in
-                          zip(tris, rows["gouraud"], rows["fragment"], strict=True))
-        out.append(f"Modified Phong s = {sp} on a tessellated sphere against Mitsuba's modphong render of the smooth "
-                   f"sphere (Σ|ΔY|/ΣY), Gouraud / per-fragment: {pairs}.")
-    if len(tris) >= 2:
-        rows = g["exponents"][next(reversed(g["exponents"]))]
-        order = [float(np.log(a / b) / np.log(tris[-1] / tris[-2])) for a, b in
-                 ((rows["fragment"][-2], rows["fragment"][-1]), (rows["gouraud"][-2], rows["gouraud"][-1]))]
-        out.append(f"Between the two finest tessellations the per-fragment error falls as T^−{order[0]:.2f} (T "
-                   f"triangles; linear interpolation of the normal is second order in the edge length h ∝ T^−½, i.e. "
-                   f"T^−1) and the Gouraud error as T^−{order[1]:.2f} at the sharpest exponent.")
-    return out
-
-
-def _metric(m: Measurements, tech: str, key: str) -> float:
-    return m.metrics.get(tech, {}).get(key, {}).get("value", float("nan"))
-
-
-def _microfacet_findings(m: Measurements) -> list[str]:
-    out = []
-    beck = [n for n in m.materials if n.startswith("conductor_beckmann")]
-    ggx = [n for n in m.materials if n.startswith("conductor_ggx")]
-    if "cook_torrance" in m.metrics and beck:
-        out.append("Cook–Torrance in the microfacet form (exact Smith G, exact Fresnel, 4(n·l)(n·v)) reproduces "
-                   "Mitsuba's roughconductor: max relative difference " + ", ".join(
-                       f"{_pct(_metric(m, 'cook_torrance', 'max_rel.' + n))} ({n})" for n in beck + ggx)
-                   + "; the Beckmann residual is Mitsuba's rational approximation of G₁ (Walter 2007 eq. 27, < 0.35 % "
-                   "per direction), GGX agrees to float32 rounding.")
-    phongs = [t for t in ("phong", "blinn_phong", "phong_normalized", "blinn_phong_normalized") if t in m.metrics]
-    for mat in [n for n in m.materials if n.startswith(("mirror_", "modphong_"))]:
-        errs = ", ".join(f"{t} {_pct(_metric(m, t, 'rel_l1.' + mat))} (furnace albedo off by up to "
-                         f"{_metric(m, t, 'albedo_error.' + mat):.3g})" for t in phongs)
-        out.append(f"Phong-type models against {mat} (exponents by Walter 2007 / Fisher & Woo 1994), rel_l1: {errs}.")
-    for name, rows in m.terms.get("materials", {}).items():
-        steps = "; ".join(f"{s}: rel_l1 {_pct(r['rel_l1'])}, energy × {r['energy_ratio']:.3g}"
-                          for s, r in zip(m.terms["steps"], rows, strict=True))
-        out.append(f"{name}, from the corrected form to Ganovelli's printed Cook–Torrance one term at a time — "
-                   f"{steps}.")
-    for key in ("fresnel_schlick_nl", "fresnel_schlick_vh"):
-        if key in m.terms:
-            f = m.terms[key]
-            arg = "n·l (as printed)" if "nl" in key else "v·h"
-            out.append(f"Dielectric (η = 1.5, F₀ = 0.04): Schlick's F with {arg} "
-                       f"differs from the exact F(v·h) by {_pct(f['lobe_weighted_rel'])} on average over the specular "
-                       f"lobe and by up to {_pct(f['max_rel'])}.")
-    return out
-
-
-def _energy_findings(m: Measurements) -> list[str]:
-    sw = m.sweep
-    if not sw:
-        return []
-    out = []
-    for tech in ("phong", "blinn_phong", "phong_normalized", "blinn_phong_normalized", "cook_torrance_printed"):
-        if tech not in sw["techniques"]:
-            continue
-        vals = ", ".join(f"s_b = {s:.3g}: {w[0]:.3g} (Mitsuba {mw[0]:.3g})" for s, w, mw in
-                         zip(sw["blinn_exponent"], sw["techniques"][tech], sw["mitsuba"], strict=True))
-        out.append(f"White-furnace albedo at normal incidence of {tech} (k_s = 1, F = 1, Walter-equivalent exponents) "
-                   f"vs the Beckmann roughconductor: {vals}.")
-    return out
-
-
-def _vgroove_findings(m: Measurements) -> list[str]:
-    out = []
-    for name, r in _sigmas(m):
-        errs = ", ".join(f"{t} {_pct(_metric(m, t, 'rel_l1.' + name))}" for t in r["techniques"]
-                         if t in ("lambert", "oren_nayar", "oren_nayar_full", "minnaert"))
-        mf = r.get("minnaert_fit") or {}
-        best = f"; Minnaert's best K = {mf['best_k']:g} (rel_l1 {_pct(mf['best_rel_l1'])})" if mf else ""
-        out.append(f"V-grooves σ = {r['sigma_deg']:g}° (ρ = {m.settings.albedo:g}, path-traced with inter-reflections, "
-                   f"reference ± {_pct(r['rel_uncertainty'])}): rel_l1 {errs}{best}; the full model's inter-reflection "
-                   f"term carries {_pct(r['on_terms']['l2_share'])} of its light.")
-    return out

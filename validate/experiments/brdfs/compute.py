@@ -33,6 +33,7 @@ Power (every metric): the technique's output × 1.02, a 2 % bias (``Measured.per
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -43,51 +44,13 @@ from ...reference import brdf_render as br
 from ...reference.ibl_render import register_phong_bsdf
 from ...scenes import brdf_scenes as bs
 from ...scenes.latlong import luminance
+from ..base import Context
+from .settings import Settings
 
 BIAS = 1.02
 POWER_TEXT = "technique output × 1.02 (a 2 % bias)"
 MASK_FRACTION = 1e-3
 FLOAT32_UNCERTAINTY = 1e-5
-
-
-@dataclass(frozen=True)
-class Settings:
-    grid: int  # Gauss–Legendre nodes in cos θ_l and cos θ_v, and Δφ nodes
-    furnace: tuple[int, int]  # (cos θ nodes, φ nodes) of the furnace quadrature
-    furnace_views_deg: tuple[float, ...]
-    alphas: tuple[float, ...]  # Beckmann roughness of the conductor materials
-    ggx_alphas: tuple[float, ...]
-    phong_exponents: tuple[float, ...]  # modified-Phong materials
-    sweep_alphas: tuple[float, ...]  # energy sweep (mirror F = 1)
-    sigmas_deg: tuple[float, ...]  # V-groove slope deviations (first: the Lambert limit)
-    thetas_deg: tuple[float, ...]
-    dphis_deg: tuple[float, ...]
-    n_slope: int
-    n_orient: int
-    paths: int
-    depth: int
-    gouraud_levels: tuple[int, ...] = (1, 2, 3)  # icosphere subdivisions (80 … 1280 triangles)
-    gouraud_exponents: tuple[float, ...] = (5.0, 20.0, 100.0)  # modified-Phong exponents of the sweep
-    gouraud_image: int = 80
-    env_image: int = 20  # sphere under an environment: pixels across
-    env_nodes: int = 12  # local quadrature: Gauss–Legendre cos θ nodes (× 2·nodes φ) about each normal
-    env_spp: int = 64  # Mitsuba path-traced spp (4 passes)
-    albedo: float = 0.8
-    image: int = 64
-    minnaert_ks: tuple[float, ...] = tuple(float(k) for k in np.round(np.arange(0.5, 1.51, 0.05), 2))
-
-
-QUICK = Settings(grid=20, furnace=(48, 96), furnace_views_deg=(0.0, 45.0, 75.0), alphas=(0.2, 0.5), ggx_alphas=(0.3,),
-                 phong_exponents=(20.0,), sweep_alphas=(0.1, 0.2, 0.3, 0.5, 0.8), sigmas_deg=(2.0, 20.0, 40.0),
-                 thetas_deg=(0.0, 30.0, 60.0, 75.0), dphis_deg=(0.0, 90.0, 180.0), n_slope=5, n_orient=6,
-                 paths=128, depth=10, image=48)
-FULL = Settings(grid=40, furnace=(128, 256), furnace_views_deg=(0.0, 30.0, 45.0, 60.0, 75.0, 85.0),
-                alphas=(0.1, 0.2, 0.3, 0.5), ggx_alphas=(0.1, 0.3), phong_exponents=(20.0, 100.0),
-                sweep_alphas=(0.05, 0.1, 0.2, 0.3, 0.5, 0.8, 1.0), sigmas_deg=(2.0, 10.0, 20.0, 30.0, 40.0),
-                thetas_deg=(0.0, 20.0, 40.0, 60.0, 75.0, 85.0), dphis_deg=(0.0, 45.0, 90.0, 135.0, 180.0),
-                n_slope=8, n_orient=8, paths=512, depth=12, image=96, gouraud_levels=(1, 2, 3, 4, 5, 6),
-                gouraud_exponents=(5.0, 20.0, 100.0, 500.0), gouraud_image=192, env_image=48, env_nodes=48,
-                env_spp=256)
 
 
 def materials(s: Settings) -> list[bs.Material]:
@@ -218,7 +181,7 @@ def term_analysis(m: Measurements, mats: list[bs.Material]) -> None:
     """rel_l1 and reflected-energy ratio vs Mitsuba of each step of :data:`TERM_STEPS` (Beckmann materials), and
     the Fresnel terms alone on the dielectric material: weighted error of Schlick(n·l) and Schlick(v·h) against
     the exact F(v·h)."""
-    from ...local_models.classic_brdfs import Geometry, cook_torrance_printed_terms, fresnel_exact, fresnel_schlick
+    from ...local_models.brdf.classic_brdfs import Geometry, cook_torrance_printed_terms, fresnel_exact, fresnel_schlick
 
     lights, views, w = bs.brdf_grid(m.settings.grid, m.settings.grid)
     g = Geometry(_normals(len(lights)), lights, views)
@@ -284,7 +247,7 @@ def minnaert_fit(params: dict[str, Any], lights: np.ndarray, views: np.ndarray, 
 def on_terms(params: dict[str, Any], lights: np.ndarray, views: np.ndarray, ref: np.ndarray) -> dict[str, float]:
     """The full Oren–Nayar model without its inter-reflection term L₂ (power check of the ON claim), and the share
     of L₂ in the full model's light (Σ L₂ / Σ (L₁ + L₂))."""
-    from ...local_models.classic_brdfs import Geometry, oren_nayar_full_terms
+    from ...local_models.brdf.classic_brdfs import Geometry, oren_nayar_full_terms
 
     g = Geometry(_normals(len(lights)), lights, views)
     l1, l2 = oren_nayar_full_terms(float(params["sigma"]), np.asarray(params["albedo"], dtype=np.float64), g)
@@ -530,3 +493,36 @@ def plane_analysis(m: Measurements, mats: list[bs.Material]) -> None:
             fn = shade(lambda lt, vw, t=tech: call(t, mat.params, lt, vw))
             out["elongation"][tech.name] = highlight_elongation(fn, p[int(np.argmax(luminance(img)))])
     m.plane = out
+
+
+
+LIGHT_DIR = (0.5, 0.6, 0.62)  # the sphere images' light direction (world, viewer at +z)
+
+
+def compute(ctx: Context, s: Settings) -> Measurements:
+    """Every technique on every Mitsuba material (grid and furnace), the term-by-term Cook–Torrance path,
+    the energy sweep, the V-groove surfaces and the sphere images."""
+    m = Measurements(s, list(family("brdf")))
+    mats = materials(s)
+    m.materials = [x.name for x in mats]
+    for metrics, furnace in ctx.map(partial(_material_metrics, s, m.techniques), mats, "brdfs: Mitsuba materials"):
+        for name, values in metrics.items():  # tasks return their numbers (they may run on Dask workers)
+            m.metrics.setdefault(name, {}).update(values)
+        m.furnace.update(furnace)
+    term_analysis(m, mats)
+    energy_sweep(m)
+    vgroove_metrics(m, ctx.seed)
+    gouraud_analysis(m, LIGHT_DIR)
+    env_analysis(m, mats)
+    plane_analysis(m, mats)
+    for mat in mats[:1] + [x for x in mats if x.name.startswith("diffuse")]:
+        m.images[mat.name] = sphere_images(m, mat, LIGHT_DIR)
+    return m
+
+
+def _material_metrics(s: Settings, techniques: list[Technique], mat: Any) -> tuple[dict, dict]:
+    """One material's grid and furnace metrics of every technique (a task: returns, never mutates)."""
+    scratch = Measurements(s, techniques)
+    grid_metrics(scratch, mat)
+    furnace_metrics(scratch, mat)
+    return scratch.metrics, scratch.furnace

@@ -1,7 +1,7 @@
 """Experiment ``hemisphere``: hemisphere lighting (sky/ground blend) and every irradiance technique under
 the skies hemisphere lighting is meant for, against Mitsuba.
 
-Two blend weights (:mod:`validate.local_models.hemisphere`), as functions of the tilt β of the
+Two blend weights (:mod:`validate.local_models.irradiance.hemisphere`), as functions of the tilt β of the
 normal from up (cos β = N·U):  f = ½(1 + cos β)  and the Red Book's  a = 1 − ½ sin β (β ≤ 90°),
 ½ sin β (β > 90°).
 
@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from ...local_models import hemisphere as hm
+from ...local_models.irradiance import hemisphere as hm
 from ...local_models import irradiance
 from ...metrics.irradiance_error import METRIC_NAMES, irradiance_errors
 from ...reference import area_irradiance as ai

@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 
-from ...local_models import hemisphere as hm
+from ...local_models.irradiance import hemisphere as hm
 from ...local_models import irradiance
 from ...report import plots
 from ..base import Context, Figure, Section, Table

@@ -16,9 +16,9 @@ from typing import Any
 import numpy as np
 
 from ...local_models import irradiance, specular
-from ...local_models import irradiance_map as im
-from ...local_models import prefiltered_specular as ps
-from ...local_models import sh as shm
+from ...local_models.irradiance import irradiance_map as im
+from ...local_models.specular import prefiltered_specular as ps
+from ...local_models.irradiance import sh as shm
 from ...local_models.registry import Technique
 from ...metrics import image_error as ie
 from ...metrics.irradiance_error import irradiance_errors

@@ -41,10 +41,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...local_models import irradiance_map as im
-from ...local_models import prefiltered_specular as ps
+from ...local_models.irradiance import irradiance_map as im
+from ...local_models.specular import prefiltered_specular as ps
 from ...local_models import specular
-from ...local_models import split_sum as ss
+from ...local_models.specular import split_sum as ss
 from ...reference import ibl_render as rr
 from ...scenes import latlong
 from ...stats import sidak_alpha, sidak_critical, t_to_z

@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 
-from ...local_models import split_sum as ss
+from ...local_models.specular import split_sum as ss
 from ...report import plots
 from ..base import Context, Figure, Section, Table
 from ..formatting import pct

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import ValidateError
-from ...local_models import prefiltered_specular as ps
+from ...local_models.specular import prefiltered_specular as ps
 from ...reference import ibl_render as rr
 from ...scenes import latlong, procedural
 from ...scenes.environment import Environment

@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from ...local_models import irradiance as irradiance_family
-from ...local_models.windowed_sh import REFERENCE_TOLERANCE
+from ...local_models.irradiance.windowed_sh import REFERENCE_TOLERANCE
 from ...metrics.irradiance_error import METRIC_NAMES, WORST_CASE_MAX, WORST_CASE_MEAN
 from ...metrics.published import PUBLISHED_TOLERANCE
 from ..base import Claim

@@ -1,7 +1,7 @@
 """Closed forms that judge the ``sh9`` experiment's reference quadrature (numbers only).
 
 Each built-in with an exact irradiance gets one, computed *independently of the model under test*
-(nothing here calls :mod:`validate.local_models.sh`):
+(nothing here calls :mod:`validate.local_models.irradiance.sh`):
 
 * ``constant``  L: E(n) = πL (∫ max(0, n·ω) dω = π over the sphere).
 * ``two_tone``  sky L_s above the horizon, ground L_g below: E = π(L_s(1 + cos β)/2 + L_g(1 − cos β)/2),
@@ -16,7 +16,7 @@ Each built-in with an exact irradiance gets one, computed *independently of the 
 
   written out here from the formula, not taken from the model's table.
 * ``near_directional`` a uniform cap of half-angle α (radiance 1) at direction d: the cap irradiance
-  of Snyder 1996 / Lagarde & de Rousiers 2014 §4.7.2 (:func:`validate.local_models.sphere_cap.cap_irradiance`,
+  of Snyder 1996 / Lagarde & de Rousiers 2014 §4.7.2 (:func:`validate.local_models.arealight.sphere_cap.cap_irradiance`,
   itself checked against brute-force quadrature to 4·10⁻¹⁴ of π sin²α), E = π sin²α cos β where the
   cap is wholly above the horizon. Its error is normalised by the peak π sin²α (E = 0 on half the sphere).
 
@@ -31,7 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...local_models.sphere_cap import cap_irradiance
+from ...local_models.arealight.sphere_cap import cap_irradiance
 from ...scenes import procedural
 from ...scenes.environment import Environment
 
@@ -49,7 +49,7 @@ class ClosedForm:
 def clamped_cosine_coefficient(l: int) -> float:
     """A_l of max(cos θ, 0) (R&H JOSA 2001 eq. 19), from the general formula.
 
-    Written here on purpose rather than imported from :mod:`validate.local_models.sh`: these closed forms judge
+    Written here on purpose rather than imported from :mod:`validate.local_models.irradiance.sh`: these closed forms judge
     the reference, and ground truth never reuses the approximation's own code."""
     if l == 0:
         return math.pi

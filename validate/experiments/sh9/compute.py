@@ -4,7 +4,7 @@ Per environment (:func:`analyse_environment`, run through ``ctx.map``):
 
 * the reference E(n) ± δ(n) (:func:`validate.reference.irradiance.reference_irradiance`) at N
   spherical-Fibonacci normals, a lat-long grid of normals (heat map) and the pixels of a sphere;
-* SH9 of the environment (R&H 2001 eq. 12, :mod:`validate.local_models.sh`) and its error under
+* SH9 of the environment (R&H 2001 eq. 12, :mod:`validate.local_models.irradiance.sh`) and its error under
   every metric of :mod:`validate.metrics.irradiance_error`, the error against the order l_max = 0…8;
 * the same metrics under three model perturbations, the power checks of the claims made on SH9:
   ``cs_phase`` (a Condon–Shortley phase mismatch between projection and evaluation: L1m1, L11, L2m1,
@@ -14,7 +14,7 @@ Per environment (:func:`analyse_environment`, run through ``ctx.map``):
   normals and at the normals mirrored x → −x (a handedness bug: the power check of its claims);
 * the closed form where one exists (:mod:`.sh9_closed_forms`), the published coefficients where the
   probe is one of the paper's (:mod:`validate.metrics.published`), or why not;
-* Filament cmgen's automatic window (:mod:`validate.local_models.cmgen_window`, technique
+* Filament cmgen's automatic window (:mod:`validate.local_models.irradiance.cmgen_window`, technique
   ``sh9_cmgen_auto``): the cut-off it picks for this map, the Hölder bound of that map's kernel, and the
   windowed irradiance's minimum over :data:`DENSE_NORMALS` normals (float64) at the chosen cut-off, at the
   smallest cut-off the bisection rejected and without a window (:func:`cmgen_check`);
@@ -32,10 +32,10 @@ from typing import Any
 
 import numpy as np
 
-from ...local_models import cmgen_window
+from ...local_models.irradiance import cmgen_window
 from ...local_models import irradiance as irradiance_family
-from ...local_models import sh as shm
-from ...local_models.windowed_sh import kernel_bound
+from ...local_models.irradiance import sh as shm
+from ...local_models.irradiance.windowed_sh import kernel_bound
 from ...metrics.irradiance_error import ErrorStats, irradiance_errors
 from ...metrics.published import fit_exposure
 from ...reference import pathtrace

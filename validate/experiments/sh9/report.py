@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from ...local_models import irradiance as irradiance_family
-from ...local_models import sh as shm
+from ...local_models.irradiance import sh as shm
 from ...metrics.irradiance_error import METRIC_NAMES
 from ...metrics.published import PUBLISHED_TOLERANCE
 from ...report import plots

@@ -11,7 +11,7 @@ albedo) from the ``aov`` integrator; the visible fraction V of the disc per pixe
 rays), which splits the image into lit (V = 1), penumbra and umbra (V = 0).
 
 Techniques: the ``shadow`` family (:mod:`validate.local_models.families`); built-ins ``hard``,
-``pcf`` (3×3) and ``pcss`` register in :mod:`validate.local_models.shadow_map`, and a plug-in is one
+``pcf`` (3×3) and ``pcss`` register in :mod:`validate.local_models.shadow.shadow_map`, and a plug-in is one
 file with ``@shadow.register``. Each is called as ``shadow.call(tech, shadow_map, light, points,
 normals)`` and shaded as ρ/π · E_disc · V′ (E_disc the closed-form unoccluded irradiance). The light's
 centre and direction do not change with r, so one shadow map per resolution serves every radius.

@@ -9,7 +9,7 @@ import numpy as np
 
 from ...errors import ValidateError
 from ...local_models import shadow
-from ...local_models import shadow_map as smod
+from ...local_models.shadow import shadow_map as smod
 from ...local_models.registry import Technique
 from ...metrics import shadow_error as se
 from ...reference import shadow_render as sr

@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...local_models import shadow_map as smod
+from ...local_models.shadow import shadow_map as smod
 from ...metrics import shadow_error as se
 from ...scenes import shadow_scenes as ss
 from ...scenes.latlong import luminance

@@ -3,7 +3,7 @@ technique's errors, and the internal sweeps (resolution, bias, PCF kernel, edge 
 
 Every shadow technique is taken from the registry (``for tech in shadow``) and called through
 ``shadow.call(tech, shadow_map, light, points, normals)``, which checks the family's output contract;
-built-ins (:mod:`validate.local_models.shadow_map`) and plug-ins are measured alike. The sweeps of
+built-ins (:mod:`validate.local_models.shadow.shadow_map`) and plug-ins are measured alike. The sweeps of
 bias and PCF kernel stay internal: they vary parameters of the built-in functions directly.
 """
 
@@ -16,7 +16,7 @@ import numpy as np
 
 from ...errors import ValidateError
 from ...local_models import shadow
-from ...local_models import shadow_map as smod
+from ...local_models.shadow import shadow_map as smod
 from ...local_models.registry import Technique
 from ...metrics import shadow_error as se
 from ...reference import shadow_render as sr
@@ -207,7 +207,7 @@ def band_test(sm: smod.ShadowMap, frame: Frame, geometry: Any, r: float) -> dict
 def upper_bounds(sm: smod.ShadowMap, frame: Frame, techniques: list[Technique], r: float) -> dict[str, Any]:
     """For each technique registered with meta ``upper_bound=True`` (the filterable maps): the largest amount
     by which its V′ falls below the filtered depth test P(D ≥ t) over the same 6×6 weights
-    (:func:`~validate.local_models.shadow_map.filter_footprint`), and the same after the light-bleeding
+    (:func:`~validate.local_models.shadow.shadow_map.filter_footprint`), and the same after the light-bleeding
     reduction V′ → clamp((V′ − a)/(1 − a)), a = BLEEDING_REDUCTION (the power check)."""
     p = smod.filter_footprint(sm, frame.position).depth_test()
     out = {}
