@@ -28,7 +28,7 @@ import numpy as np
 from ..local_models import irradiance as irradiance_family
 from ..local_models.irradiance import sh as shm
 from ..local_models.irradiance.engines import cube_faces, worker
-from ..local_models.irradiance.irradiance_map import cube_texel_directions, cube_texel_solid_angles
+from ..geometry import cube_texel_directions, cube_texel_solid_angles
 from ..local_models.registry import Technique
 from ..metrics.irradiance_error import ErrorStats, irradiance_errors
 from ..reference.irradiance import reference_irradiance

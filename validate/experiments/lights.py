@@ -36,7 +36,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ValidateError
-from ..local_models.light.classic_lights import light as family
+from ..local_models import light as family
 from ..reference import light_render as lr
 from ..scenes import light_scenes as ls
 from ..scenes.latlong import luminance

@@ -45,7 +45,7 @@ import numpy as np
 from ..backend import init
 from ..local_models import family
 from ..local_models.brdf.brdf_multiscatter import tables
-from ..local_models.brdf.classic_brdfs import ggx_d
+from ..local_models.brdf.common import ggx_d
 from ..local_models.registry import Technique
 from ..reference import microsurface_bsdf as mbsdf
 from ..reference import microsurface_walk as mw

@@ -181,7 +181,7 @@ def term_analysis(m: Measurements, mats: list[bs.Material]) -> None:
     """rel_l1 and reflected-energy ratio vs Mitsuba of each step of :data:`TERM_STEPS` (Beckmann materials), and
     the Fresnel terms alone on the dielectric material: weighted error of Schlick(n·l) and Schlick(v·h) against
     the exact F(v·h)."""
-    from ...local_models.brdf.classic_brdfs import Geometry, cook_torrance_printed_terms, fresnel_exact, fresnel_schlick
+    from ...local_models.brdf.common import Geometry, cook_torrance_printed_terms, fresnel_exact, fresnel_schlick
 
     lights, views, w = bs.brdf_grid(m.settings.grid, m.settings.grid)
     g = Geometry(_normals(len(lights)), lights, views)
@@ -247,7 +247,7 @@ def minnaert_fit(params: dict[str, Any], lights: np.ndarray, views: np.ndarray, 
 def on_terms(params: dict[str, Any], lights: np.ndarray, views: np.ndarray, ref: np.ndarray) -> dict[str, float]:
     """The full Oren–Nayar model without its inter-reflection term L₂ (power check of the ON claim), and the share
     of L₂ in the full model's light (Σ L₂ / Σ (L₁ + L₂))."""
-    from ...local_models.brdf.classic_brdfs import Geometry, oren_nayar_full_terms
+    from ...local_models.brdf.common import Geometry, oren_nayar_full_terms
 
     g = Geometry(_normals(len(lights)), lights, views)
     l1, l2 = oren_nayar_full_terms(float(params["sigma"]), np.asarray(params["albedo"], dtype=np.float64), g)

@@ -10,9 +10,9 @@ from __future__ import annotations
 from dataclasses import replace
 
 from ...local_models import irradiance as irradiance_family
-from ...local_models.irradiance.windowed_sh import REFERENCE_TOLERANCE
 from ...metrics.irradiance_error import METRIC_NAMES, WORST_CASE_MAX, WORST_CASE_MEAN
 from ...metrics.published import PUBLISHED_TOLERANCE
+from ...scenes.latlong import CLOSED_FORM_TOLERANCE as CLOSED_FORM  # the suite's one closed-form tolerance
 from ..base import Claim
 from ..formatting import pct as _pct
 from ..techniques import Measured, technique_claims, technique_scope
@@ -38,7 +38,6 @@ BANDLIMITED_EXACT = 1e-3
 # every environment here (README § Design); 0.1 % is the accuracy the SH claims need (their margins
 # are ≥ 1.6 % Φ at 1 %/5 %).
 CONVERGENCE = 1e-3
-CLOSED_FORM = 1e-3  # quadrature vs closed form: the same 0.1 % (measured ≤ 3.3·10⁻⁴, near_directional)
 ATTAINS_BOUND = "near_directional"  # built to approach the directional worst case
 # "attains": > 95 % of the bound. A 0.5° disc is a directional light up to O(α²) = 8·10⁻⁵ and the
 # texel blur; measured 98 % of the max, 99.9 % of the mean.
@@ -261,7 +260,7 @@ def cmgen_claims(m: Measurements) -> list[Claim]:
                        for e, (_, b) in excess.items())
         out.append(Claim("sh9.cmgen_auto.kernel_bound", "cmgen auto window: max error ≤ the Hölder bound of each map's "
                          f"own kernel on every environment (worst: {worst}, bound {_pct(bound)})",
-                         "flux_rgb max − sup_x |K̃_w(x) − max(x, 0)| (worst environment)", REFERENCE_TOLERANCE,
+                         "flux_rgb max − sup_x |K̃_w(x) − max(x, 0)| (worst environment)", CLOSED_FORM,
                          st["max"] - bound, st["max_uncertainty"], unit="%",
                          source="Hölder on the windowed zonal kernel K̃_w = Σ w_l A_l (2l+1)/(4π) P_l of the map's "
                                 "cut-off (the argument of R&H JOSA 2001's 3/32 bound; validate.local_models."

@@ -6,8 +6,8 @@ from typing import Any
 
 import numpy as np
 
-from ..report import plots
-from .base import Context, Figure, Section, Table
+from ...report import plots
+from ..base import Context, Figure, Section, Table
 
 NAME = "uberlight"
 

@@ -24,9 +24,9 @@ from typing import Any
 import numpy as np
 from scipy.optimize import least_squares, minimize_scalar
 
-from ..local_models import uberlight as ub
-from ..reference import uberlight_render as ur
-from ..scenes import uberlight_scenes as us
+from ...local_models.uberlight import orange_book as ub
+from ...reference import uberlight_render as ur
+from ...scenes import uberlight_scenes as us
 
 
 def light_mapping(lum: us.Luminaire, intensity: float, shape: Mapping[str, float], **extra: float) -> dict[str, Any]:

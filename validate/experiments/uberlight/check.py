@@ -29,14 +29,14 @@ from typing import Any
 
 import numpy as np
 
-from ..local_models.registry import Technique
-from ..local_models.uberlight import uberlight as family
-from ..reference import uberlight_render as ur
-from ..scenes import uberlight_scenes as us
-from . import uberlight_measure as um
-from . import uberlight_report as report
-from .base import Claim, Context, ExperimentResult, register_experiment
-from .techniques import CheckResult, Measured, Stat, technique_claims, technique_entry
+from ...local_models.registry import Technique
+from ...local_models import uberlight as family
+from ...reference import uberlight_render as ur
+from ...scenes import uberlight_scenes as us
+from . import compute as um
+from . import report as report
+from ..base import Claim, Context, ExperimentResult, register_experiment
+from ..techniques import CheckResult, Measured, Stat, technique_claims, technique_entry
 
 NAME = "uberlight"
 INTENSITY = 50.0  # W sr⁻¹ on the axis
