@@ -25,10 +25,10 @@ from typing import Any
 
 import numpy as np
 
+from ..geometry import cube_texel_directions, cube_texel_solid_angles
 from ..local_models import irradiance as irradiance_family
 from ..local_models.irradiance import sh as shm
 from ..local_models.irradiance.engines import cube_faces, worker
-from ..geometry import cube_texel_directions, cube_texel_solid_angles
 from ..local_models.registry import Technique
 from ..metrics.irradiance_error import ErrorStats, irradiance_errors
 from ..reference.irradiance import reference_irradiance

@@ -17,8 +17,8 @@ from typing import Any
 
 import numpy as np
 
-from ..local_models.arealight import sphere_cap
 from ..local_models import light as family
+from ..local_models.arealight import sphere_cap
 from ..local_models.light.light_grid import emitter_points
 from ..reference import light_render as lr
 from ..scenes.light_scenes import Light

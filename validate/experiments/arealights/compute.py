@@ -24,9 +24,7 @@ from scipy.optimize import brentq
 
 from ...backend import float_type
 from ...local_models import arealight
-from ...local_models.arealight import disc_sh
-from ...local_models.arealight import point_light
-from ...local_models.arealight import sphere_cap
+from ...local_models.arealight import disc_sh, point_light, sphere_cap
 from ...local_models.irradiance import sh as shm
 from ...local_models.registry import Technique
 from ...reference import area_irradiance as ai

@@ -35,8 +35,15 @@ from typing import Any
 import numpy as np
 
 from ...local_models import family
-from ...local_models.specular_arealight.ltc import fit_quadrature, ggx_cos, load_table, local_frames, ltc_density, ltc_integral
 from ...local_models.registry import Technique
+from ...local_models.specular_arealight.ltc import (
+    fit_quadrature,
+    ggx_cos,
+    load_table,
+    local_frames,
+    ltc_density,
+    ltc_integral,
+)
 from ...local_models.specular_arealight.representative_point import representative_point_tube
 from ...reference import area_specular_render as asr
 from ...stats import sidak_critical

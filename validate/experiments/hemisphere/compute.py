@@ -31,8 +31,8 @@ from typing import Any
 
 import numpy as np
 
-from ...local_models.irradiance import hemisphere as hm
 from ...local_models import irradiance
+from ...local_models.irradiance import hemisphere as hm
 from ...metrics.irradiance_error import METRIC_NAMES, irradiance_errors
 from ...reference import area_irradiance as ai
 from ...reference.irradiance import reference_irradiance

@@ -6,8 +6,8 @@ from typing import Any
 
 import numpy as np
 
-from ...local_models.irradiance import hemisphere as hm
 from ...local_models import irradiance
+from ...local_models.irradiance import hemisphere as hm
 from ...report import plots
 from ..base import Context, Figure, Section, Table
 from ..formatting import pct as _pct

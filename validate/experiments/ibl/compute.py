@@ -15,11 +15,12 @@ from typing import Any
 
 import numpy as np
 
+from ...geometry import cube_texel_directions
 from ...local_models import irradiance, specular
 from ...local_models.irradiance import irradiance_map as im
-from ...local_models.specular import prefiltered_specular as ps
 from ...local_models.irradiance import sh as shm
 from ...local_models.registry import Technique
+from ...local_models.specular import prefiltered_specular as ps
 from ...metrics import image_error as ie
 from ...metrics.irradiance_error import irradiance_errors
 from ...reference import ibl_render as rr
@@ -101,7 +102,7 @@ def reference_all(ctx: Any, st: Settings, scene: Scene, renders: dict[str, rr.Re
     the G-buffer normals of the diffuse, dented and front spheres)."""
     parts = {"test": latlong.fibonacci_sphere(st.test_normals),
              "claim": latlong.fibonacci_sphere(st.claim_normals) @ random_rotation(ctx.seed).T,
-             "texels": im.cube_texel_directions(st.sh_face).reshape(-1, 3)}
+             "texels": cube_texel_directions(st.sh_face).reshape(-1, 3)}
     gbuf = {k: renders[j].normal[renders[j].mask] for k, j in (("sphere", "diffuse"), ("dent", "dented"),
                                                                 ("front", "blend"))}
     values: dict[str, dict[str, tuple[np.ndarray, np.ndarray]]] = {}

@@ -41,10 +41,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...local_models import specular
 from ...local_models.irradiance import irradiance_map as im
 from ...local_models.specular import prefiltered_specular as ps
-from ...local_models import specular
 from ...local_models.specular import split_sum as ss
+from ...local_models.specular.common import block_deg_for_width, reflect
 from ...reference import ibl_render as rr
 from ...scenes import latlong
 from ...stats import sidak_alpha, sidak_critical, t_to_z
@@ -187,8 +188,8 @@ def phong_bound(radiance: np.ndarray, s: float, normals: np.ndarray, views: np.n
         c = np.clip(np.asarray(c, dtype=np.float64), 0.0, 1.0)
         return np.where((c > 0) & (c <= math.sin(tmax)), cn * c ** m, 0.0)
 
-    nodes = im.environment_nodes(radiance, ps.block_deg_for_width(ps.phong_lobe_width(m)))
-    r = ps.reflect(n, v)
+    nodes = im.environment_nodes(radiance, block_deg_for_width(ps.phong_lobe_width(m)))
+    r = reflect(n, v)
     interp = 0.25 * h * h * (_zonal(nodes, r, k2) + FACE_CURVATURE * _zonal(nodes, r, k1))
     horizon = _zonal(nodes, r, kh) if tmax > 0 else 0.0
     return interp + theta_v * _zonal(nodes, r, kv) + horizon

@@ -49,8 +49,8 @@ class ClosedForm:
 def clamped_cosine_coefficient(l: int) -> float:
     """A_l of max(cos θ, 0) (R&H JOSA 2001 eq. 19), from the general formula.
 
-    Written here on purpose rather than imported from :mod:`validate.local_models.irradiance.sh`: these closed forms judge
-    the reference, and ground truth never reuses the approximation's own code."""
+    Written here on purpose rather than imported from :mod:`validate.local_models.irradiance.sh`: these closed
+    forms judge the reference, and ground truth never reuses the approximation's own code."""
     if l == 0:
         return math.pi
     if l == 1:

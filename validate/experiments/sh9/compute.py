@@ -32,8 +32,8 @@ from typing import Any
 
 import numpy as np
 
-from ...local_models.irradiance import cmgen_window
 from ...local_models import irradiance as irradiance_family
+from ...local_models.irradiance import cmgen_window
 from ...local_models.irradiance import sh as shm
 from ...local_models.irradiance.windowed_sh import kernel_bound
 from ...metrics.irradiance_error import ErrorStats, irradiance_errors

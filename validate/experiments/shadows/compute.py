@@ -16,8 +16,8 @@ import numpy as np
 
 from ...errors import ValidateError
 from ...local_models import shadow
-from ...local_models.shadow import shadow_map as smod
 from ...local_models.registry import Technique
+from ...local_models.shadow import shadow_map as smod
 from ...metrics import shadow_error as se
 from ...reference import shadow_render as sr
 from ...scenes import shadow_scenes as ss

@@ -19,14 +19,19 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from scipy.optimize import least_squares, minimize_scalar
 
+from ...local_models import uberlight as family
 from ...local_models.uberlight import orange_book as ub
 from ...reference import uberlight_render as ur
 from ...scenes import uberlight_scenes as us
+from ..base import Context
+from ..techniques import Measured
+from .settings import Settings
 
 
 def light_mapping(lum: us.Luminaire, intensity: float, shape: Mapping[str, float], **extra: float) -> dict[str, Any]:
@@ -251,3 +256,188 @@ def fore_june_physical(radius: float, radiance: float, alpha: float = 2.0) -> di
         return float(np.max(np.abs(ub.fore_june_falloff(d, i0, d0, alpha, mm) / exact - 1.0)))
     res = minimize(err, np.array([2.8, 1.0]), method="Nelder-Mead", options={"xatol": 1e-4, "fatol": 1e-6})
     return {"d0_over_r": float(res.x[0]), "M_over_piL": float(res.x[1]), "max_rel": float(res.fun)}
+
+
+
+INTENSITY = 50.0  # W sr⁻¹ on the axis
+
+
+PROJECTOR_SHAPE = {"width": 0.35, "height": 0.25, "width_edge": 0.0, "height_edge": 0.0, "roundness": 1.0}
+
+
+@dataclass
+class Measurements:
+    settings: Settings
+    data: dict[str, Any] = field(default_factory=dict)
+    images: Settings = field(default_factory=dict)
+    measured: dict[str, dict[str, Measured]] = field(default_factory=dict)
+
+
+def projector_frame(s: Settings, shape: dict[str, float]) -> tuple[Frame, np.ndarray]:
+    scene = us.projector_scene(s.width, s.height, s.fov_deg)
+    tex = ur.projector_texture(projector_mask(shape, s.texture, s.fov_deg), INTENSITY, s.fov_deg)
+    frame = Frame(scene, ur.render(scene, tex, 1, 2, s.seed))
+    return frame, ~edge_footprint(frame, shape, s.texture, s.fov_deg)
+
+
+def rolled(lum: us.Luminaire, deg: float) -> np.ndarray:
+    """The light's axes rolled by ``deg`` about its forward axis (the 1° power check)."""
+    axes = lum.frame()
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    return np.stack([c * axes[0] + s * axes[1], -s * axes[0] + c * axes[1], axes[2]])
+
+
+def fore_june_extra(s: Settings) -> dict[str, float]:
+    """Fore June parameters matching the inverse square far field (α = 2) with a 0.5 m near field."""
+    return {"d0": 0.5, "alpha": 2.0, "max_intensity": INTENSITY / 0.5 ** 2 * 4.0}
+
+
+def projector_comparison(s: Settings, m: Measurements) -> None:
+    """Every technique against the projector (edge widths 0); power checks for the inverse-square one."""
+    frame, keep = projector_frame(s, PROJECTOR_SHAPE)
+    lum = frame.scene.luminaire
+    base = light_mapping(lum, INTENSITY, PROJECTOR_SHAPE, **fore_june_extra(s))
+    out: dict[str, Any] = {"compared_pixels": int(keep.sum()), "edge_pixels": int((~keep).sum()),
+                           "lit_pixels": int((frame.radiance > 0).sum()), "peak": frame.peak, "techniques": {}}
+    wide = dict(base, width=PROJECTOR_SHAPE["width"] * 1.01)
+    roll = dict(base, axes=rolled(lum, 1.0))
+    for tech in family:
+        call = lambda light, t=tech: family.call(t, light, frame.position, frame.normal, frame.views,  # noqa: E731
+                                                 frame.material(), shadow=frame.shadow)
+        approx = call(base)
+        e = projector_errors(frame, approx, keep)
+        pw = projector_errors(frame, call(wide), keep)["max_rel"]
+        pr = projector_errors(frame, call(roll), keep)["max_rel"]
+        out["techniques"][tech.name] = dict(e, power_width=pw, power_roll=pr)
+        m.measured.setdefault(tech.name, {})["projector.max_rel"] = Measured(
+            e["max_rel"], e["uncertainty"], pw, "width 1 % too large (one part in 100 of w)")
+        m.measured[tech.name]["projector.mean_rel"] = Measured(e["mean_rel"], e["uncertainty"])
+        m.measured[tech.name]["projector.scaled_max_rel"] = Measured(e["scaled_max_rel"], e["uncertainty"])
+        m.measured[tech.name]["projector.max_rel.roll"] = Measured(e["max_rel"], e["uncertainty"], pr,
+                                                                   "light rolled 1° about its axis")
+        m.images.setdefault("projector", {})[tech.name] = frame.image(approx)
+    m.images.projector_ref = frame.ref.radiance
+    m.data["projector"] = out
+    m.data["distance_shaping"] = distance_shaping(frame, keep, base)
+
+
+def distance_shaping(frame: Frame, keep: np.ndarray, base: dict[str, Any]) -> dict[str, Any]:
+    """The listing's cutoff fitted to 1/d² over the lit receivers' depths, then rendered by the listing
+    technique (intensity K·I₀, far / far_edge fitted) against the projector."""
+    lum = frame.scene.luminaire
+    lc, _ = frame.unshaped(lum)
+    lit = keep & (frame.radiance > 0)
+    d = np.linalg.norm(lc, axis=1)
+    fit = distance_shaping_fit(lc[lit, 2], d[lit])
+    out: dict[str, Any] = {"fit": fit}
+    for label, light in (("fitted_cutoff", dict(base, intensity=INTENSITY * fit["K"], far=fit["far"],
+                                                 far_edge=fit["far_edge"])),
+                         ("constant", dict(base, intensity=INTENSITY * fit["constant_K"]))):
+        approx = family.call("uberlight", light, frame.position, frame.normal, frame.views, frame.material(),
+                             shadow=frame.shadow)
+        ref = frame.radiance[lit]
+        out[label] = {"max_rel_of_value": float(np.max(np.abs(approx[lit] / ref - 1.0))),
+                      "rms_rel_of_value": float(np.sqrt(np.mean((approx[lit] / ref - 1.0) ** 2)))}
+    return out
+
+
+def barndoor_frames(ctx: Context, s: Settings) -> list[Frame]:
+    def one(config: list[float]) -> ur.UberRender:
+        sc = barndoor(s, *config)
+        return ur.render(sc, None, s.barndoor_spp, s.barndoor_passes, s.seed)
+    configs = [list(c) for c in s.barndoors]
+    refs = ctx.map(one, configs, "uberlight: barn-door renders")
+    return [Frame(barndoor(s, *c), ref, shadowed=False) for c, ref in zip(configs, refs, strict=True)]
+
+
+def barndoor(s: Settings, radius: float, roundness: float = 0.0) -> us.UberScene:
+    """The barn door with disc radius ``radius`` and aperture roundness ``roundness`` (0: rectangular hole)."""
+    return us.barndoor_scene(s.barndoor_width, s.barndoor_height, radius, s.depth, tuple(s.aperture),
+                             INTENSITY / (math.pi * radius ** 2), roundness)
+
+
+def config_key(scene: us.UberScene) -> str:
+    """``r0.025`` (rectangular hole) or ``r0.025_rounded0.6``."""
+    return scene.name.removeprefix("barndoor_")
+
+
+def barndoor_fits(frames: list[Frame], m: Measurements) -> None:
+    """Fit per size, the edge error of the fit, of the fit with edges × 1.5 and of the hard edge; the budget."""
+    disc = smoothstep_vs_disc()
+    rows = []
+    for f in frames:
+        lum = f.scene.luminaire
+        fit = fit_beam(f)
+        p = np.asarray(fit["params"])
+        e, u, n = edge_rms(f, p, p)
+        wide = p.copy()
+        wide[2:4] *= 1.5
+        ew, _, _ = edge_rms(f, wide, p)
+        hard = p.copy()
+        hard[0:2] += p[2:4] / 2
+        hard[2:4] = 0.0
+        eh, _, _ = edge_rms(f, hard, p)
+        zc = float(np.median(Frame.unshaped(f, lum)[0][:, 2]))
+        geo = 2 * lum.radius * (1 - lum.depth / zc) / lum.depth
+        rows.append({"key": config_key(f.scene), "radius": lum.radius, "aperture_roundness": lum.aperture_roundness,
+                     "depth": lum.depth, "aperture": list(lum.aperture), "fit": fit,
+                     "edge_rms": e, "edge_rms_uncertainty": u, "band_pixels": n, "edge_rms_wide": ew,
+                     "edge_rms_hard": eh, "budget": error_budget(f, p, disc),
+                     "geometric_edge": geo, "predicted_edge": geo * disc["span_over_diameter"],
+                     "median_depth": zc})
+        m.images.setdefault("barndoor", []).append((config_key(f.scene), f.ref.radiance, f.image(beam_model(
+            *f.unshaped(lum), p))))
+    m.data["barndoor"] = {"sizes": rows, "smoothstep_vs_disc": disc}
+
+
+def barndoor_techniques(frames: list[Frame], m: Measurements) -> None:
+    """Every technique with the fitted shape against each barn-door render: RMS of (L − L_ref)/peak."""
+    for tech in family:
+        worst = (0.0, 0.0)
+        per: dict[str, Any] = {}
+        for f, row in zip(frames, m.data["barndoor"]["sizes"], strict=True):
+            light = light_mapping(f.scene.luminaire, row["fit"]["intensity"], row["fit"]["shape"],
+                                     **{"d0": 0.5, "alpha": 2.0, "max_intensity": row["fit"]["intensity"] * 16.0})
+            approx = family.call(tech, light, f.position, f.normal, f.views, f.material(), shadow=f.shadow)
+            d = (approx - f.radiance) / f.peak
+            ms = float(np.mean(d ** 2) - np.mean((f.uncertainty / f.peak) ** 2))
+            val = math.sqrt(max(ms, 0.0))
+            unc = math.sqrt(val * val + float(np.std(d ** 2, ddof=1) / math.sqrt(len(d)))) - val
+            per[row["key"]] = {"rms_rel": val, "uncertainty": unc}
+            worst = max(worst, (val, unc))
+        m.data.setdefault("barndoor_techniques", {})[tech.name] = per
+        m.measured.setdefault(tech.name, {})["barndoor.rms_rel"] = Measured(worst[0], worst[1])
+
+
+def sweeps(s: Settings, m: Measurements) -> None:
+    """Book Fig. 12.3: roundness and edge-width sweeps, the inverse-square überlight against the projector."""
+    out: dict[str, Any] = {"roundness": {}, "edge": {}}
+    for key, values in (("roundness", s.roundness_sweep), ("edge", s.edge_sweep)):
+        for val in values:
+            shape = dict(PROJECTOR_SHAPE, roundness=val) if key == "roundness" else dict(
+                PROJECTOR_SHAPE, width_edge=val, height_edge=val)
+            frame, keep = projector_frame(s, shape)
+            light = light_mapping(frame.scene.luminaire, INTENSITY, shape)
+            approx = family.call("uberlight_inverse_square", light, frame.position, frame.normal, frame.views,
+                                 frame.material(), shadow=frame.shadow)
+            out[key][f"{val:g}"] = projector_errors(frame, approx, keep)
+            m.images.setdefault("sweep", []).append((f"{key} {val:g}", frame.ref.radiance, frame.image(approx),
+                                                     frame.image((approx - frame.radiance) / frame.peak)))
+    m.data["sweeps"] = out
+
+
+def compute(ctx: Context, s: Settings) -> Measurements:
+    """The projector comparison, the barn-door fits and technique errors, the sweeps and the falloff studies."""
+    m = Measurements(s.to_json())
+    projector_comparison(s, m)
+    frames = barndoor_frames(ctx, s)
+    barndoor_fits(frames, m)
+    barndoor_techniques(frames, m)
+    sweeps(s, m)
+    r = frames[0].scene.luminaire
+    m.data["falloff"] = {f"r{f.scene.luminaire.radius:g}": falloff_study(
+        f.scene.luminaire.radius, f.scene.luminaire.radiance,
+        [k * f.scene.luminaire.radius for k in s.d0_over_r]) for f in frames
+        if f.scene.luminaire.aperture_roundness == 0}
+    m.data["falloff_physical"] = fore_june_physical(r.radius, r.radiance)
+    return m
