@@ -17,11 +17,11 @@ from typing import Any
 
 import numpy as np
 
-from ..local_models import light as family
-from ..local_models.arealight import sphere_cap
-from ..local_models.light.light_grid import emitter_points
-from ..reference import light_render as lr
-from ..scenes.light_scenes import Light
+from ...local_models import light as family
+from ...local_models.arealight import sphere_cap
+from ...local_models.light.light_grid import emitter_points
+from ...reference import light_render as lr
+from ...scenes.light_scenes import Light
 
 STANDIN_LEVEL = 0.01  # the finding's "within 1 %"
 DISC_REFERENCE_GRID = 64

@@ -6,9 +6,9 @@ from typing import Any
 
 import numpy as np
 
-from ..report import plots
-from .base import Context, Figure, Section, Table
-from .formatting import pct_fixed as _pct
+from ...report import plots
+from ..base import Context, Figure, Section, Table
+from ..formatting import pct_fixed as _pct
 
 
 def _pm(entry: dict[str, Any]) -> str:
@@ -124,7 +124,7 @@ def grid_section(m: Any, ctx: Context, name: str) -> Section:
 
 
 def spot_section(m: Any, ctx: Context, name: str) -> Section:
-    from .lights_sweeps import mitsuba_spot_profile
+    from .sweeps import mitsuba_spot_profile
 
     sp = m.data["spot"]
     a = np.linspace(0.0, sp["cutoff_deg"] + 4.0, 57)
@@ -144,7 +144,7 @@ def spot_section(m: Any, ctx: Context, name: str) -> Section:
 
 
 def lamp_section(m: Any, ctx: Context, name: str) -> Section:
-    from .lights_sweeps import lamp_profile, mitsuba_spot_profile
+    from .sweeps import lamp_profile, mitsuba_spot_profile
 
     lamp = m.data["lamp"]
     fit = lamp["fit"]

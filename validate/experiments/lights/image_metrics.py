@@ -35,9 +35,9 @@ from typing import Any
 
 import numpy as np
 
-from ..metrics.stats import mean_and_stderr, sidak_critical, t_to_z
-from ..scenes.latlong import luminance
-from .techniques import Measured
+from ...metrics.stats import mean_and_stderr, sidak_critical, t_to_z
+from ...scenes.latlong import luminance
+from ..techniques import Measured
 
 ALPHA = 0.01  # family-wise level of the per-pixel agreement tests
 BIAS_SIGMAS = 4.0  # |pooled z| < 4: false-alarm rate 6·10⁻⁵

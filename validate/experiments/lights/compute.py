@@ -35,16 +35,16 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ValidateError
-from ..local_models import light as family
-from ..reference import light_render as lr
-from ..scenes import light_scenes as ls
-from ..scenes.latlong import luminance
-from . import lights_metrics as lm
-from . import lights_report as report
-from . import lights_sweeps as sw
-from .base import Claim, Context, ExperimentResult, register_experiment
-from .techniques import technique_claims, technique_entry
+from ...errors import ValidateError
+from ...local_models import light as family
+from ...reference import light_render as lr
+from ...scenes import light_scenes as ls
+from ...scenes.latlong import luminance
+from . import image_metrics as lm
+from . import report as report
+from . import sweeps as sw
+from ..base import Claim, Context, ExperimentResult, register_experiment
+from ..techniques import technique_claims, technique_entry
 
 NAME = "lights"
 SINGLES = ("point", "spot", "directional", "rectangle", "disk", "sphere")
@@ -192,7 +192,7 @@ def grid_unshadowed(frames: dict[str, Frame], s: dict[str, Any]) -> dict[str, An
 def grid_shadowed(frames: dict[str, Frame], s: dict[str, Any]) -> dict[str, Any]:
     """Shadowed n×n grid by region (lit / penumbra / umbra, as in ``shadows``) against the fine grid
     n_ref × n_ref (noise-free self-convergence), and the fine grid against Mitsuba's render (z test)."""
-    from ..metrics import shadow_error as se
+    from ...metrics import shadow_error as se
 
     out: dict[str, Any] = {"n": list(s["grid_ns"]), "reference_n": s["grid_reference"]}
     for kind in ls.AREA_KINDS:
