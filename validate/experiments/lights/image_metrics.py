@@ -35,8 +35,8 @@ from typing import Any
 
 import numpy as np
 
-from ...metrics.stats import mean_and_stderr, sidak_critical, t_to_z
 from ...scenes.latlong import luminance
+from ...stats import mean_and_stderr, sidak_critical, t_to_z
 from ..techniques import Measured
 
 ALPHA = 0.01  # family-wise level of the per-pixel agreement tests

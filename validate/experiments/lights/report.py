@@ -6,9 +6,15 @@ from typing import Any
 
 import numpy as np
 
+from ...local_models import light as family
 from ...report import plots
+from ...scenes import light_scenes as ls
 from ..base import Context, Figure, Section, Table
 from ..formatting import pct_fixed as _pct
+from ..techniques import technique_entry
+from .compute import Measurements
+from .settings import NAME
+from .sweeps import lamp_profile, mitsuba_spot_profile
 
 
 def _pm(entry: dict[str, Any]) -> str:
@@ -124,8 +130,6 @@ def grid_section(m: Any, ctx: Context, name: str) -> Section:
 
 
 def spot_section(m: Any, ctx: Context, name: str) -> Section:
-    from .sweeps import mitsuba_spot_profile
-
     sp = m.data["spot"]
     a = np.linspace(0.0, sp["cutoff_deg"] + 4.0, 57)
     cos_a = np.cos(np.radians(a))
@@ -144,8 +148,6 @@ def spot_section(m: Any, ctx: Context, name: str) -> Section:
 
 
 def lamp_section(m: Any, ctx: Context, name: str) -> Section:
-    from .sweeps import lamp_profile, mitsuba_spot_profile
-
     lamp = m.data["lamp"]
     fit = lamp["fit"]
     a = np.linspace(0.0, fit["edge_deg"] * 1.15, 47)
@@ -182,7 +184,112 @@ def linearity_section(m: Any, ctx: Context, name: str) -> Section:
         f"{t['critical_z']:.2f}, α = 0.01, {t['pixels']} pixels)."], figures=[Figure(rel, "z map", 420)])
 
 
-def sections(m: Any, ctx: Context, name: str) -> list[Section]:
+def sections(m: Any, ctx: Context) -> list[Section]:
+    name = NAME
     return [references_section(m, ctx, name), techniques_section(m, ctx, name), attenuation_section(m, ctx, name),
             standin_section(m, ctx, name), grid_section(m, ctx, name), spot_section(m, ctx, name),
             lamp_section(m, ctx, name), linearity_section(m, ctx, name)]
+
+
+def _slope(x: float | None) -> str:
+    return "n/a" if x is None else f"{x:.2f}"
+
+
+def attenuation_findings(m: Measurements) -> list[str]:
+    att, tech = m.data["attenuation"], m.data["techniques"]
+    lo, hi = att["scene_distance_range"]
+    out = []
+    for name, a in att["techniques"].items():
+        at = a["relative_error_at"]
+        bias = tech[name]["metrics"].get("point", {}).get("bias", {}).get("value", float("nan"))
+        out.append(f"{name}: E/E_(1/d²) − 1 = {at['1 m']:+.1%} at 1 m, {at['5 m']:+.1%} at 5 m, {at['10 m']:+.1%} at "
+                   f"10 m; with the best single intensity scale ({a['best_scale']:.3g}×) still "
+                   f"{a['best_scale_max_error']:.1%} off somewhere in the scene's {lo:.2f}–{hi:.2f} m; in the "
+                   f"rendered scene its bias is {bias:+.1%}.")
+    return out
+
+
+def grid_findings(m: Measurements) -> list[str]:
+    g, gs = m.data["grid"], m.data["grid_shadowed"]
+    out = [f"n×n grid, unshadowed rectangle: max relative error {g['midpoint_max_rel'][0]:.2%} at n = 1, "
+           f"{g['midpoint_max_rel'][-1]:.2e} at n = {g['n'][-1]}; slope {g['midpoint_slope']:.2f} (theory −2); "
+           f"corner rule slope {g['corner_slope']:.2f} (theory −1)."]
+    for kind in ls.AREA_KINDS:
+        sh, sl, z = gs[kind], gs[kind]["slopes"], gs[kind]["mitsuba"]
+        out.append(f"Shadowed {kind} grid against the {gs['reference_n']}² grid: penumbra mean error "
+                   f"{sh['penumbra'][0]:.1%} at n = 1, {sh['penumbra'][-1]:.2%} at n = {gs['n'][-1]} (slope "
+                   f"{_slope(sl['penumbra'])}), lit {sh['lit'][-1]:.2e} (slope {_slope(sl['lit'])}); the "
+                   f"{gs['reference_n']}² grid vs Mitsuba: pooled z {z['pooled_z']:+.2f} (bound ±{z['bias_bound']:g}, "
+                   f"relative bias {z['relative_bias']:+.2%}), max |z| {z['max_abs_z']:.2f} (critical "
+                   f"{z['critical_z']:.2f}).")
+    return out
+
+
+def lamp_finding(lamp: dict[str, Any]) -> str:
+    fit, mod = lamp["fit"], lamp["models"]
+    z = mod["area_grid_shadowed"]["agreement"]
+    return (f"A real lamp (disc r = {lamp['radius'] * 100:g} cm at the end of a {lamp['depth'] * 100:g} cm black tube "
+            f"of radius {lamp['aperture'] * 100:g} cm, "
+            f"beam edge {fit['edge_deg']:.1f}°): its far-field profile is matched by cos^f α with f = "
+            f"{fit['cos_f_exponent']:.1f} (rms {fit['cos_f_rms']:.1%} of the peak) or by Mitsuba's linear spot with "
+            f"beam {fit['mitsuba_beam_deg']:.1f}°, cutoff {fit['mitsuba_cutoff_deg']:.1f}° (rms "
+            f"{fit['mitsuba_rms']:.1%}); rendered, the fitted cos^f spot is off by {mod['spot_cos_f']['mean']:.1%} on "
+            f"average (max {mod['spot_cos_f']['max']:.0%}), the fitted linear spot by "
+            f"{mod['spot_mitsuba']['mean']:.1%} "
+            f"(max {mod['spot_mitsuba']['max']:.0%}), the 16² grid through the tube by "
+            f"{mod['area_grid_shadowed']['mean']:.2%} ± {mod['area_grid_shadowed']['mean_uncertainty']:.2%} "
+            f"(pooled z {z['pooled_z']:+.2f}).")
+
+
+def findings(m: Measurements) -> list[str]:
+    out = attenuation_findings(m)
+    st = m.data["standin"]
+    for kind in ls.AREA_KINDS:
+        r = st[kind]["ratio_within_1pct"]
+        out.append(f"A single point light stands in for the {kind} within 1 % (worst receiver, polar ≤ "
+                   f"{max(st['polar_deg']):g}°, tilt ≤ {max(st['tilt_deg']):g}°) beyond d/size = "
+                   + (f"{r:.3g}" if r is not None else "> the largest ratio swept") + " (size = largest dimension).")
+    out += grid_findings(m)
+    sp, tech = m.data["spot"], m.data["techniques"]
+    cos_f = tech.get("spot_cos_f", {}).get("metrics", {}).get("spot", {})
+    out.append(f"Mitsuba's spot (beam {sp['beam_deg']:g}°, cutoff {sp['cutoff_deg']:g}°) is best matched by cos^f α "
+               f"with f = {sp['fitted_exponent']:.1f} (rms {sp['fit_rms']:.1%} of the peak over the cone)"
+               + (f"; rendered, that cos^f spot is off by {cos_f['mean']['value']:.1%} on average and "
+                  f"{cos_f['max']['value']:.0%} at worst (of the mean lit radiance)." if cos_f else "."))
+    out.append(lamp_finding(m.data["lamp"]))
+    grid = {k: tech.get(k, {}).get("metrics", {}) for k in ("area_grid", "area_grid_shadowed")}
+    if all(grid.values()):
+        n = m.settings["technique_grid"]
+        out.append(f"The {n}×{n} grid over the scene, without its shadow rays: bias " + ", ".join(
+            f"{k} {v['bias']['value']:+.1%}" for k, v in grid["area_grid"].items()) + "; with them: " + ", ".join(
+            f"{k} {v['bias']['value']:+.2%} (mean {v['mean']['value']:.2%} ± {v['mean']['uncertainty']:.2%})"
+            for k, v in grid["area_grid_shadowed"].items()) + ".")
+    two = tech.get("point_two_sided", {}).get("metrics", {}).get("point", {})
+    if two:
+        out.append(f"Two-sided lighting on this closed geometry with shadow rays: max difference from Mitsuba "
+                   f"{two['max']['value']:.1e} — a back face is always shadowed by its own object.")
+    lin, ms = m.data["linearity"]["test"], m.data["model_sum"]
+    out.append(f"Lights add linearly: pooled z = {lin['pooled_z']:+.2f} (bound ±{lin['bias_bound']:g}), max |z| = "
+               f"{lin['max_abs_z']:.2f} (critical {lin['critical_z']:.2f}); the local models summed are "
+               f"{ms['mean']:.2%} ± {ms['mean_uncertainty']:.2%} off on average (bias {ms['bias']:+.2%}).")
+    return out
+
+
+HEADING = "The textbooks' classic lights against physics"
+SUMMARY = ("Directional, point (inverse square and engine attenuations), spot (cos^f and Mitsuba's "
+           "profile) and area lights as n×n point grids, against Mitsuba's direct lighting.")
+
+
+def settings_json(m: Any) -> dict[str, Any]:
+    """``experiments.lights.settings``: the settings without the two long sweep grids."""
+    return {k: v for k, v in m.settings.items() if k not in ("ratios", "distances")}
+
+
+def data(m: Any) -> dict[str, Any]:
+    return {k: v for k, v in m.data.items() if k != "techniques"}
+
+
+def techniques(m: Any) -> dict[str, Any]:
+    """``experiments.lights.techniques.<name>``: metrics per light type the technique models."""
+    return {tech.name: technique_entry(tech, m.data["techniques"][tech.name]["metrics"],
+                                       lights=m.data["techniques"][tech.name]["lights"]) for tech in family}
