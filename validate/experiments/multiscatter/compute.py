@@ -42,18 +42,18 @@ from typing import Any
 
 import numpy as np
 
-from ..backend import init
-from ..local_models import family
-from ..local_models.brdf.brdf_multiscatter import tables
-from ..local_models.brdf.common import ggx_d
-from ..local_models.registry import Technique
-from ..reference import microsurface_bsdf as mbsdf
-from ..reference import microsurface_walk as mw
-from ..report import plots
-from ..scenes import brdf_scenes as bs
-from ..scenes.latlong import luminance
-from .base import Claim, Context, ExperimentResult, Figure, Section, Table, register_experiment
-from .techniques import technique_entry
+from ...backend import init
+from ...local_models import family
+from ...local_models.brdf.brdf_multiscatter import tables
+from ...local_models.brdf.common import ggx_d
+from ...local_models.registry import Technique
+from ...reference import microsurface_bsdf as mbsdf
+from ...reference import microsurface_walk as mw
+from ...report import plots
+from ...scenes import brdf_scenes as bs
+from ...scenes.latlong import luminance
+from ..base import Claim, Context, ExperimentResult, Figure, Section, Table, register_experiment
+from ..techniques import technique_entry
 
 NAME = "multiscatter"
 LIMIT = 0.005  # see the claim's source
