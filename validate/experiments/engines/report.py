@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from .base import Context, Figure, Section, Table
-from .engines_claims import Measurements
-from .engines_compute import BABYLON_CLAMP
-from .formatting import pct
+from ..base import Context, Figure, Section, Table
+from .claims import Measurements
+from .compute import BABYLON_CLAMP
+from ..formatting import pct
 
 METRICS = ("flux_luminance", "flux_rgb", "relative", "peak")
 
@@ -68,7 +68,7 @@ def clamp_table(m: Measurements) -> Table:
 
 
 def sweep_section(m: Measurements, ctx: Context) -> Section:
-    from ..report import plots
+    from ...report import plots
 
     tables, figs = [], []
     for env, s in m.sweeps.items():

@@ -14,13 +14,13 @@ from __future__ import annotations
 from functools import partial
 from typing import Any
 
-from ..local_models.irradiance.engines import UNAVAILABLE
-from ..local_models.irradiance.engines.worker import package_version
-from .base import Context, ExperimentResult, register_experiment
-from .engines_claims import Measurements, claims, face_claims, findings
-from .engines_compute import SETTINGS, engine_techniques, measure_environment, measure_face_sizes, measure_faces
-from .engines_report import sections
-from .techniques import technique_entry
+from ...local_models.irradiance.engines import UNAVAILABLE
+from ...local_models.irradiance.engines.worker import package_version
+from ..base import Context, ExperimentResult, register_experiment
+from .claims import Measurements, claims, face_claims, findings
+from .compute import SETTINGS, engine_techniques, measure_environment, measure_face_sizes, measure_faces
+from .report import sections
+from ..techniques import technique_entry
 
 TITLE = "Shipping engines: three.js and Babylon.js SH irradiance vs Mitsuba"
 SWEEP_FALLBACK = ("disc_on_sky", "sunsky_30deg")  # face-size sweep when no named probe is present
@@ -54,7 +54,7 @@ def compute(ctx: Context) -> Measurements:
 def technique_entries(m: Measurements) -> dict[str, Any]:
     """``experiments.engines.techniques.<name>``: every metric ± uncertainty per environment, the departure
     from the SH9 of its own faces, and the same metrics with band 1's sign flipped (the power check)."""
-    from ..local_models import irradiance
+    from ...local_models import irradiance
 
     out = {}
     names = {n for r in m.environments.values() for n in r["techniques"]}

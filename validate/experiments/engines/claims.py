@@ -23,12 +23,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..local_models.registry import Technique
-from ..metrics.irradiance_error import WORST_CASE_MAX, WORST_CASE_MEAN
-from .base import Claim
-from .engines_compute import BABYLON_CLAMP, SCALE_BUG, Settings, engine_techniques, three_weight_error
-from .formatting import pct
-from .techniques import Measured, technique_claims, technique_scope
+from ...local_models.registry import Technique
+from ...metrics.irradiance_error import WORST_CASE_MAX, WORST_CASE_MEAN
+from ..base import Claim
+from .compute import BABYLON_CLAMP, SCALE_BUG, Settings, engine_techniques, three_weight_error
+from ..formatting import pct
+from ..techniques import Measured, technique_claims, technique_scope
 
 K_MAX = 17.0 / 16.0  # max over x ∈ [−1, 1] of the SH9 kernel K̃(x) = 3/32 + x/2 + 15x²/32 (at x = 1)
 THREE_CONSTANTS = 1e-5  # three.js's six-digit constants: ≤ 3·10⁻⁶ relative per term, Σ|terms| ≤ 3.1 Φ
@@ -159,7 +159,7 @@ def declared_claims(m: Measurements) -> list[Claim]:
     """Thresholds a technique declares (``<metric>.<stat>``), judged on its worst environment in its scope
     (:func:`.techniques.technique_scope`); power: the
     same with band 1's sign flipped."""
-    from ..local_models import irradiance
+    from ...local_models import irradiance
 
     claims = []
     for tech in irradiance:

@@ -25,15 +25,15 @@ from typing import Any
 
 import numpy as np
 
-from ..geometry import cube_texel_directions, cube_texel_solid_angles
-from ..local_models import irradiance as irradiance_family
-from ..local_models.irradiance import sh as shm
-from ..local_models.irradiance.engines import cube_faces, worker
-from ..local_models.registry import Technique
-from ..metrics.irradiance_error import ErrorStats, irradiance_errors
-from ..reference.irradiance import reference_irradiance
-from ..scenes import latlong
-from ..scenes.environment import Environment
+from ...geometry import cube_texel_directions, cube_texel_solid_angles
+from ...local_models import irradiance as irradiance_family
+from ...local_models.irradiance import sh as shm
+from ...local_models.irradiance.engines import cube_faces, worker
+from ...local_models.registry import Technique
+from ...metrics.irradiance_error import ErrorStats, irradiance_errors
+from ...reference.irradiance import reference_irradiance
+from ...scenes import latlong
+from ...scenes.environment import Environment
 
 BABYLON_CLAMP = 4096.0  # CubeMapToSphericalPolynomialTools.MAX_HDRI_VALUE (Babylon.js 9.35)
 HALF_MAX = 65504.0  # largest finite IEEE half float
