@@ -20,15 +20,13 @@ Claims (each with its power check, a perturbation of the size a real bug would h
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import Any
-
+from ...local_models import irradiance
 from ...local_models.registry import Technique
 from ...metrics.irradiance_error import WORST_CASE_MAX, WORST_CASE_MEAN
 from ..base import Claim
-from .compute import BABYLON_CLAMP, SCALE_BUG, Settings, engine_techniques, three_weight_error
 from ..formatting import pct
 from ..techniques import Measured, technique_claims, technique_scope
+from .compute import SCALE_BUG, Measurements, engine_techniques
 
 K_MAX = 17.0 / 16.0  # max over x ∈ [−1, 1] of the SH9 kernel K̃(x) = 3/32 + x/2 + 15x²/32 (at x = 1)
 THREE_CONSTANTS = 1e-5  # three.js's six-digit constants: ≤ 3·10⁻⁶ relative per term, Σ|terms| ≤ 3.1 Φ
@@ -37,21 +35,6 @@ POLYNOMIAL_TOL = 5e-5  # DC constant 0.886277 vs π·0.282095 = 0.886227: 5.6·1
 PI_TOL = 1e-4  # covers that 5.6·10⁻⁵ DC slip and six-digit constants (4·10⁻⁷)
 FACE_FLUX_TOL = 2e-3  # measured: worst 1.2·10⁻³ (ict_ennis_256x128, N = 64) over the 29 default environments
 ATTAINS_BOUND = "near_directional"
-
-
-@dataclass
-class Measurements:
-    settings: Settings
-    environments: dict[str, dict[str, Any]]
-    sweeps: dict[str, dict[str, Any]] = field(default_factory=dict)
-    skipped: list[tuple[str, str]] = field(default_factory=list)
-    named: dict[str, str] = field(default_factory=dict)  # role ("grace_probe", "brightest_sun") → env
-
-    @property
-    def rho(self) -> float:
-        return three_weight_error(self.settings.face_size)
-
-
 
 
 def eligible(m: Measurements, tech: Technique) -> list[str]:
@@ -159,8 +142,6 @@ def declared_claims(m: Measurements) -> list[Claim]:
     """Thresholds a technique declares (``<metric>.<stat>``), judged on its worst environment in its scope
     (:func:`.techniques.technique_scope`); power: the
     same with band 1's sign flipped."""
-    from ...local_models import irradiance
-
     claims = []
     for tech in irradiance:
         envs = [e for e in technique_scope(tech, list(m.environments)) if tech.name in m.environments[e]["techniques"]]
@@ -195,114 +176,10 @@ def face_claims(m: Measurements) -> list[Claim]:
 
 
 def claims(m: Measurements) -> list[Claim]:
+    if m.unavailable is not None:  # only the faces were measured
+        return face_claims(m)
     return (face_claims(m) + equality_claims(m) + bound_claims(m) + polynomial_claims(m) + pi_claims(m)
             + declared_claims(m))
 
 
-def _errs(m: Measurements, env: str) -> str:
-    r = m.environments[env]["techniques"]
-    focus = ["sh9"] + [t.name for t in engine_techniques()]
-    fl = {name: r[name]["errors"]["flux_luminance"] for name in focus if name in r}
-    return "; ".join(f"{name} {pct(st['mean'])} / {pct(st['max'])}" for name, st in fl.items())
-
-
-def named_findings(m: Measurements) -> list[str]:
-    out = []
-    roles: dict[str, list[str]] = {}
-    for role, env in m.named.items():
-        roles.setdefault(env, []).append(role.replace("_", " "))
-    for env, names in roles.items():
-        r = m.environments[env]
-        out.append(f"{env} ({' and '.join(names)}; largest face texel {r['max_face_texel']:.4g} at N = "
-                   f"{r['face_size']}): flux-normalised luminance error mean / max — {_errs(m, env)}.")
-    return out
-
-
-def clamp_findings(m: Measurements) -> list[str]:
-    above = [e for e, r in m.environments.items() if r["above_clamp"] and "babylon_sh_unclamped" in r]
-    if not above:
-        return [f"No face texel exceeds Babylon's clamp ({BABYLON_CLAMP:g}) at N = {m.settings.face_size} on any "
-                "environment here, so the clamp changed nothing."]
-    out = []
-    for e in above:
-        r = m.environments[e]
-        with_c = r["techniques"].get("babylon_sh", {}).get("errors", {}).get("flux_luminance")
-        without = r["babylon_sh_unclamped"]["flux_luminance"]
-        if with_c:
-            out.append(f"{e}: Babylon's clamp at {BABYLON_CLAMP:g} removes {pct(r['clamp_share'])} of the faces' "
-                       f"luminance flux (largest texel {r['max_face_texel']:.4g}); babylon_sh's error is "
-                       f"{pct(with_c['mean'])} mean / {pct(with_c['max'])} max with it and {pct(without['mean'])} / "
-                       f"{pct(without['max'])} without it.")
-    for env, s in m.sweeps.items():
-        if any(c > 0 for c in s["clamp_share"]):
-            shares = ", ".join(f"N = {n}: {pct(c)}" for n, c in zip(s["sizes"], s["clamp_share"], strict=True))
-            out.append(f"{env}: the clamped share depends on the face size ({shares}) — a larger cube puts the sun "
-                       "in fewer, brighter texels (Babylon.js PR 13809 notes the same dependence).")
-    return out
-
-
-def polynomial_findings(m: Measurements) -> list[str]:
-    tech = next((t for t in engine_techniques() if t.meta.get("path") == "polynomial"), None)
-    if tech is None:
-        return []
-    rows = [(e, r["techniques"][tech.name]["errors"]["flux_luminance"], r["techniques"]["sh9"]["errors"]
-             ["flux_luminance"]) for e, r in m.environments.items()
-            if tech.name in r["techniques"] and "sh9" in r["techniques"]]
-    if not rows:
-        return []
-    worst = max(rows, key=lambda x: x[1]["max"])
-    return [f"Babylon's spherical-polynomial path (useSphericalHarmonics = false) applies the cosine lobe twice: "
-            f"bands 1 and 2 come out × 2/3 and × 1/4. Its flux-normalised luminance error reaches "
-            f"{pct(worst[1]['mean'])} mean / {pct(worst[1]['max'])} max on {worst[0]} where SH9 has "
-            f"{pct(worst[2]['mean'])} / {pct(worst[2]['max'])}; the default path (preScaledHarmonics) is correct."]
-
-
-def precision_findings(m: Measurements) -> list[str]:
-    out = []
-    three = [t for t in engine_techniques() if t.meta.get("path") == "getIrradianceAt"]
-    for tech in three:
-        envs = eligible(m, tech)
-        dev = max(m.environments[e]["techniques"][tech.name]["faces_deviation"] for e in envs)
-        out.append(f"{tech.name}: its r⁻³ texel weights (solid angle approximated at the texel centre, ρ(N = "
-                   f"{m.settings.face_size}) = {m.rho:.3g}) move E by at most {dev:.3g} Φ from the exact SH9 of the "
-                   "same faces; Babylon integrates the exact solid angle.")
-    half = [(e, r) for e, r in m.environments.items() if "half_finite" in r]
-    if half:
-        finite = [r["half_deviation"] for _, r in half if r["half_finite"]]
-        bad = [e for e, r in half if not r["half_finite"]]
-        out.append(f"Half-float faces (HalfFloatType): three.js departs from its float32 result by at most "
-                   f"{max(finite, default=0.0):.3g} Φ (half precision 2⁻¹¹ on each texel bounds it by "
-                   f"{2.0 ** -11 * K_MAX:.3g} Φ)" + (f"; texels above 65504 overflow to ∞ and the SH is not finite on "
-                                                     f"{', '.join(bad)}." if bad else
-                                                     "; no face texel exceeded 65504 here."))
-    face = max(m.environments.items(), key=lambda kv: kv[1]["face_flux_error"])
-    out.append(f"The faces carry the map's flux to within {face[1]['face_flux_error']:.2g} (worst: {face[0]}).")
-    out += sh9_findings(m)
-    return out
-
-
-def sh9_findings(m: Measurements) -> list[str]:
-    """How far each engine lands from the suite's sh9, and how much of that the faces themselves explain."""
-    parts = []
-    for t in engine_techniques():
-        envs = [e for e in eligible(m, t) if "sh9_deviation" in m.environments[e]["techniques"][t.name]]
-        if not envs:
-            continue
-        worst = max(envs, key=lambda e: m.environments[e]["techniques"][t.name]["sh9_deviation"])
-        r = m.environments[worst]
-        faces = r.get("faces_vs_sh9")
-        extra = f" (the exact SH9 of the same faces is already {faces:.3g} Φ away)" if faces is not None else ""
-        parts.append(f"{t.name} {r['techniques'][t.name]['sh9_deviation']:.3g} Φ on {worst}{extra}")
-    if not parts:
-        return []
-    return ["Largest departure from the suite's own sh9 (projection of the lat-long map) below the clamp: "
-            + "; ".join(parts) + f". Where the faces explain it, it is the cube's texel size (90°/N = "
-            f"{90 / m.settings.face_size:.2g}° at N = {m.settings.face_size}): a small source lands on one texel "
-            "centre."]
-
-
-def findings(m: Measurements) -> list[str]:
-    return named_findings(m) + polynomial_findings(m) + clamp_findings(m) + precision_findings(m)
-
-
-__all__ = ["Measurements", "claims", "findings", "eligible", "pct", "K_MAX", "POLYNOMIAL_TOL", "PI_TOL"]
+__all__ = ["claims", "eligible", "pct", "K_MAX", "POLYNOMIAL_TOL", "PI_TOL"]

@@ -20,7 +20,8 @@ Per environment (:func:`measure_environment`, through ``ctx.map``):
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -28,12 +29,14 @@ import numpy as np
 from ...geometry import cube_texel_directions, cube_texel_solid_angles
 from ...local_models import irradiance as irradiance_family
 from ...local_models.irradiance import sh as shm
-from ...local_models.irradiance.engines import cube_faces, worker
+from ...local_models.irradiance.engines import UNAVAILABLE, cube_faces, worker
 from ...local_models.registry import Technique
 from ...metrics.irradiance_error import ErrorStats, irradiance_errors
 from ...reference.irradiance import reference_irradiance
 from ...scenes import latlong
 from ...scenes.environment import Environment
+from ..base import Context
+from .settings import Settings
 
 BABYLON_CLAMP = 4096.0  # CubeMapToSphericalPolynomialTools.MAX_HDRI_VALUE (Babylon.js 9.35)
 HALF_MAX = 65504.0  # largest finite IEEE half float
@@ -41,25 +44,6 @@ SCALE_BUG = 1.01  # power of the equality claims: the engine's output 1 % too br
 BASELINE = "sh9"
 # A_l/π for l = 0, 1, 2 over the 9 coefficients: Babylon's polynomial path applies the lobe twice.
 DOUBLE_LOBE = np.array([shm.clamped_cosine_al(shm.degree_of(k)) / np.pi for k in range(9)])[:, None]
-
-
-@dataclass(frozen=True)
-class Settings:
-    """How hard the experiment tries (quick and full are two instances, :data:`SETTINGS`)."""
-
-    normals: int  # spherical-Fibonacci normals for every metric
-    cells: int  # reference quadrature cells
-    face_size: int  # faces the registered techniques receive (worker.FACE_SIZE)
-    sweep_sizes: tuple[int, ...]  # face sizes of the resolution sweep (same normals: the reference is cached)
-
-    def to_json(self) -> dict[str, Any]:
-        return asdict(self)
-
-
-SETTINGS = {
-    "quick": Settings(2500, 64, worker.FACE_SIZE, (32, 64, 128)),
-    "full": Settings(10000, 64, worker.FACE_SIZE, (16, 32, 64, 128, 256)),
-}
 
 
 def engine_techniques() -> list[Technique]:
@@ -227,6 +211,58 @@ def three_weight_error(n: int) -> float:
     return float(np.max(np.abs(w / cube_texel_solid_angles(n) - 1.0)))
 
 
-__all__ = ["SETTINGS", "Settings", "BABYLON_CLAMP", "HALF_MAX", "SCALE_BUG", "BASELINE", "DOUBLE_LOBE",
-           "engine_techniques", "compared_techniques", "measure_environment", "measure_faces", "measure_face_sizes",
-           "three_weight_error", "deviation", "clamp_share"]
+__all__ = ["BABYLON_CLAMP", "BASELINE", "DOUBLE_LOBE", "HALF_MAX", "SCALE_BUG", "Measurements", "clamp_share",
+           "compared_techniques", "compute", "deviation", "engine_techniques", "faces_only", "measure_environment",
+           "measure_face_sizes", "measure_faces", "named_environments", "three_weight_error"]
+
+
+@dataclass
+class Measurements:
+    settings: Settings
+    environments: dict[str, dict[str, Any]]
+    sweeps: dict[str, dict[str, Any]] = field(default_factory=dict)
+    skipped: list[tuple[str, str]] = field(default_factory=list)
+    named: dict[str, str] = field(default_factory=dict)  # role ("grace_probe", "brightest_sun") → env
+    unavailable: str | None = None  # why no engine ran (then only the faces were measured)
+
+    @property
+    def rho(self) -> float:
+        return three_weight_error(self.settings.face_size)
+
+
+SWEEP_FALLBACK = ("disc_on_sky", "sunsky_30deg")  # face-size sweep when no named probe is present
+
+
+def named_environments(envs: dict[str, dict[str, Any]]) -> dict[str, str]:
+    """grace_probe (the paper's probe) and the probe with the brightest texel (the strongest sun), if present."""
+    out = {}
+    if "grace_probe" in envs:
+        out["grace_probe"] = "grace_probe"
+    probes = {n: r for n, r in envs.items() if r["kind"] == "probe"}
+    if probes:
+        out["brightest_sun"] = max(probes, key=lambda n: probes[n]["max_map_texel"])
+    return out
+
+
+def compute(ctx: Context, s: Settings) -> Measurements:
+    """Every environment (``ctx.map``), then the face-size sweep on the named probes. Without Node (or without a
+    registered engine technique) only the cube faces the engines would receive are measured (no Node needed)."""
+    if UNAVAILABLE is not None or not engine_techniques():
+        return faces_only(ctx, s, UNAVAILABLE or "no engine technique is registered")
+    envs, skipped = ctx.environments()
+    results = ctx.map(partial(measure_environment, settings=s), envs, "engines: environments")
+    environments = {e.name: r for e, r in zip(envs, results, strict=True)}
+    named = named_environments(environments)
+    by_name = {e.name: e for e in envs}
+    sweep_names = list(dict.fromkeys(named.values())) or [n for n in SWEEP_FALLBACK if n in by_name]
+    sweeps = ctx.map(partial(measure_face_sizes, settings=s), [by_name[n] for n in sweep_names],
+                     "engines: face sizes")
+    return Measurements(s, environments, dict(zip(sweep_names, sweeps, strict=True)), list(skipped), named)
+
+
+def faces_only(ctx: Context, s: Settings, reason: str) -> Measurements:
+    """No engine can run: the faces they would receive, checked on every environment; ``unavailable`` says why."""
+    envs, skipped = ctx.environments()
+    faces = ctx.map(partial(measure_faces, settings=s), envs, "engines: faces")
+    return Measurements(s, {e.name: r for e, r in zip(envs, faces, strict=True)}, skipped=list(skipped),
+                        unavailable=reason)
