@@ -68,7 +68,7 @@ def doc_subset(results: Mapping[str, Any]) -> dict[str, Any]:
 def _experiments(results: Mapping[str, Any]) -> Mapping[str, Any]:
     exps = results.get("experiments")
     if not isinstance(exps, Mapping) or not exps:
-        raise ValidateError("results: no experiments in the results (run `python -m validate all` first)")
+        raise ValidateError("results: no experiments (run `python -m validate all` first)")
     return exps
 
 
@@ -229,11 +229,10 @@ def update_docs(results_path: Path, docs_dir: Path, check: bool = False) -> list
     docs_dir = Path(docs_dir)
     if not docs_dir.is_dir():
         raise ValidateError(f"{docs_dir}: docs folder not found")
-    try:
-        results = load_results_file(Path(results_path))
-        blocks = render_doc_blocks(results)
-    except ValidateError as e:
-        raise ValidateError(f"{results_path}: {e}" if not str(e).startswith(str(results_path)) else str(e)) from None
+    results = load_results_file(Path(results_path))
+    if not isinstance(results.get("experiments"), Mapping) or not results["experiments"]:
+        raise ValidateError(f"{results_path}: no experiments in the results (run `python -m validate all` first)")
+    blocks = render_doc_blocks(results)
     changed: dict[Path, str] = {}
     for md in sorted(docs_dir.rglob("*.md")):
         old = md.read_text(encoding="utf-8")
