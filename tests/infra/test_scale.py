@@ -239,7 +239,7 @@ SEPARABLE_TOL = 1e-6
 
 @pytest.mark.parametrize("height, lmax", [(16, 2), (16, 8), (64, 8), (128, 4)])
 def test_separable_projection_equals_direct_sum(height: int, lmax: int) -> None:
-    from validate.local_models import sh
+    from validate.local_models.irradiance import sh
     from validate.scenes import latlong
 
     rad = np.random.default_rng(height + lmax).uniform(0.0, 1.0, (height, 2 * height, 3)).astype(np.float32)
@@ -338,7 +338,7 @@ def test_bench_child_records_and_report_tables(monkeypatch: pytest.MonkeyPatch) 
     assert all(len(r) == len(t["headers"]) for t in tables for r in t["rows"])
     # the plain reduction is the same sum the projection's first coefficient weights by Y00
     rad = bench.sky_with_sun(64)
-    from validate.local_models import sh
+    from validate.local_models.irradiance import sh
 
     assert np.allclose(bench.plain_reduction(rad) * sh.eval_basis_numpy(np.array([0.0, 0.0, 1.0]), 0)[0],
                        sh.project_environment(rad, 0)[0], rtol=1e-6)
@@ -391,6 +391,7 @@ def _irradiance_technique(name: str) -> Any:
 
 def _sun_share(rad: np.ndarray) -> float:
     from validate.experiments.sh9_compute import sun_share
+
     from validate.scenes.environment import Environment
 
     return sun_share(Environment("m", rad))
@@ -416,8 +417,8 @@ def test_per_map_work_allocates_far_less_than_the_map(what: str, map_4k: np.ndar
     import tracemalloc
 
     from validate.bench import sky_with_sun
-    from validate.local_models.engines.cube_faces import render_faces
-    from validate.local_models.irradiance_map import environment_nodes
+    from validate.local_models.irradiance.engines.cube_faces import render_faces
+    from validate.local_models.irradiance.irradiance_map import environment_nodes
 
     fn = {"engine_faces": lambda rad: render_faces(rad, 64), "sun_share": _sun_share,
           "environment_nodes": environment_nodes}.get(what) or \

@@ -17,11 +17,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from validate.experiments.sh9_claims import BANDLIMITED_EXACT
 
 from validate import testing
 from validate.errors import ValidateError
-from validate.experiments.sh9_claims import BANDLIMITED_EXACT
-from validate.local_models import sh
+from validate.local_models.irradiance import sh_truncated
 
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "examples" / "test_my_model.py"
@@ -32,7 +32,7 @@ HANDEDNESS_ERROR = 0.05  # a mirrored model on disc_on_sky errs by more than thi
 
 
 def mirrored_sh9(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    return sh.sh9(radiance, normals * np.array([-1.0, 1.0, 1.0]))
+    return sh_truncated.sh9(radiance, normals * np.array([-1.0, 1.0, 1.0]))
 
 
 @pytest.fixture(scope="module")
@@ -68,15 +68,15 @@ def test_contract_violations_name_the_technique() -> None:
     with pytest.raises(ValidateError, match="non-finite"):
         testing.check_irradiance(lambda rad, n: np.full((len(n), 3), np.nan), environments=("constant",), normals=64)
     with pytest.raises(ValidateError, match="normals"):
-        testing.check_irradiance(sh.sh9, normals=3)
+        testing.check_irradiance(sh_truncated.sh9, normals=3)
 
 
 def test_missing_probe_skips_or_errors(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("VALIDATE_PROBES", str(tmp_path))
     with pytest.raises(testing.MissingProbe, match=r"no_such_probe: light probe not found .*VALIDATE_PROBES"):
-        testing.check_irradiance(sh.sh9, environments=("no_such_probe",), missing="error")
+        testing.check_irradiance(sh_truncated.sh9, environments=("no_such_probe",), missing="error")
     with pytest.raises(pytest.skip.Exception, match="no_such_probe"):
-        testing.check_irradiance(sh.sh9, environments=("no_such_probe",))
+        testing.check_irradiance(sh_truncated.sh9, environments=("no_such_probe",))
     with pytest.raises(testing.MissingProbe, match="probe file not found"):
         testing.find_probe(str(tmp_path / "absent.exr"))
 

@@ -11,11 +11,13 @@ import math
 import numpy as np
 import pytest
 
+from validate import geometry
 from validate.errors import ValidateError
-from validate.local_models import irradiance_map as im
-from validate.local_models import prefiltered_specular as ps
-from validate.local_models import sh as shm
-from validate.local_models import split_sum as ss
+from validate.local_models.irradiance import irradiance_map as im
+from validate.local_models.irradiance import sh as shm
+from validate.local_models.specular import common as specular_common
+from validate.local_models.specular import prefiltered_specular as ps
+from validate.local_models.specular import split_sum as ss
 from validate.metrics import image_error as ie
 from validate.metrics.irradiance_error import WORST_CASE_MAX
 from validate.reference import ibl_render as rr
@@ -46,18 +48,18 @@ def disc() -> procedural.Environment:
 
 @pytest.mark.parametrize("n", [1, 2, 5, 16])
 def test_cube_texel_round_trip_and_solid_angles(n: int) -> None:
-    d = im.cube_texel_directions(n).reshape(-1, 3)
-    face, x, y = im.face_coords(d, n)
+    d = geometry.cube_texel_directions(n).reshape(-1, 3)
+    face, x, y = geometry.face_coords(d, n)
     i = np.arange(6 * n * n)
     assert np.array_equal(face, i // (n * n))
     assert np.allclose(y, (i // n) % n, atol=1e-9) and np.allclose(x, i % n, atol=1e-9)
-    assert 6 * im.cube_texel_solid_angles(n).sum() == pytest.approx(4 * math.pi, rel=1e-12)
+    assert 6 * geometry.cube_texel_solid_angles(n).sum() == pytest.approx(4 * math.pi, rel=1e-12)
 
 
 def test_cube_face_selection_matches_opengl_table() -> None:
     """[3, Table 8.19]: +X centre is +x, +Y's t axis runs along +z, −Z's s axis along −x."""
     d = np.array([[1.0, 0, 0], [0, 1.0, 0.5], [0.2, 0, -1.0]])
-    face, x, y = im.face_coords(d, 2)
+    face, x, y = geometry.face_coords(d, 2)
     assert list(face) == [0, 2, 5]
     assert x[0] == pytest.approx(0.5) and y[0] == pytest.approx(0.5)  # face centre of a 2×2 face
     assert y[1] > 0.5  # +Y: t grows with +z
@@ -80,7 +82,7 @@ def test_cube_lookup_second_order_across_seams_and_corners() -> None:
     q = random_dirs(200000, seed=2)
     errs = {}
     for n in (16, 32, 64):
-        face, x, y = im.face_coords(q, n)
+        face, x, y = geometry.face_coords(q, n)
         near_corner = (np.minimum(x + 0.5, n - 0.5 - x) < 1) & (np.minimum(y + 0.5, n - 0.5 - y) < 1)
         near_edge = (np.minimum(np.minimum(x + 0.5, n - 0.5 - x), np.minimum(y + 0.5, n - 0.5 - y)) < 1)
         e = np.abs(im.CubeMap.build(smooth, n).lookup_numpy(q) - smooth(q)).max(axis=1)
@@ -299,7 +301,7 @@ def test_claim_phong_map_at_normal_incidence(disc) -> None:
     r = rr.render(disc, spec)
     n, v = r.normal[r.mask], r.view[r.mask]
     assert r.mask.sum() >= 8
-    m = ps.prefilter_phong_cube(disc.radiance, ps.map_exponent_for_brdf(100.0), needed=ps.reflect(n, v))
+    m = ps.prefilter_phong_cube(disc.radiance, ps.map_exponent_for_brdf(100.0), needed=specular_common.reflect(n, v))
     y_app, y_ref = Y(ps.shade_phong_map(m, n, v)), Y(r.mean[r.mask])
     u = Y(chk.phong_bound(disc.radiance, 100.0, n, v))
     assert (np.sum(np.abs(y_app - y_ref)) + np.sum(r.stderr_y[r.mask])) / np.sum(u) < 1.0

@@ -8,7 +8,14 @@ import pytest
 from validate.errors import ValidateError
 from validate.experiments import arealights_specular as asp
 from validate.local_models import family
-from validate.local_models.ltc import alpha_of, clipped_form_factor, fit_entry, load_table, ltc_density, table_axes
+from validate.local_models.specular_arealight.ltc import (
+    alpha_of,
+    clipped_form_factor,
+    fit_entry,
+    load_table,
+    ltc_density,
+    table_axes,
+)
 
 # The fit error of the shipped table, as stated in the README / closing note (∫|E·D − f cos| dω / E)
 STATED_MEAN, STATED_MAX = 0.0791, 0.8337  # 24 × 24 table; printed by scripts/fit_ltc.py
@@ -77,7 +84,7 @@ def test_representative_point_sphere_only_and_normalisation():
 
 def test_reference_tends_to_the_albedo_under_a_huge_light():
     """A sphere light filling the hemisphere down to 0.8° elevation: L → E(μ) of the single-scattering GGX."""
-    from validate.local_models.brdf_multiscatter import tables
+    from validate.local_models.brdf.brdf_multiscatter import tables
     from validate.reference import area_specular_render as asr
     light = {"shape": "sphere", "center": (0, 1.0, 0), "radius": 0.9999, "radiance": 1.0}
     v = np.array([[np.sin(0.5), np.cos(0.5), 0.0]])

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from validate.local_models import sh
+from validate.local_models.irradiance import sh
 from validate.metrics.published import PUBLISHED_TOLERANCE, fit_exposure
 from validate.scenes.environment import Environment
 from validate.scenes.probes import (

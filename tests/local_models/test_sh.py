@@ -1,4 +1,4 @@
-"""Real SH basis, clamped-cosine A_l, R&H 2001 constants and SH irradiance (validate.local_models.sh).
+"""Real SH basis, clamped-cosine A_l, R&H 2001 constants and SH irradiance (validate.local_models.irradiance.sh).
 
 Oracles: numerical quadrature (Gram matrix, Legendre projection), scipy's complex SH (an independent
 implementation), closed forms printed in Ramamoorthi & Hanrahan 2001 [1, eq. 8, 12] and JOSA 2001
@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from scipy import special
 
-from validate.local_models import sh
+from validate.local_models.irradiance import sh
 from validate.metrics import irradiance_error
 from validate.scenes import latlong, procedural
 

@@ -14,10 +14,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from validate.local_models import shadow_map as smod
-from validate.local_models.shadow_esm import C
-from validate.local_models.shadow_msm import ALPHA, hamburger_4msm
-from validate.local_models.shadow_vsm import MIN_VARIANCE, vsm_visibility
+from validate.local_models.shadow import shadow_map as smod
+from validate.local_models.shadow.shadow_esm import C
+from validate.local_models.shadow.shadow_msm import ALPHA, hamburger_4msm
+from validate.local_models.shadow.shadow_vsm import MIN_VARIANCE, vsm_visibility
 
 EXACT = 1e-9  # float64 solve of a 3×3 Hankel system of a two-atom distribution: measured 3e-12
 FLOAT = 1e-12
@@ -101,6 +101,7 @@ def test_light_bleeding_case_orders_the_filterable_maps() -> None:
     VSM leaks most and MSM least (Donnelly & Lauritzen 2006 §3.2; Annen et al. 2008 Fig. 1; Peters & Klein
     2015). Measured at contact: VSM 6.3 %, ESM 3.5 %, MSM 0.24 % mean V′."""
     from validate.experiments.shadows_measure import bleeding_case
+
     from validate.local_models import shadow
 
     b = bleeding_case([shadow[n] for n in ("hard", "pcf", "vsm", "esm", "msm")])

@@ -96,7 +96,7 @@ def plugin_wrap_lambert(params: Mapping[str, Any], normals: np.ndarray, lights: 
 def plugin_uberlight_half_power(light: Mapping[str, Any], points: np.ndarray, normals: np.ndarray,
                                 views: np.ndarray, material: Mapping[str, Any],
                                 shadow: np.ndarray | None = None) -> np.ndarray:
-    from validate.local_models import uberlight as ub
+    from validate.local_models.uberlight import orange_book as ub
 
     d = np.linalg.norm(np.asarray(points, dtype=np.float64) - np.asarray(light["position"], dtype=np.float64), axis=1)
     return ub.shade(light, points, normals, views, material, shadow, 1.0 / d)

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from validate.errors import ValidateError
-from validate.local_models import sh
+from validate.local_models.irradiance import sh
 from validate.scenes import latlong, loaders, procedural
 
 

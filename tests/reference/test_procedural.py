@@ -43,8 +43,8 @@ def test_bandlimited_is_positive_and_matches_its_coefficients() -> None:
 
 def test_sh9_basis_is_rh2001_eq3() -> None:
     """The environment's own basis (independent of the model) has R&H 2001 eq. 3's constants, and
-    equals the model's basis (validate.local_models.sh) to float precision."""
-    from validate.local_models import sh
+    equals the model's basis (validate.local_models.irradiance.sh) to float precision."""
+    from validate.local_models.irradiance import sh
 
     d = latlong.fibonacci_sphere(200)
     y = procedural.sh9_basis(d)

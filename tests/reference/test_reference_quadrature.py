@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from validate.local_models import sh
+from validate.local_models.irradiance import sh
 from validate.reference.irradiance import reference_irradiance
 from validate.scenes import latlong, procedural
 from validate.scenes.environment import Environment

@@ -17,17 +17,20 @@ then ``python -m validate all --plugin my_module.py``: every experiment of the f
 in its comparison tables, ``results.json`` entries at ``experiments.<exp>.techniques.my_sh4`` and one
 claim per declared threshold. Built-ins register exactly this way: every module of this package is
 imported at start-up and registers its own techniques.
+
+Layout: one folder per family (``irradiance/``, ``specular/``, ``arealight/``, ``shadow/``, ``brdf/``,
+``light/``, ``specular_arealight/``, ``uberlight/``), one file per technique, the family's shared code in
+modules of the folder that register nothing; every family is defined in :mod:`.families`. Each folder's
+package stands for its family (``from validate.local_models import irradiance`` then ``irradiance.register``)
+and imports its own modules, so a new built-in is one new file in its family's folder and nothing else.
 """
 
 from __future__ import annotations
 
 import importlib
-import pkgutil
 
-from .families import arealight, irradiance, shadow, specular
+from . import families
 from .registry import FAMILIES, Family, Technique, define_family, family, find_technique
-
-_NOT_TECHNIQUES = {"registry", "families"}
 
 
 def register_irradiance_model(name: str, description: str = "", **kwargs):  # noqa: ANN201 (decorator)
@@ -36,14 +39,23 @@ def register_irradiance_model(name: str, description: str = "", **kwargs):  # no
 
 
 def load_builtins() -> None:
-    """Import every module (and sub-package) of this package: each registers its own built-ins, so a new
-    built-in technique is one new file here and nothing else."""
-    for mod in pkgutil.iter_modules(__path__):
-        if mod.name not in _NOT_TECHNIQUES and not mod.name.startswith("_"):
-            importlib.import_module(f"{__name__}.{mod.name}")
+    """Import every family folder, in :data:`.families.__all__` order; each imports its technique files."""
+    for name in families.__all__:
+        importlib.import_module(f"{__name__}.{name}")
 
 
 load_builtins()
 
-__all__ = ["FAMILIES", "Family", "Technique", "arealight", "define_family", "family", "find_technique",
-           "irradiance", "register_irradiance_model", "shadow", "specular"]
+from . import (  # noqa: E402 (the family packages, loaded just above)
+    arealight,
+    brdf,
+    irradiance,
+    light,
+    shadow,
+    specular,
+    specular_arealight,
+    uberlight,
+)
+
+__all__ = ["FAMILIES", "Family", "Technique", "arealight", "brdf", "define_family", "family", "find_technique",
+           "irradiance", "light", "register_irradiance_model", "shadow", "specular", "specular_arealight", "uberlight"]

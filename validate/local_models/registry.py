@@ -25,6 +25,10 @@ the experiment documents (e.g. ``flux_luminance.mean``); each becomes the claim
 
 from __future__ import annotations
 
+import importlib
+import pkgutil
+import sys
+import types
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -179,3 +183,52 @@ def family(name: str) -> Family:
 def find_technique(name: str) -> list[Technique]:
     """Every technique of that name across families."""
     return [f._techniques[name] for f in FAMILIES.values() if name in f._techniques]
+
+
+class FamilyPackage(types.ModuleType):
+    """The package of a family folder (``local_models/<family>/``) standing for its :class:`Family`.
+
+    ``from validate.local_models import irradiance`` gives the package ``validate.local_models.irradiance``
+    (its technique files are submodules), and the package answers as the family does: ``irradiance.register``,
+    ``irradiance.call``, ``for t in irradiance``, ``"sh9" in irradiance``, ``irradiance["sh9"]``. Attributes the
+    package itself lacks (not a submodule, not defined in its ``__init__``) are looked up on ``family``.
+    """
+
+    family: Family
+
+    def __getattr__(self, name: str) -> Any:
+        fam = self.__dict__.get("family")
+        if fam is None or name.startswith("__"):
+            raise AttributeError(f"module {self.__name__!r} has no attribute {name!r}")
+        return getattr(fam, name)
+
+    def __iter__(self) -> Iterator[Technique]:
+        return iter(self.family)
+
+    def __len__(self) -> int:
+        return len(self.family)
+
+    def __contains__(self, name: object) -> bool:
+        return name in self.family
+
+    def __getitem__(self, name: str) -> Technique:
+        return self.family[name]
+
+
+def family_package(module_name: str, fam: Family, first: tuple[str, ...] = ()) -> None:
+    """Make the family folder's package ``module_name`` stand for ``fam`` and import its techniques.
+
+    Every module and sub-package of the folder is imported and registers its own techniques, so a new
+    built-in is one new file. Import order is registration order (the order of tables and ``results.json``):
+    the modules named in ``first``, then the rest alphabetically; names starting with ``_`` are skipped.
+    Modules that register nothing (the family's shared code) are imported all the same, harmlessly.
+    """
+    package = sys.modules[module_name]
+    package.family = fam  # type: ignore[attr-defined]
+    package.__class__ = FamilyPackage
+    found = sorted(m.name for m in pkgutil.iter_modules(package.__path__) if not m.name.startswith("_"))
+    missing = [name for name in first if name not in found]
+    if missing:
+        raise ValidateError(f"technique family {fam.name!r}: listed module(s) {', '.join(missing)} not found")
+    for name in [*first, *(n for n in found if n not in first)]:
+        importlib.import_module(f"{module_name}.{name}")

@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ValidateError
+from ..geometry import perp, unit
 from ..scenes import area_lights
 from ..scenes import brdf_scenes as bs
 from . import brdf_render as br
@@ -44,14 +45,8 @@ from . import brdf_render as br
 CHUNK = 2_000_000  # BSDF evaluations per Mitsuba call
 
 
-def _unit(x: np.ndarray) -> np.ndarray:
-    x = np.asarray(x, dtype=np.float64)
-    return x / np.maximum(np.linalg.norm(x, axis=-1, keepdims=True), 1e-300)
 
 
-def _perp(n: np.ndarray) -> np.ndarray:
-    a = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    return _unit(np.cross(n, a))
 
 
 @lru_cache(maxsize=32)
@@ -88,16 +83,16 @@ def light_directions(light: Mapping[str, Any], point: np.ndarray, n: int) -> tup
         axis = to_c / d
         ct, wct = _gl(n, np.sqrt(1.0 - (r / d) ** 2), 1.0)
         phi = (np.arange(2 * n) + 0.5) * (np.pi / n)
-        t = _perp(axis)
+        t = perp(axis)
         b = np.cross(axis, t)
         st = np.sqrt(1.0 - ct * ct)
         dirs = (ct[:, None, None] * axis + st[:, None, None] * (np.cos(phi)[None, :, None] * t
                                                                   + np.sin(phi)[None, :, None] * b))
         return dirs.reshape(-1, 3), np.repeat(wct, 2 * n) * (np.pi / n)
-    nrm = _unit(light["normal"])
+    nrm = unit(light["normal"])
     if shape == "rectangle":
-        t = _unit(light.get("tangent", _perp(nrm)))
-        t = _unit(t - nrm * np.dot(t, nrm))
+        t = unit(light.get("tangent", perp(nrm)))
+        t = unit(t - nrm * np.dot(t, nrm))
         b = np.cross(nrm, t)
         w, h = (float(x) for x in light["size"])
         xu, wu = _gl(n, -0.5 * w, 0.5 * w)
@@ -108,7 +103,7 @@ def light_directions(light: Mapping[str, Any], point: np.ndarray, n: int) -> tup
         r = float(light["radius"])
         rho2, w2 = _gl(n, 0.0, r * r)
         phi = (np.arange(2 * n) + 0.5) * (np.pi / n)
-        t = _perp(nrm)
+        t = perp(nrm)
         b = np.cross(nrm, t)
         rho = np.sqrt(rho2)
         pts = c + rho[:, None, None] * (np.cos(phi)[None, :, None] * t + np.sin(phi)[None, :, None] * b)
@@ -170,7 +165,7 @@ def _cap_surface(e: np.ndarray, ax: np.ndarray, r: float, p: np.ndarray, n: int
     ua = float(u @ ax)
     t1 = ax - ua * u
     sa = float(np.linalg.norm(t1))
-    t1 = t1 / sa if sa > 1e-12 else _perp(u)
+    t1 = t1 / sa if sa > 1e-12 else perp(u)
     t2 = np.cross(u, t1)
     gamma = float(np.arccos(r / d))
     t_star = float(np.arctan2(abs(ua), sa))  # where the rim circle m·ax = 0 becomes tangent to the t-circle
@@ -250,9 +245,9 @@ def emitter_dict(light: Mapping[str, Any]) -> dict[str, Any]:
         raise ValidateError("area_specular_render: a tube is three Mitsuba shapes; use emitter_shapes")
     if light["shape"] == "sphere":
         return {"type": "sphere", "center": c.tolist(), "radius": float(light["radius"]), "emitter": emitter}
-    n = _unit(light["normal"])
-    t = _unit(light.get("tangent", _perp(n)))
-    t = _unit(t - n * np.dot(t, n))
+    n = unit(light["normal"])
+    t = unit(light.get("tangent", perp(n)))
+    t = unit(t - n * np.dot(t, n))
     b = np.cross(n, t)
     if light["shape"] == "rectangle":
         w, h = (float(x) for x in light["size"])
@@ -299,7 +294,7 @@ def write_hemisphere_obj(path: str, center: np.ndarray, axis: np.ndarray, radius
                          rings: int = CAP_RINGS, segments: int = CAP_SEGMENTS) -> None:
     """A hemisphere {center + R m : m·axis ≥ 0} as an OBJ triangle mesh, faces wound counter-clockwise seen from
     outside (outward face normals): the pole, then ``rings`` rings at polar angles kπ/(2·rings)."""
-    t = _perp(axis)
+    t = perp(axis)
     b = np.cross(axis, t)
     th = np.arange(1, rings + 1) * (0.5 * np.pi / rings)
     ph = np.arange(segments) * (2.0 * np.pi / segments)
@@ -330,11 +325,11 @@ def render(light: Mapping[str, Any], alpha: float, point: np.ndarray, normal: np
 
     init()
     p, n, v = (np.asarray(x, dtype=np.float64) for x in (point, normal, view))
-    t = _perp(n)
+    t = perp(n)
     b = np.cross(n, t)
     plane = {"type": "rectangle", "to_world": mi.ScalarTransform4f(_frame_matrix(p, t, b, n, 50.0, 50.0)),
              "bsdf": bs.conductor(alpha, "ggx", coloured=False).bsdf}
-    up = _perp(v)
+    up = perp(v)
     cam = (mi.ScalarTransform4f().look_at(origin=(p + 0.05 * v).tolist(), target=p.tolist(), up=up.tolist())
            @ mi.ScalarTransform4f().scale([1e-4, 1e-4, 1.0]))
     with tempfile.TemporaryDirectory(prefix="validate_tube_") as work:

@@ -1,7 +1,7 @@
 """Reference shadows from Mitsuba: direct lighting, a G-buffer and the visible fraction of the disc.
 
 Everything here is Mitsuba's own machinery (its ``direct`` and ``aov`` integrators, its sensor, its
-``ray_test``); none of it shares code with :mod:`validate.local_models.shadow_map`.
+``ray_test``); none of it shares code with :mod:`validate.local_models.shadow.shadow_map`.
 
 Pixel centres, not pixel areas. Every ray leaves the camera through a pixel *centre*
 ((i + ½)/W, (j + ½)/H): the direct-lighting estimate, the G-buffer and the visibility all describe

@@ -5,7 +5,7 @@ Frame: the local shading frame, normal +z (Mitsuba's BSDF frame). Directions are
 
 Materials
   A :class:`Material` carries the physical parameters every ``brdf`` technique reads (see
-  :mod:`validate.local_models.classic_brdfs`) and the Mitsuba BSDF dict that is its ground truth. The
+  :mod:`validate.local_models.brdf.classic_brdfs`) and the Mitsuba BSDF dict that is its ground truth. The
   parameters of the Phong-type models follow from the microfacet roughness α:
 
   * Blinn–Phong exponent s_b = 2/α² − 2, i.e. α = √(2/(s_b + 2)): Walter et al. 2007 [1] §5.2

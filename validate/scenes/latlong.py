@@ -17,6 +17,13 @@ from __future__ import annotations
 
 import numpy as np
 
+# The suite's closed-form tolerance: the quadrature of Mitsuba's bilinear map (the reference) agrees with the
+# exact irradiance of the lighting it was baked from within 0.1 % of the flux Φ (claims
+# ``reference.closed_form.*``; measured ≤ 3.3·10⁻⁴ Φ on near_directional, the sharpest built-in). A model sees
+# the map's texels, so a bound proved for the lighting is declared with this allowance (the windowed-SH and
+# ZH3 thresholds), and the sh9 experiment judges its closed forms with it. One constant for both.
+CLOSED_FORM_TOLERANCE = 1e-3
+
 
 def row_theta(height: int) -> np.ndarray:
     """θ of each row: iπ/(H−1)."""

@@ -122,7 +122,7 @@ class Light:
         return 2.0 * self.size[0] if self.size else 0.0
 
     def as_mapping(self) -> dict[str, Any]:
-        """What a ``light`` technique receives (see :mod:`validate.local_models.classic_lights`)."""
+        """What a ``light`` technique receives (see :mod:`validate.local_models.light.classic_lights`)."""
         m: dict[str, Any] = {"type": self.kind, "position": np.array(self.position, dtype=np.float64)}
         if self.kind in ("point", "spot"):
             m["intensity"] = float(self.power)

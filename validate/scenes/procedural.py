@@ -17,6 +17,7 @@ the texel's cell.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
@@ -36,6 +37,12 @@ NEAR_DIRECTIONAL_AZIMUTH_DEG = -60.0
 # Its map keeps 512 rows even in quick mode: at 256 rows (0.7° texels for a 1° disc) the 6×6 stratified
 # cell average loses 0.54 % of the disc's flux (measured), at 512 rows 0.015 %.
 NEAR_DIRECTIONAL_HEIGHT = 512
+
+
+def near_directional_half_angle() -> float:
+    """α of the built-in ``near_directional`` environment as a model sees it: its disc's half-angle plus one
+    texel diagonal (√2 π / H: the cells its cell-averaged texels cover), in radians."""
+    return math.radians(NEAR_DIRECTIONAL_HALF_ANGLE_DEG) + math.sqrt(2.0) * math.pi / NEAR_DIRECTIONAL_HEIGHT
 
 # Order-2 SH coefficients (rows L00, L1m1, L10, L11, L2m2, L2m1, L20, L21, L22; columns RGB) of the
 # band-limited environment; positive everywhere (checked in ``bandlimited``).

@@ -1,7 +1,7 @@
 """Spherical harmonics of a uniform disc light (a spherical cap), rotated to any direction.
 
 A distant disc of half-angle α and unit radiance, centred on the SH polar axis, is the zonal function
-L(ω) = 1 for cos θ ≥ cos α. Its zonal coefficients are (real SH of :mod:`validate.local_models.sh`,
+L(ω) = 1 for cos θ ≥ cos α. Its zonal coefficients are (real SH of :mod:`validate.local_models.irradiance.sh`,
 Y_l0 = √((2l+1)/4π) P_l)
 
     z_l = 2π ∫_{cos α}^{1} Y_l0(x) dx = √((2l+1)/4π) · 2π ∫_{cos α}^{1} P_l(x) dx,
@@ -25,7 +25,7 @@ which at N = 2 is the seed's E = 1.57079 (1 − cos α) + 1.57080 sin²α z + 0.
 
 Two evaluation paths that must agree (tests): the *zonal* path (:func:`disc_irradiance_sh`,
 Legendre polynomials of d·n) and the *rotated* path (:func:`disc_coefficients` → full (N+1)² SH
-vector → :func:`validate.local_models.sh.render_irradiance`), the one an engine runs. The slow,
+vector → :func:`validate.local_models.irradiance.sh.render_irradiance`), the one an engine runs. The slow,
 obviously correct path is :func:`project_cap_numerical` (quadrature of the cap in its own frame).
 
 Precision: zonal coefficients are per light (a few numbers), computed in float64 numpy; 1 − cos α
@@ -50,9 +50,9 @@ from typing import Any
 
 import numpy as np
 
-from ..backend import float_type
-from ..errors import ValidateError
-from . import sh
+from ...backend import float_type
+from ...errors import ValidateError
+from ..irradiance import sh
 
 # The seed chapter's rounded constants [1] (unit radiance).
 SEED_L00 = 1.77245  # √π
@@ -215,7 +215,7 @@ def cap_irradiance_sh(sin2_sigma: np.ndarray, cos_theta: np.ndarray, lmax: int) 
 
 
 # -- registered techniques (family ``arealight``) ----------------------------------------------------
-from .families import arealight as _arealight  # noqa: E402
+from ..families import arealight as _arealight  # noqa: E402
 from .sphere_cap import light_geometry  # noqa: E402
 
 

@@ -12,7 +12,7 @@ Intensity matched to the area light it replaces (radiance L, radius r):
 * sphere: power Φ = π L · 4π r² (a Lambertian emitter's exitance is πL), isotropic, so
   I = Φ / 4π = π r² L. Then I cos θ / d² = π (r/d)² L cos θ, which is *exactly* the sphere's
   irradiance π sin²σ L cos θ (sin σ = r/d) whenever the sphere is entirely above the horizon
-  (:mod:`validate.local_models.sphere_cap`): inverse square is exact for a sphere light except
+  (:mod:`validate.local_models.arealight.sphere_cap`): inverse square is exact for a sphere light except
   within σ of the horizon, where the point light drops to zero at θ = 90° and the sphere does not.
 * disc facing the receiver: on-axis intensity I = L π r² (a Lambertian disc's I(ψ) = π r² L cos ψ).
   On the axis the exact irradiance is π L r²/(r² + d²) cos θ (above the horizon), so inverse square
@@ -30,8 +30,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..backend import float_type
-from ..errors import ValidateError
+from ...backend import float_type
+from ...errors import ValidateError
 
 
 def sphere_intensity(radius: float, radiance: float = 1.0) -> float:
@@ -77,7 +77,7 @@ def inverse_square(intensity: float, distance: np.ndarray, cos_theta: np.ndarray
 # -- registered techniques (family ``arealight``) ----------------------------------------------------
 from typing import Any  # noqa: E402
 
-from .families import arealight as _arealight  # noqa: E402
+from ..families import arealight as _arealight  # noqa: E402
 from .sphere_cap import light_geometry  # noqa: E402
 
 

@@ -41,8 +41,8 @@ from typing import Any
 
 import numpy as np
 
-from ..backend import float_type
-from ..errors import ValidateError
+from ...backend import float_type
+from ...errors import ValidateError
 
 X_FLOOR = 1e-30  # cot σ floor in the atan term: float32-normal, far below any x > 0 (cap_irradiance_dr)
 
@@ -74,7 +74,7 @@ def cap_irradiance_dr(cos_theta: Any, sin2_sigma: Any) -> Any:
     """E/L of the cap on drjit arrays (the formula of the module docstring [1, 2], branch-free).
 
     ``sin2_sigma`` is one float for every point or a drjit array with one sin²σ per point (a disc light
-    seen from many receivers, :func:`validate.local_models.shadow_map.disc_irradiance`); it must lie in
+    seen from many receivers, :func:`validate.local_models.shadow.shadow_map.disc_irradiance`); it must lie in
     (0, 1], unchecked. x = cot σ is floored at 10⁻³⁰ inside atan(sin θ √(1 − y²) / x) only, so a
     sin²σ that rounds to 1 in float32 (x = 0) gives atan2's limit (π/2, or 0 at sin θ = 0), not NaN;
     every x > 0 is unchanged by the floor."""
@@ -168,19 +168,3 @@ def light_geometry(light: Any, points: np.ndarray, normals: np.ndarray) -> dict[
     s2 = r * r / (d * d) if shape == "sphere" else r * r / (r * r + d * d)
     return {"distance": d, "cos_theta": np.clip(np.einsum("ij,ij->i", n, u), -1.0, 1.0), "cos_psi": cos_psi,
             "sin2_sigma": s2, "radius": np.full_like(d, r), "radiance": np.full_like(d, rad), "shape": shape}
-
-
-from .families import arealight as _arealight  # noqa: E402
-
-
-@_arealight.register("cap_exact", "exact horizon-clipped cap irradiance (Snyder 1996; Lagarde & de Rousiers 2014); "
-                     "a disc as the cap it subtends from its axis, times its foreshortening", shapes=("sphere", "disc"))
-def cap_exact(light: Any, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    """E = L · E_cap(cos θ, sin²σ) [1, 2] — exact for a sphere at every receiver. A disc: [2]'s
-    "illuminanceSphereOrDisk" with sin²σ = r²/(r² + d²) times max(0, cos ψ) (ψ between the disc's normal and
-    the receiver), exact on the disc's axis facing it (ψ = 0), an approximation elsewhere."""
-    g = light_geometry(light, points, normals)
-    f = float_type()
-    e = cap_irradiance_dr(f(np.ascontiguousarray(g["cos_theta"], dtype=np.float32)),
-                          f(np.ascontiguousarray(g["sin2_sigma"], dtype=np.float32)))
-    return np.array(e, dtype=np.float64) * g["radiance"] * np.maximum(g["cos_psi"], 0.0)

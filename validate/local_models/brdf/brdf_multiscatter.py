@@ -50,10 +50,11 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ValidateError
-from .classic_brdfs import (
+from ...errors import ValidateError
+from ..families import brdf
+from .common import (
     Geometry,
-    brdf,
+    column,
     fresnel_exact,
     fresnel_f0,
     fresnel_schlick,
@@ -132,9 +133,6 @@ def _alpha_dist(params: Mapping[str, Any], who: str) -> tuple[float, str]:
     return round(float(a), 6), d
 
 
-def _col(x: np.ndarray) -> np.ndarray:
-    return np.asarray(x, dtype=np.float64)[:, None]
-
 
 def f_avg_exact(eta: np.ndarray, k: np.ndarray) -> np.ndarray:
     """F_avg = 2∫₀¹ F(μ) μ dμ of the exact Fresnel of η + ik (RGB, (3,)), 64-node Gauss–Legendre."""
@@ -148,7 +146,7 @@ def _single(params: Mapping[str, Any], g: Geometry, who: str) -> np.ndarray:
 
 
 def _diffuse(params: Mapping[str, Any], g: Geometry, who: str) -> np.ndarray:
-    return param(params, "albedo", who) / np.pi * _col(g.cl)
+    return param(params, "albedo", who) / np.pi * column(g.cl)
 
 
 def kulla_conty_lobe(t: Tables, mu_o: np.ndarray, mu_i: np.ndarray, f_avg: np.ndarray) -> np.ndarray:
@@ -157,14 +155,14 @@ def kulla_conty_lobe(t: Tables, mu_o: np.ndarray, mu_i: np.ndarray, f_avg: np.nd
     ea = t.e_avg
     f_ms = f_avg ** 2 * ea / (1.0 - f_avg * (1.0 - ea))
     lobe = (1.0 - t.lookup(t.e, mu_o)) * (1.0 - t.lookup(t.e, mu_i)) / (np.pi * (1.0 - ea)) * np.maximum(mu_i, 0.0)
-    return _col(lobe) * f_ms
+    return column(lobe) * f_ms
 
 
 def fms_ems(t: Tables, mu: np.ndarray, f0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(FssEss, FmsEms) of Fdez-Agüera [2] eq. 9–15 at F₀ (RGB or (N, 3)): FssEss = F₀ A + B, Ems = 1 − E,
     F_avg = F₀ + (1 − F₀)/21, FmsEms = Ems FssEss F_avg / (1 − Ems F_avg)."""
-    ess = _col(t.lookup(t.e, mu))
-    fss_ess = f0 * _col(t.lookup(t.a, mu)) + _col(t.lookup(t.b, mu))
+    ess = column(t.lookup(t.e, mu))
+    fss_ess = f0 * column(t.lookup(t.a, mu)) + column(t.lookup(t.b, mu))
     ems = 1.0 - ess
     f_avg = f0 + (1.0 - f0) / 21.0
     return fss_ess, ems * fss_ess * f_avg / (1.0 - ems * f_avg)
@@ -193,7 +191,7 @@ def ggx_fdez_aguera(params: Mapping[str, Any], normals: np.ndarray, lights: np.n
     t = tables(dist, alpha)
     f0 = fresnel_f0(param(params, "eta", who), param(params, "k", who))
     _, ms = fms_ems(t, g.cv, f0)
-    return g.finish(_diffuse(params, g, who) + _single(params, g, who) + ms / np.pi * _col(g.cl))
+    return g.finish(_diffuse(params, g, who) + _single(params, g, who) + ms / np.pi * column(g.cl))
 
 
 @brdf.register("ggx_turquin", "single-scattering microfacet × (1 + F0 (1/E(μo) − 1)) (Turquin 2019 eq. 16)",
@@ -204,7 +202,7 @@ def ggx_turquin(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarr
     g = Geometry(normals, lights, views)
     t = tables(dist, alpha)
     f0 = fresnel_f0(param(params, "eta", who), param(params, "k", who))
-    scale = 1.0 + f0 * _col(1.0 / np.maximum(t.lookup(t.e, g.cv), 1e-6) - 1.0)
+    scale = 1.0 + f0 * column(1.0 / np.maximum(t.lookup(t.e, g.cv), 1e-6) - 1.0)
     return g.finish(_diffuse(params, g, who) + _single(params, g, who) * scale)
 
 
@@ -229,7 +227,7 @@ def metalness_parts(params: Mapping[str, Any], g: Geometry, who: str, blended_bu
     alpha, dist = _alpha_dist(params, who)
     m, base = _metalness(params, who)
     t = tables(dist, alpha)
-    cos_l = _col(g.cl)
+    cos_l = column(g.cl)
     if blended_bug:
         f0 = (1.0 - m) * DIELECTRIC_F0 + m * base
         ss_e, ms_e = fms_ems(t, g.cv, f0)

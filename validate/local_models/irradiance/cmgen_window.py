@@ -25,10 +25,10 @@ whose Lagrangian dual max_{μ < λ_min(Q)} c + μ − Σ_i g_i² / (4(λ_i − �
 gap (S-lemma) [4]; bisection on the dual's derivative returns a certified lower bound that converges to
 the minimum. It is never less conservative than cmgen's: a cut-off accepted here has min ≥ 0 exactly.
 cmgen also works on a 256² cube map after mirroring; the coefficients here come from the lat-long map
-(:func:`validate.local_models.sh.project_environment`), which only moves them by quadrature error.
+(:func:`validate.local_models.irradiance.sh.project_environment`), which only moves them by quadrature error.
 
 Each map gets its own window, so ``sh9`` claims the Hölder bound of the map's own kernel
-(:func:`validate.local_models.windowed_sh.kernel_bound` of the chosen weights), not a fixed threshold.
+(:func:`validate.local_models.irradiance.windowed_sh.kernel_bound` of the chosen weights), not a fixed threshold.
 
 References
   [1] google/filament, ``libs/ibl/src/CubemapSH.cpp`` (CubemapSH::sincWindow, CubemapSH::windowSH),
@@ -45,8 +45,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..families import irradiance as _irradiance
 from . import sh
-from .families import irradiance as _irradiance
 
 BANDS = 3
 CUTOFF_START = 4 * BANDS + 1  # [1]: "start at a large band"

@@ -38,8 +38,8 @@ from typing import Any
 
 import numpy as np
 
-from ..backend import float_type
-from ..errors import ValidateError
+from ...backend import float_type
+from ...errors import ValidateError
 
 FORMULAS = ("exact", "red_book")
 
@@ -73,7 +73,7 @@ def blend_weight(cos_theta: np.ndarray, formula: str = "exact") -> np.ndarray:
     return np.array(w, dtype=np.float64).reshape(c.shape)
 
 
-def _unit(v: np.ndarray, what: str) -> np.ndarray:
+def _require_unit(v: np.ndarray, what: str) -> np.ndarray:
     v = np.asarray(v, dtype=np.float64)
     if v.shape[-1:] != (3,) or not np.all(np.isfinite(v)):
         raise ValidateError(f"hemisphere lighting: {what} must be finite 3-vectors, got shape {v.shape}")
@@ -86,8 +86,8 @@ def _unit(v: np.ndarray, what: str) -> np.ndarray:
 def hemisphere_lighting(normals: np.ndarray, sky: np.ndarray, ground: np.ndarray,
                         up: np.ndarray = (0.0, 1.0, 0.0), formula: str = "exact") -> np.ndarray:
     """C(n) = w C_sky + (1 − w) C_ground at unit ``normals`` (N, 3); colours (3,); returns (N, 3)."""
-    n = _unit(normals, "normals").reshape(-1, 3)
-    u = _unit(np.asarray(up, dtype=np.float64), "up")
+    n = _require_unit(normals, "normals").reshape(-1, 3)
+    u = _require_unit(np.asarray(up, dtype=np.float64), "up")
     sky, ground = np.asarray(sky, dtype=np.float64), np.asarray(ground, dtype=np.float64)
     if sky.shape != (3,) or ground.shape != (3,):
         raise ValidateError(f"hemisphere lighting: sky and ground must be RGB triples, got {sky.shape}, {ground.shape}")
@@ -115,7 +115,7 @@ def worst_red_book_deviation() -> tuple[float, float]:
 # (E(U) = π L_s when the whole upper hemisphere has radiance L_s): then ``hemisphere`` is the exact
 # irradiance [2]. E(±U) is a cosine-weighted sum over the texels with their exact solid angles
 # (:func:`pole_colours`), O(H·W), cheaper than an SH projection.
-from ..scenes.latlong import (  # noqa: E402
+from ...scenes.latlong import (  # noqa: E402
     col_phi,
     row_solid_angles,
     row_sums,
@@ -123,7 +123,7 @@ from ..scenes.latlong import (  # noqa: E402
     spherical_to_direction,
     texel_solid_angles,
 )
-from .families import irradiance as _irradiance  # noqa: E402
+from ..families import irradiance as _irradiance  # noqa: E402
 
 WORLD_UP = np.array([0.0, 1.0, 0.0])
 

@@ -20,11 +20,11 @@ Maps are built two ways:
   K is *linear* in ω on either side of the terminator, merging is exact for luminance except in blocks
   the terminator cuts; with blocks of angular size β the relative error is ≈ β²/12 (β = 4° → 0.04 %).
 * **From SH** (:func:`irradiance_cube_from_sh`, :func:`irradiance_latlong_from_sh`): the R&H order-2
-  irradiance [1, eq. 8] rendered at the texel directions (:mod:`validate.local_models.sh`).
+  irradiance [1, eq. 8] rendered at the texel directions (:mod:`validate.local_models.irradiance.sh`).
 
 The same machinery convolves any zonal (rotation-symmetric) kernel (:func:`convolve_zonal`): the Phong
-lobes of :mod:`validate.local_models.prefiltered_specular` and the GGX lobes of
-:mod:`validate.local_models.split_sum` use it too.
+lobes of :mod:`validate.local_models.specular.prefiltered_specular` and the GGX lobes of
+:mod:`validate.local_models.specular.split_sum` use it too.
 
 Conventions
   * World y-up, as Mitsuba; directions point *towards* the environment.
@@ -67,11 +67,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..backend import float_type, uint_type
-from ..errors import ValidateError
-from ..scenes import latlong
+from ...backend import float_type, uint_type
+from ...errors import ValidateError
+from ...geometry import cube_texel_directions, face_coords, face_direction
+from ...scenes import latlong
 
-CUBE_FACES = ("+x", "-x", "+y", "-y", "+z", "-z")
 MIN_FACE, MAX_FACE = 1, 4096
 DEFAULT_BLOCK_DEG = 4.0  # node block size for the cosine kernel: merging error ≈ β²/12 = 0.04 %
 HOT_FRACTION = 1e-3  # blocks above this share of the luminance flux keep their texels as nodes
@@ -246,56 +246,6 @@ def convolve_zonal(nodes: EnvironmentNodes, dirs: np.ndarray, kernel: Kernel, ke
 def convolve_cosine(nodes: EnvironmentNodes, normals: np.ndarray) -> np.ndarray:
     """E(n) = π Σ max(0, n·ω_k) Φ_k / Σ max(0, n·ω_k) Ω_k at ``normals`` (N, 3) → (N, 3)."""
     return convolve_zonal(nodes, normals, cosine_kernel, np.pi)
-
-
-# ---------------------------------------------------------------------------------------------
-# Cube-map geometry (numpy; the slow, obviously correct side)
-# ---------------------------------------------------------------------------------------------
-
-def face_direction(face: np.ndarray | int, sc: np.ndarray, tc: np.ndarray) -> np.ndarray:
-    """Unnormalised direction of face coordinates (s_c, t_c) ∈ [−1, 1]² on ``face`` [3, Table 8.19]."""
-    sc, tc, face = np.broadcast_arrays(np.asarray(sc, dtype=np.float64), np.asarray(tc, dtype=np.float64),
-                                       np.asarray(face))
-    one = np.ones(face.shape)
-    cand = np.stack([
-        np.stack([one, -tc, -sc], -1), np.stack([-one, -tc, sc], -1),
-        np.stack([sc, one, tc], -1), np.stack([sc, -one, -tc], -1),
-        np.stack([sc, -tc, one], -1), np.stack([-sc, -tc, -one], -1)], 0)
-    return np.take_along_axis(cand, face[None, ..., None].astype(np.int64), axis=0)[0]
-
-
-def face_coords(dirs: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(face, x, y) for directions (..., 3): x = s N − ½, y = t N − ½ continuous texel coordinates
-    (texel (i, j) centred at (x, y) = (j, i)), face by the major axis [3, Table 8.19]."""
-    d = np.asarray(dirs, dtype=np.float64)
-    x, y, z = d[..., 0], d[..., 1], d[..., 2]
-    ax, ay, az = np.abs(x), np.abs(y), np.abs(z)
-    use_x = (ax >= ay) & (ax >= az)
-    use_y = ~use_x & (ay >= az)
-    face = np.where(use_x, np.where(x >= 0, 0, 1), np.where(use_y, np.where(y >= 0, 2, 3),
-                                                            np.where(z >= 0, 4, 5)))
-    sc = np.select([face == 0, face == 1, face == 2, face == 3, face == 4], [-z, z, x, x, x], -x)
-    tc = np.select([face == 0, face == 1, face == 2, face == 3, face == 4], [-y, -y, z, -z, -y], -y)
-    ma = np.select([face < 2, face < 4], [ax, ay], az)
-    ma = np.maximum(ma, 1e-300)
-    return face, (sc / ma + 1.0) * 0.5 * n - 0.5, (tc / ma + 1.0) * 0.5 * n - 0.5
-
-
-def cube_texel_directions(n: int) -> np.ndarray:
-    """Unit directions of all texel centres, (6, N, N, 3)."""
-    c = (np.arange(n) + 0.5) / n * 2.0 - 1.0
-    tc, sc = np.meshgrid(c, c, indexing="ij")
-    d = np.stack([face_direction(f, sc, tc) for f in range(6)], 0)
-    return d / np.linalg.norm(d, axis=-1, keepdims=True)
-
-
-def cube_texel_solid_angles(n: int) -> np.ndarray:
-    """Exact solid angle of every texel of a face (N, N) (the same for all faces); 6 faces sum to 4π.
-    Ω of the face rectangle [0, a] × [0, b] (unit distance) is atan(ab / √(a² + b² + 1))."""
-    e = np.linspace(-1.0, 1.0, n + 1)
-    a, b = np.meshgrid(e, e, indexing="ij")
-    f = np.arctan2(a * b, np.sqrt(a * a + b * b + 1.0))
-    return f[1:, 1:] - f[:-1, 1:] - f[1:, :-1] + f[:-1, :-1]
 
 
 def _check_face(n: int) -> int:

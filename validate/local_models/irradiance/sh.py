@@ -20,6 +20,10 @@ Conventions
 
 The basis uses only +, −, × on its inputs, so the same code evaluates numpy arrays (for plots and
 tests) and drjit arrays of any backend (the model itself).
+
+This is the irradiance family's shared SH code (projection, basis, rendering): it registers nothing. The
+truncated-SH techniques are :mod:`.sh_truncated`; the windowed, ZH3 and cmgen techniques and the
+``arealight`` family's disc SH use the same functions.
 """
 
 from __future__ import annotations
@@ -32,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from ..backend import float_type
+from ...backend import float_type
 
 # R&H 2001 eq. 12 constants [1].
 C1, C2, C3, C4, C5 = 0.429043, 0.511664, 0.743125, 0.886227, 0.247708
@@ -151,7 +155,7 @@ def row_basis_fourier(height: int, lmax: int) -> np.ndarray:
     polynomial of degree ≤ lmax in φ (Y_lm is a degree-l polynomial in x = sin φ sin θ, y = cos θ,
     z = −cos φ sin θ), so Y_k(θ_i, φ) = Σ_q A[i, q, k] T_q(φ) exactly. A is found from the basis at
     2·lmax+1 equispaced φ per row (exact interpolation of such polynomials). Rows θ_i = iπ/(H−1)."""
-    from ..scenes import latlong
+    from ...scenes import latlong
 
     theta = latlong.row_theta(height)
     q = 2 * lmax + 1
@@ -262,7 +266,7 @@ def project_environment(radiance: np.ndarray, lmax: int = 2) -> np.ndarray:
     no per-texel directions or basis values, memory independent of the map beyond one block per CPU.
     Equal to the direct sum :func:`project_samples` over the same texels to float32 rounding
     (tested)."""
-    from ..scenes import latlong
+    from ...scenes import latlong
 
     h, w = radiance.shape[:2]
     rows = fourier_row_sums(radiance, lmax)
@@ -333,23 +337,3 @@ def project_angular_rh2001(angular: np.ndarray, lmax: int = 2) -> np.ndarray:
     """SH coefficients of an angular map in R&H's prefilter convention (comparable with their table)."""
     d, dw, rad = angular_map_samples_rh2001(angular)
     return project_samples(d, dw, rad, lmax)
-
-
-# -- registered techniques (family ``irradiance``) ---------------------------------------------------
-from .families import irradiance as _irradiance  # noqa: E402
-
-
-@_irradiance.register("sh9", "SH order 2 (9 coefficients), R&H 2001 eq. 12 quadratic form")
-def sh9(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    """Order-2 SH irradiance, R&H 2001 eq. 12 (the c1…c5 quadratic form) [1]."""
-    return render_irradiance_rh2001(project_environment(radiance, 2), normals)
-
-
-@_irradiance.register("sh1", "SH order 1 (4 coefficients, 'ambient + directional')")
-def sh1(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    return render_irradiance(project_environment(radiance, 1), normals)
-
-
-@_irradiance.register("sh4", "SH order 4 (25 coefficients)")
-def sh4(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    return render_irradiance(project_environment(radiance, 4), normals)

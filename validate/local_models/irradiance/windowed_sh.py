@@ -39,7 +39,7 @@ Declared thresholds (claims ``<experiment>.technique.<name>.flux_rgb.max``):
   ``flux_rgb`` per channel; ``flux_luminance`` ≤ the same since Y is a positive combination).
   :func:`kernel_bound` computes the sup exactly (K̃_w is a polynomial: ends, kink at 0 and stationary
   points of each piece): Hanning 0.29688 (at x = 1, the blur of the peak), Lanczos 0.20729; a
-  directional light attains it. The declared threshold adds :data:`REFERENCE_TOLERANCE`: the model
+  directional light attains it. The declared threshold adds :data:`CLOSED_FORM_TOLERANCE`: the model
   integrates the map's texels, the reference Mitsuba's bilinear map; their irradiances agree within
   the suite's closed-form tolerance (claims ``reference.closed_form.*``, measured ≤ 3.3·10⁻⁴ Φ).
 * Geomerics L1 (and hallucinated ZH3, :mod:`.zh3`) depend on L only through L00 and L1, i.e. per
@@ -72,22 +72,13 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from ..errors import ValidateError
-from ..scenes.procedural import NEAR_DIRECTIONAL_HALF_ANGLE_DEG, NEAR_DIRECTIONAL_HEIGHT
+from ...scenes.latlong import CLOSED_FORM_TOLERANCE
+from ...scenes.procedural import near_directional_half_angle
+from ..families import irradiance as _irradiance
 from . import sh
-from .families import irradiance as _irradiance
+from .kernel_bounds import near_directional_bound
 
 WINDOW_WIDTH = 3.0  # W = l_max + 1 for SH9
-# The suite's closed-form tolerance (validate.experiments.sh9_claims.CLOSED_FORM, tested equal): the reference
-# quadrature of Mitsuba's bilinear map agrees with the exact irradiance of the lighting within 0.1 % of Φ
-# (measured ≤ 3.3·10⁻⁴ on near_directional); the model sees the texels, so a bound proved for the lighting the
-# model sees is declared with this allowance.
-REFERENCE_TOLERANCE = 1e-3
-# x grid for the near-directional bound: 200 001 points include 0 (the kink); |d/dx (k − max(x, 0))| ≤ 2.5 for
-# both kernels (|k′| ≤ 1.5), so the grid misses the sup by at most 2.5 h, added to the bound.
-BOUND_GRID = 200001
-BOUND_LIPSCHITZ = 2.5
-RHO_GRID = 9  # ρ ∈ [cos α, 1]; 1 − cos α ≈ 1.5·10⁻⁴ here, so the bound is flat over it
 
 
 # -- windowed-SH kernel and its exact Hölder bound -------------------------------------------------------------
@@ -127,29 +118,7 @@ def kernel_mean(weights: Sequence[float], samples: int = 200001) -> float:
     return float(np.trapezoid(np.abs(zonal_kernel(weights, x) - np.maximum(x, 0.0)), x) / 2)
 
 
-# -- near-directional bound of a technique that depends on L00 and L1 only ----------------------------------
 
-
-def near_directional_bound(kernel: Callable[[float, np.ndarray], np.ndarray], half_angle: float) -> float:
-    """max over ρ ∈ [cos α, 1] of max(sup_x [k_ρ(x) − max(ρx, 0)], sup_x [max(x + 2α, 0) − k_ρ(x)]) (module
-    docstring), on a grid of :data:`BOUND_GRID` x values plus the grid's worst miss. ``kernel(ρ, x)`` is the
-    technique's output per unit flux at n·m̂ = x for lighting with mean-vector length ρ."""
-    if not 0.0 <= half_angle < math.pi / 4:
-        raise ValidateError(f"near-directional bound: half-angle {half_angle:g} rad must be in [0, π/4)")
-    x = np.linspace(-1.0, 1.0, BOUND_GRID)
-    worst = 0.0
-    for rho in np.linspace(math.cos(half_angle), 1.0, RHO_GRID):
-        k = kernel(float(rho), x)
-        over = float(np.max(k - np.maximum(rho * x, 0.0)))
-        under = float(np.max(np.maximum(x + 2 * half_angle, 0.0) - k))
-        worst = max(worst, over, under)
-    return worst + BOUND_LIPSCHITZ * 2.0 / (BOUND_GRID - 1)
-
-
-def near_directional_half_angle() -> float:
-    """α of the built-in ``near_directional`` environment: its disc's half-angle plus one texel diagonal
-    (√2 π / H: the cells its cell-averaged texels cover)."""
-    return math.radians(NEAR_DIRECTIONAL_HALF_ANGLE_DEG) + math.sqrt(2.0) * math.pi / NEAR_DIRECTIONAL_HEIGHT
 
 
 def geomerics_kernel(rho: float, x: np.ndarray) -> np.ndarray:
@@ -163,7 +132,7 @@ def geomerics_kernel(rho: float, x: np.ndarray) -> np.ndarray:
 GEOMERICS_BOUND = near_directional_bound(geomerics_kernel, near_directional_half_angle())
 HOLDER_SOURCE = ("Hölder (L¹·L^∞) on the windowed zonal kernel K̃_w(x) = Σ w_l A_l (2l+1)/(4π) P_l(x), as in R&H JOSA "
                  "2001 / SIGGRAPH 2001's 3/32 bound for SH9: max_n |E′ − E| ≤ sup|K̃_w − max(x, 0)| Φ for any "
-                 "lighting; sup computed exactly from the window (validate.local_models.windowed_sh.kernel_bound) "
+                 "lighting; sup computed exactly from the window (validate.local_models.irradiance.windowed_sh.kernel_bound) "
                  "+ 0.1 % Φ, the reference's closed-form tolerance (texels vs Mitsuba's bilinear map)")
 
 
@@ -189,14 +158,14 @@ def windowed_sh9(radiance: np.ndarray, normals: np.ndarray, window: Callable[[in
 
 
 @_irradiance.register("sh9_hanning", "SH9 with a Hanning window (1, 0.75, 0.25) over the bands (Sloan 2008)",
-                      thresholds={"flux_rgb.max": HANNING_BOUND + REFERENCE_TOLERANCE},
+                      thresholds={"flux_rgb.max": HANNING_BOUND + CLOSED_FORM_TOLERANCE},
                       source=f"{HOLDER_SOURCE}: Hanning sup = {HANNING_BOUND:.5f} (at x = 1)")
 def sh9_hanning(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
     return windowed_sh9(radiance, normals, hanning)
 
 
 @_irradiance.register("sh9_lanczos", "SH9 with a Lanczos window (1, 0.827, 0.413) over the bands (Sloan 2008)",
-                      thresholds={"flux_rgb.max": LANCZOS_BOUND + REFERENCE_TOLERANCE},
+                      thresholds={"flux_rgb.max": LANCZOS_BOUND + CLOSED_FORM_TOLERANCE},
                       source=f"{HOLDER_SOURCE}: Lanczos sup = {LANCZOS_BOUND:.5f} (at x = 1)")
 def sh9_lanczos(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
     return windowed_sh9(radiance, normals, lanczos)
@@ -222,11 +191,11 @@ def geomerics_l1(coeffs4: np.ndarray, normals: np.ndarray) -> np.ndarray:
 
 
 @_irradiance.register("sh1_geomerics", "L1 SH with Geomerics' non-negative reconstruction (Hazel 2013)",
-                      thresholds={"flux_rgb.max": GEOMERICS_BOUND + REFERENCE_TOLERANCE},
+                      thresholds={"flux_rgb.max": GEOMERICS_BOUND + CLOSED_FORM_TOLERANCE},
                       environments=("near_directional",),
                       source="closed form on a directional light (Hazel 2013's k = ((1 + x)/2)³ for ρ = 1: error ≤ 1/8 "
                              "at the horizon), widened for near_directional's 0.5° disc + one texel by Jensen's "
-                             "inequality and the cone (validate.local_models.windowed_sh.near_directional_bound: "
+                             "inequality and the cone (validate.local_models.irradiance.windowed_sh.near_directional_bound: "
                              f"{GEOMERICS_BOUND:.5f}) + 0.1 % Φ, the reference's closed-form tolerance")
 def sh1_geomerics(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
     return geomerics_l1(sh.project_environment(radiance, 1), normals)

@@ -31,7 +31,7 @@ r = √3 ρ) its output is Φ k_ρ(n·m̂) with the closed-form kernel (:func:`h
 for a directional light (ρ = 1) k = ¼ + x/2 + 0.13546 (3x² − 1): error |k − max(x, 0)| ≤ 0.1145 at the
 horizon (SH9: 3/32 = 0.094 there; plain L1: ¼). Widened for the disc and its texels as in
 :func:`.windowed_sh.near_directional_bound` (Jensen below, the cone above), plus the reference's closed-form
-tolerance (:data:`.windowed_sh.REFERENCE_TOLERANCE`).
+tolerance (:data:`.windowed_sh.CLOSED_FORM_TOLERANCE`).
 
 References
   [1] T. Roughton, P.-P. Sloan, A. Silvennoinen, M. Iwanicki, P. Shirley, "ZH3: Quadratic Zonal
@@ -47,9 +47,11 @@ import math
 
 import numpy as np
 
+from ...scenes.latlong import CLOSED_FORM_TOLERANCE
+from ...scenes.procedural import near_directional_half_angle
+from ..families import irradiance as _irradiance
 from . import sh
-from .families import irradiance as _irradiance
-from .windowed_sh import REFERENCE_TOLERANCE, near_directional_bound, near_directional_half_angle
+from .kernel_bounds import near_directional_bound
 
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 Y20_NORM = math.sqrt(5.0 / (16.0 * math.pi))
@@ -115,12 +117,13 @@ HALLUCINATED_BOUND = near_directional_bound(hallucinated_kernel, near_directiona
 
 
 @_irradiance.register("zh3_hallucinated", "ZH3 hallucinated from L1 (Roughton et al. 2024 §3.4.3 curve fit)",
-                      thresholds={"flux_rgb.max": HALLUCINATED_BOUND + REFERENCE_TOLERANCE},
+                      thresholds={"flux_rgb.max": HALLUCINATED_BOUND + CLOSED_FORM_TOLERANCE},
                       environments=("near_directional",),
                       source="closed form on a directional light (Roughton et al. 2024 §3.4.3: z2 = L00 (0.08 r "
                              "+ 0.6 r²), r = √3: kernel ¼ + x/2 + 0.1355 (3x² − 1), error ≤ 0.1145 Φ at the "
                              "horizon), widened for near_directional's 0.5° disc + one texel by Jensen's "
-                             "inequality and the cone (validate.local_models.windowed_sh.near_directional_bound: "
+                             "inequality and the cone (validate.local_models.irradiance.kernel_bounds."
+                             "near_directional_bound: "
                              f"{HALLUCINATED_BOUND:.5f}) + 0.1 % Φ, the reference's closed-form tolerance")
 def zh3_hallucinated(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
     coeffs = sh.project_environment(radiance, 1)

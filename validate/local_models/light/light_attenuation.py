@@ -36,7 +36,8 @@ from typing import Any
 
 import numpy as np
 
-from .classic_lights import Visible, light, point_irradiance, require
+from ..families import light
+from .common import Visible, point_irradiance, require
 
 DEFAULT_RANGE = 10.0  # m: range used by the windowed falloffs when the light mapping gives none
 

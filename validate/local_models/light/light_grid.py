@@ -40,8 +40,9 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ValidateError
-from .classic_lights import Visible, as_points, light, require, shadow, to_dr
+from ...errors import ValidateError
+from ..families import light
+from .common import Visible, as_points, require, shadow, to_dr
 
 AREA_KINDS = ("rectangle", "disk", "sphere")
 DEFAULT_GRID = 8

@@ -1,7 +1,7 @@
 """Exponential shadow maps (ESM): the depth test approximated by exp(c (d − t)) [1].
 
 The map stores exp(c·d) of the normalised linear depth d, prefiltered with the 5×5 Gauss and read
-bilinearly (:func:`~validate.local_models.shadow_map.filter_footprint`). For a receiver at depth t
+bilinearly (:func:`~validate.local_models.shadow.shadow_map.filter_footprint`). For a receiver at depth t
 [1, eq. 4–5]:
 
     V′ = clamp(e^(−c t) · E[e^(c d)], 0, 1) = clamp(E[e^(c (d − t))], 0, 1).
@@ -23,8 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..scenes.shadow_scenes import DiscLight
-from .families import shadow
+from ...scenes.shadow_scenes import DiscLight
+from ..families import shadow
 from .shadow_map import ShadowMap, filter_footprint
 
 C = 80.0

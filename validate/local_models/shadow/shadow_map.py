@@ -14,7 +14,7 @@ sin²σ = r²/(r² + d²) (so that π sin²σ is the projected solid angle of a 
         with x = √(1/sin²σ − 1) = d/r, y = −x cos θ / sin θ, and I = 0 below cos θ = −sin σ,
 
 the "illuminanceSphereOrDisk" form of [1] §4.7 (the horizon-clipped spherical cap of [2]; I is
-:func:`validate.local_models.sphere_cap.cap_irradiance_dr` with one sin²σ per point), with the
+:func:`validate.local_models.arealight.sphere_cap.cap_irradiance_dr` with one sin²σ per point), with the
 disc's foreshortening max(0, n_L·(−l)) as the extra factor. It is exact on the disc's axis with n
 facing the disc, E = π L_e r²/(r² + d²), and has the right point-light limit E = L_e πr² cos θ cos θ_L
 / d²; elsewhere it is an approximation whose error grows like (r/d)² (measured against
@@ -74,10 +74,11 @@ References
 [8] W. Donnelly, A. Lauritzen, "Variance Shadow Maps", I3D 2006.
 [9] C. Peters, R. Klein, "Moment Shadow Mapping", I3D 2015.
 
-Registered techniques (family ``shadow``, :mod:`validate.local_models.families`; each is the family's
-contract fn(shadow_map, light, points, normals) -> (N,) V′ and registers exactly as a plug-in does):
-``hard`` (nearest texel, glPolygonOffset(2, 4) [3]), ``pcf`` (3×3 bilinear taps [6] [3], footprint 4×4
-texels) and ``pcss`` ([4], 32 blocker-search and 64 filter taps, receiver-plane depth [5]). The
+This module is the family's shared code and registers nothing. The techniques (family ``shadow``,
+:mod:`validate.local_models.families`; each is the family's contract fn(shadow_map, light, points, normals)
+-> (N,) V′ and registers exactly as a plug-in does) are one file each in this folder:
+:mod:`.percentage_closer` ``hard`` (nearest texel, glPolygonOffset(2, 4) [3]), ``pcf`` (3×3 bilinear taps
+[6] [3], footprint 4×4 texels) and ``pcss`` ([4], 32 blocker-search and 64 filter taps, receiver-plane depth [5]). The
 filterable maps (VSM [8], ESM [7], MSM [9]) each register in their own module (``shadow_vsm``,
 ``shadow_esm``, ``shadow_msm``) on :func:`filter_footprint`.
 """
@@ -89,11 +90,10 @@ from typing import Any
 
 import numpy as np
 
-from ..backend import float_type, init, uint_type
-from ..errors import ValidateError
-from ..scenes.shadow_scenes import DiscLight
-from .families import shadow
-from .sphere_cap import cap_irradiance_dr
+from ...backend import float_type, init, uint_type
+from ...errors import ValidateError
+from ...scenes.shadow_scenes import DiscLight
+from ..arealight.sphere_cap import cap_irradiance_dr
 
 DEPTH_BITS = 24
 DEPTH_LSB = 2.0**-DEPTH_BITS  # r of glPolygonOffset for a D24 buffer
@@ -469,7 +469,7 @@ def visibility_pcss(sm: ShadowMap, position: np.ndarray, normal: np.ndarray, lig
 
 def disc_irradiance(light: DiscLight, position: np.ndarray, normal: np.ndarray) -> np.ndarray:
     """Unoccluded irradiance E (N,) of the disc at points with normals (N, 3): the [1] form (module doc),
-    I(cos θ, sin²σ) from :func:`~validate.local_models.sphere_cap.cap_irradiance_dr`."""
+    I(cos θ, sin²σ) from :func:`~validate.local_models.arealight.sphere_cap.cap_irradiance_dr`."""
     F = float_type()
     p = np.asarray(position, dtype=np.float64).reshape(-1, 3)
     nrm = np.asarray(normal, dtype=np.float64).reshape(-1, 3)
@@ -488,35 +488,13 @@ def shade(albedo: np.ndarray, irradiance: np.ndarray, visibility: np.ndarray) ->
     return np.asarray(albedo) / np.pi * (np.asarray(irradiance) * np.asarray(visibility))[:, None]
 
 
-# ---------------------------------------------------------------------------------------------- techniques
-
-PCF_KERNEL = 3  # 3×3 taps as shipped [6]; each tap bilinear (sampler2DShadow, GL_LINEAR [3])
-PCSS_SEARCH_TAPS = 32  # blocker-search taps [4]
-PCSS_FILTER_TAPS = 64  # filter taps [4]
 
 
-@shadow.register("hard", "hard shadow map: nearest-texel depth test, glPolygonOffset(2, 4)",
-                 source="Red Book ch. 7 [3]: nearest-texel depth comparison with glPolygonOffset(2, 4)",
-                 memory_bytes_per_texel=4)
-def shadow_hard(shadow_map: ShadowMap, light: DiscLight, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    """V′ ∈ {0, 1}: lit iff z_r ≤ D + o at the nearest texel (:func:`visibility_hard`)."""
-    return visibility_hard(shadow_map, points, normals)
 
 
-@shadow.register("pcf", f"PCF {PCF_KERNEL}×{PCF_KERNEL} bilinear taps one texel apart (footprint 4×4 texels)",
-                 source="3×3 neighbourhood of LearnOpenGL's PCF [6]; each tap a GL_LINEAR sampler2DShadow [3]",
-                 memory_bytes_per_texel=4)
-def shadow_pcf(shadow_map: ShadowMap, light: DiscLight, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    """V′ = mean of the k×k bilinear comparisons, k = PCF_KERNEL (:func:`visibility_pcf`)."""
-    return visibility_pcf(shadow_map, points, normals, PCF_KERNEL)
 
 
-@shadow.register("pcss", "PCSS: blocker search, penumbra w_p = r (z_r − z_b)/(z_b z_r), variable PCF",
-                 source="Fernando 2005 [4]; receiver-plane depth per tap, Isidoro 2006 [5]", memory_bytes_per_texel=4)
-def shadow_pcss(shadow_map: ShadowMap, light: DiscLight, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    """V′ of PCSS with the light's own radius (:func:`visibility_pcss`, receiver-plane depth on)."""
-    return visibility_pcss(shadow_map, points, normals, light.radius, search_taps=PCSS_SEARCH_TAPS,
-                           filter_taps=PCSS_FILTER_TAPS).visibility
+
 
 
 # ---------------------------------------------------------------------------------------------- filterable maps

@@ -1,7 +1,7 @@
 """Moment shadow maps (MSM): the sharp bound on the filtered depth test from four moments [1].
 
 The map stores b = (d, d², d³, d⁴) of the normalised linear depth d, prefiltered with the 5×5 Gauss
-and read bilinearly (:func:`~validate.local_models.shadow_map.filter_footprint`). Hamburger 4MSM
+and read bilinearly (:func:`~validate.local_models.shadow.shadow_map.filter_footprint`). Hamburger 4MSM
 [1, Algorithm 2], for a receiver at depth z_f:
 
 1. b′ = (1 − α) b + α (½, ½, ½, ½) (the moments of a mixture with a Bernoulli(½) on {0, 1}, which
@@ -26,8 +26,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..scenes.shadow_scenes import DiscLight
-from .families import shadow
+from ...scenes.shadow_scenes import DiscLight
+from ..families import shadow
 from .shadow_map import ShadowMap, filter_footprint
 
 ALPHA = 3e-5

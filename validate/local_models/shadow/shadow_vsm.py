@@ -1,7 +1,7 @@
 """Variance shadow maps (VSM): Chebyshev's bound on the filtered depth test from two moments [1].
 
 The map stores (d, d²) of the normalised linear depth d, prefiltered with the 5×5 Gauss and read
-bilinearly (:func:`~validate.local_models.shadow_map.filter_footprint`), giving μ = E[d] and
+bilinearly (:func:`~validate.local_models.shadow.shadow_map.filter_footprint`), giving μ = E[d] and
 σ² = E[d²] − μ² over the filter's weights. For a receiver at depth t [1, eq. 5]:
 
     V′ = 1                         if t ≤ μ,
@@ -20,8 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..scenes.shadow_scenes import DiscLight
-from .families import shadow
+from ...scenes.shadow_scenes import DiscLight
+from ..families import shadow
 from .shadow_map import ShadowMap, filter_footprint
 
 MIN_VARIANCE = 2.0**-20  # ≈ 1e-6: fp32 E[d²] − E[d]² of d ≤ 1 cancels to ~2⁻²⁴; 16× headroom

@@ -6,7 +6,7 @@ A specular map of Phong exponent s stores, per direction r, the environment filt
     P_s(r) = ∫_{S²} L(ω) K_s(r·ω) dω,        K_s(c) = (s + 1)/(2π) · max(0, c)^s,   ∫ K_s dω = 1,
 
 and shading looks it up at the reflection vector r = 2(n·v)n − v. It is built by brute-force
-convolution of the lat-long texels (:func:`validate.local_models.irradiance_map.convolve_zonal`, the
+convolution of the lat-long texels (:func:`validate.local_models.irradiance.irradiance_map.convolve_zonal`, the
 ratio estimator Σ K Φ / Σ K Ω) on a cube map whose resolution follows the lobe.
 
 What it leaves out, against the *normalised modified-Phong BRDF* [4, 5]
@@ -46,17 +46,28 @@ References
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 
 import numpy as np
 
-from ..errors import ValidateError
-from .families import specular
-from .irradiance_map import DEFAULT_BLOCK_DEG, CubeMap, EnvironmentNodes, Kernel, convolve_zonal, environment_nodes
+from ...errors import ValidateError
+from ..families import specular
+from ..irradiance.irradiance_map import (
+    CubeMap,
+    EnvironmentNodes,
+    Kernel,
+    convolve_zonal,
+    environment_nodes,
+)
+from .common import (
+    array_digest,
+    block_deg_for_width,
+    cached,
+    face_size_for_width,
+    reflect,
+)
 
 EXPONENT_RANGE = (0.5, 10000.0)
-TEXELS_PER_LOBE = 4  # largest texel ≤ σ/4 (module docstring)
-MIN_FACE, MAX_FACE = 8, 256
 SUPPORT_EPS = 1e-7  # K_s < 1e-7 · K_s(1) is dropped: cos^s α < 1e-7
 NORMAL_INCIDENCE_DEG = 5.0  # "normal incidence": view within 5° of the normal
 
@@ -91,18 +102,8 @@ def phong_support_cos(s: float) -> float:
     return c if c > 0.5 else -1.0
 
 
-def face_size_for_width(sigma: float) -> int:
-    """Smallest power-of-two face N with 2/N ≤ σ/:data:`TEXELS_PER_LOBE`, clamped to [8, 256]."""
-    need = 2.0 * TEXELS_PER_LOBE / sigma
-    n = MIN_FACE
-    while n < need and n < MAX_FACE:
-        n *= 2
-    return n
 
 
-def block_deg_for_width(sigma: float) -> float:
-    """Node block size: at most σ/4, at most the cosine-kernel default (4°)."""
-    return min(DEFAULT_BLOCK_DEG, math.degrees(sigma) / 4.0)
 
 
 def phong_face_size(s: float) -> int:
@@ -127,11 +128,6 @@ def prefilter_phong_cube(radiance: np.ndarray, s: float, face_size: int | None =
     return CubeMap.build(lambda d: convolve_zonal(nodes, d, kernel, 1.0, support), n, needed)
 
 
-def reflect(normals: np.ndarray, views: np.ndarray) -> np.ndarray:
-    """Reflection vectors r = 2(n·v)n − v of unit views v (towards the eye) about unit normals n."""
-    n = np.asarray(normals, dtype=np.float64)
-    v = np.asarray(views, dtype=np.float64)
-    return 2.0 * np.sum(n * v, axis=-1, keepdims=True) * n - v
 
 
 def shade_phong_map(specular_map: CubeMap, normals: np.ndarray, views: np.ndarray) -> np.ndarray:
@@ -165,29 +161,10 @@ def mix_shader(base_color: np.ndarray | float, diffuse_percent: float, specular_
 # Registered techniques (family ``specular``) and a small map cache
 # ---------------------------------------------------------------------------------------------
 
-MAP_CACHE_SIZE = 24  # prefiltered maps kept per process (sparse cube maps: ≤ 6·256²·3 float32 = 4.7 MB each)
-_MAP_CACHE: dict[tuple, object] = {}
 
 
-def array_digest(a: np.ndarray) -> str:
-    """Content hash of an array (shape, dtype and bytes): the cache key of maps built from it."""
-    import hashlib
-
-    a = np.ascontiguousarray(a)
-    h = hashlib.blake2b(digest_size=16)
-    h.update(f"{a.shape}{a.dtype}".encode())
-    h.update(memoryview(a).cast("B"))
-    return h.hexdigest()
 
 
-def cached(key: tuple, build: Callable[[], object]) -> object:
-    """``build()`` memoised on ``key`` (insertion-ordered, the oldest entry dropped beyond
-    :data:`MAP_CACHE_SIZE`). Keys hold content digests of the inputs, so a changed array is a miss."""
-    if key not in _MAP_CACHE:
-        if len(_MAP_CACHE) >= MAP_CACHE_SIZE:
-            _MAP_CACHE.pop(next(iter(_MAP_CACHE)))
-        _MAP_CACHE[key] = build()
-    return _MAP_CACHE[key]
 
 
 def cached_phong_cube(radiance: np.ndarray, s: float, directions: np.ndarray) -> CubeMap:

@@ -15,7 +15,7 @@ is approximated by the product of two separately precomputed integrals [1, eq. 7
       P_α(r) = ∫ L(l) K_α(r·l) dl / ∫ K_α dl,      K_α(c) = D(h) max(0, c)/4, cos θ_h = √((1 + c)/2).
 
   Here it is computed by *exact convolution* with K_α over the environment's texels
-  (:func:`validate.local_models.irradiance_map.convolve_zonal`, ratio estimator), not sampled;
+  (:func:`validate.local_models.irradiance.irradiance_map.convolve_zonal`, ratio estimator), not sampled;
 * **DFG / environment-BRDF table**: with Schlick's F = F0 + (1 − F0)(1 − v·h)⁵ [2],
   ∫ f cos θ_l dl = F0·A + B, A = ∫ (f/F)(1 − F_c) cos θ_l, B = ∫ (f/F) F_c cos θ_l, F_c = (1 − v·h)⁵,
   tabulated over (μ_v, α) (:class:`DFGTable`) as the means of (1 − F_c, F_c)·G1(l) over half vectors
@@ -65,10 +65,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..backend import float_type
-from ..errors import ValidateError
-from .families import specular
-from .irradiance_map import (
+from ...backend import float_type
+from ...errors import ValidateError
+from ..families import specular
+from ..irradiance.irradiance_map import (
     CubeMap,
     EnvironmentNodes,
     IrradianceMap,
@@ -77,7 +77,7 @@ from .irradiance_map import (
     convolve_zonal,
     environment_nodes,
 )
-from .prefiltered_specular import array_digest, block_deg_for_width, cached, face_size_for_width, reflect
+from .common import array_digest, block_deg_for_width, cached, face_size_for_width, reflect
 
 ALPHA_RANGE = (1e-3, 1.0)
 DFG_SAMPLES = 2048  # Hammersley points per table cell (QMC error ≲ 10⁻³ of A + B, tests/local_models/test_ibl.py)
@@ -233,7 +233,7 @@ class DFGTable:
         x0 = dr.minimum(dr.floor(x), n - 2.0)
         y0 = dr.minimum(dr.floor(y), n - 2.0)
         wx, wy = x - x0, y - y0
-        from ..backend import uint_type
+        from ...backend import uint_type
 
         UInt = uint_type()
         base = UInt(y0) * n + UInt(x0)

@@ -53,27 +53,19 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ValidateError
-from ..scenes.area_lights import tube_geometry
-from .classic_brdfs import ggx_d, smith_g1
-from .registry import define_family
+from ...errors import ValidateError
+from ...geometry import perp, unit
+from ...scenes.area_lights import tube_geometry
+from ..brdf.common import ggx_d, smith_g1
+from ..families import specular_arealight
+from .common import brdf_params
 
-DATA = Path(__file__).with_name("data") / "ltc_ggx.npz"
+DATA = Path(__file__).resolve().parents[1] / "data" / "ltc_ggx.npz"  # local_models/data (package data)
 MIN_ALPHA = 1e-3
 DISC_SIDES = 64
 SHAPES = ("rectangle", "disc", "sphere", "tube")
 TUBE_ARC_SIDES = 32  # segments per half-circle end of a tube's stadium polygon
 
-specular_arealight = define_family(
-    "specular_arealight",
-    "fn(light: mapping {'shape': 'rectangle'|'disc'|'sphere'|'tube', 'center', 'normal', 'radius' or 'size' + "
-    "'tangent', 'axis' + 'length' (tube capsule), 'radiance'}, brdf: mapping {'alpha': GGX α, 'f0': F0}, points: "
-    "(N, 3), normals: (N, 3) unit, views: (N, 3) unit towards the viewer) -> (N, 3) outgoing radiance "
-    "∫_light L_e f_r (n·l) dω of a GGX microfacet BRDF",
-    lambda light, brdf, points, normals, views, **_: (len(points), 3),
-    lower=0.0,
-    bounds_reason="reflected radiance of a non-negative emitter through a non-negative BRDF is ≥ 0",
-)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -269,16 +261,8 @@ def load_table(path: str = str(DATA)) -> Table:
         return Table(z["m_inv"], z["norm"], z["fresnel"], z["l1_error"], z["params"])
 
 
-def _unit(x: np.ndarray) -> np.ndarray:
-    x = np.asarray(x, dtype=np.float64)
-    return x / np.maximum(np.linalg.norm(x, axis=-1, keepdims=True), 1e-300)
 
 
-def _perp(n: np.ndarray) -> np.ndarray:
-    """A unit vector perpendicular to each n ((3,) or (N, 3))."""
-    n = np.asarray(n, dtype=np.float64)
-    a = np.where(np.abs(n[..., :1]) < 0.9, np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]))
-    return _unit(np.cross(n, a))
 
 
 def light_polygon(light: Mapping[str, Any], points: np.ndarray, who: str) -> np.ndarray:
@@ -287,9 +271,9 @@ def light_polygon(light: Mapping[str, Any], points: np.ndarray, who: str) -> np.
     c = np.asarray(light.get("center", (0.0, 0.0, 0.0)), dtype=np.float64)
     n_pts = len(points)
     if shape == "rectangle":
-        nrm = _unit(light["normal"])
-        t = _unit(light.get("tangent", _perp(nrm)))
-        t = _unit(t - nrm * np.dot(t, nrm))
+        nrm = unit(light["normal"])
+        t = unit(light.get("tangent", perp(nrm)))
+        t = unit(t - nrm * np.dot(t, nrm))
         b = np.cross(nrm, t)
         w, h = (float(x) for x in light["size"])
         corners = [c + 0.5 * (sx * w * t + sy * h * b) for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
@@ -299,7 +283,7 @@ def light_polygon(light: Mapping[str, Any], points: np.ndarray, who: str) -> np.
         ang = 2.0 * np.pi * np.arange(DISC_SIDES) / DISC_SIDES
         scale = r * np.sqrt(2.0 * np.pi / (DISC_SIDES * np.sin(2.0 * np.pi / DISC_SIDES)))  # equal area
         if shape == "disc":
-            nrm = np.broadcast_to(_unit(light["normal"]), (n_pts, 3))
+            nrm = np.broadcast_to(unit(light["normal"]), (n_pts, 3))
         else:
             to_p = points - c
             d = np.linalg.norm(to_p, axis=-1, keepdims=True)
@@ -307,7 +291,7 @@ def light_polygon(light: Mapping[str, Any], points: np.ndarray, who: str) -> np.
                 raise ValidateError(f"technique '{who}' (specular_arealight): a receiver lies inside the sphere light")
             nrm = to_p / d
             scale = scale * d / np.sqrt(d * d - r * r)  # the disc subtending the sphere's cone
-        t = _perp(nrm)
+        t = perp(nrm)
         b = np.cross(nrm, t)
         sc = np.asarray(scale, dtype=np.float64).reshape(-1, 1, 1) if np.ndim(scale) else scale
         return c + sc * (np.cos(ang)[None, :, None] * t[:, None, :] + np.sin(ang)[None, :, None] * b[:, None, :])
@@ -327,7 +311,7 @@ def tube_polygon(light: Mapping[str, Any], points: np.ndarray, who: str) -> np.n
     if np.any(h <= r):
         raise ValidateError(f"technique '{who}' (specular_arealight): a receiver lies within the tube's radius of "
                             "its axis")
-    b = _unit(np.cross(qp / h, ax))
+    b = unit(np.cross(qp / h, ax))
     rr = r * h / np.sqrt(h * h - r * r)  # (N, 1)
     th = np.linspace(-0.5 * np.pi, 0.5 * np.pi, TUBE_ARC_SIDES + 1)
     ends = []
@@ -351,7 +335,7 @@ def clipped_form_factor(poly: np.ndarray) -> np.ndarray:
     valid = np.empty((n, 2 * k), dtype=bool)
     slots[:, 0::2], slots[:, 1::2] = cur, cross_pt
     valid[:, 0::2], valid[:, 1::2] = zc >= 0.0, (zc >= 0.0) != (zn >= 0.0)
-    slots = _unit(slots)
+    slots = unit(slots)
     idx = np.broadcast_to(np.arange(2 * k), (n, 2 * k))
     nxt_idx = np.full((n, 2 * k), -1)
     for off in range(2 * k - 1, 0, -1):  # the nearest valid slot after each slot, cyclically
@@ -369,25 +353,16 @@ def clipped_form_factor(poly: np.ndarray) -> np.ndarray:
 
 def local_frames(normals: np.ndarray, views: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(rows [X, Y, n] (N, 3, 3) with v in the XZ plane, μ_v = n·v)."""
-    n = _unit(normals)
-    v = _unit(views)
+    n = unit(normals)
+    v = unit(views)
     mu = np.sum(n * v, -1)
     x = v - mu[:, None] * n
     xn = np.linalg.norm(x, axis=-1, keepdims=True)
-    fallback = _perp(n)
+    fallback = perp(n)
     x = np.where(xn > 1e-9, x / np.maximum(xn, 1e-300), fallback)
     return np.stack([x, np.cross(n, x), n], axis=1), mu
 
 
-def brdf_params(brdf: Mapping[str, Any], who: str) -> tuple[float, np.ndarray]:
-    alpha = np.asarray(brdf.get("alpha", 0.3), dtype=np.float64)
-    f0 = np.asarray(brdf.get("f0", 1.0), dtype=np.float64)
-    if alpha.ndim != 0 or not 0.0 < float(alpha) <= 1.0:
-        raise ValidateError(f"technique '{who}' (specular_arealight): alpha={alpha.tolist()!r} must be in (0, 1]")
-    if f0.ndim > 1 or (f0.ndim == 1 and f0.shape[0] != 3) or np.any((f0 < 0) | (f0 > 1)):
-        raise ValidateError(f"technique '{who}' (specular_arealight): f0={f0.tolist()!r} must be in [0, 1], scalar "
-                            "or RGB")
-    return float(alpha), np.broadcast_to(f0, (3,))
 
 
 def ltc_integral(light: Mapping[str, Any], alpha: float, points: np.ndarray, normals: np.ndarray,

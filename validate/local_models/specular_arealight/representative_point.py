@@ -58,14 +58,12 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ValidateError
-from ..scenes.area_lights import tube_geometry
-from .classic_brdfs import Geometry, fresnel_schlick, ggx_d, smith_g1
-from .ltc import brdf_params, specular_arealight
-
-
-def _unit(x: np.ndarray) -> np.ndarray:
-    return x / np.maximum(np.linalg.norm(x, axis=-1, keepdims=True), 1e-300)
+from ...errors import ValidateError
+from ...geometry import unit
+from ...scenes.area_lights import tube_geometry
+from ..brdf.common import Geometry, fresnel_schlick, ggx_d, smith_g1
+from ..families import specular_arealight
+from .common import brdf_params
 
 
 def representative_point(light: Mapping[str, Any], brdf: Mapping[str, Any], points: np.ndarray, normals: np.ndarray,
@@ -75,14 +73,14 @@ def representative_point(light: Mapping[str, Any], brdf: Mapping[str, Any], poin
         raise ValidateError(f"technique '{who}' (specular_arealight): handles sphere lights only, got "
                             f"{light.get('shape')!r}")
     alpha, f0 = brdf_params(brdf, who)
-    n, v = _unit(np.asarray(normals, dtype=np.float64)), _unit(np.asarray(views, dtype=np.float64))
+    n, v = unit(np.asarray(normals, dtype=np.float64)), unit(np.asarray(views, dtype=np.float64))
     radius = float(light["radius"])
     to_c = np.asarray(light["center"], dtype=np.float64) - np.asarray(points, dtype=np.float64)
     dist = np.linalg.norm(to_c, axis=-1)
     r = 2.0 * np.sum(n * v, -1, keepdims=True) * n - v
     c2r = np.sum(to_c * r, -1, keepdims=True) * r - to_c
     t = np.clip(radius / np.maximum(np.linalg.norm(c2r, axis=-1, keepdims=True), 1e-300), 0.0, 1.0)
-    l = _unit(to_c + c2r * t)
+    l = unit(to_c + c2r * t)
     g = Geometry(n, l, v)
     spec = (ggx_d(g.ch, alpha) * smith_g1(g.cl, alpha, "ggx") * smith_g1(g.cv, alpha, "ggx")
             / (4.0 * np.maximum(g.cv, 1e-12)))  # f_r (n·l) with F = 1
@@ -144,7 +142,7 @@ def representative_point_tube(light: Mapping[str, Any], brdf: Mapping[str, Any],
     alpha, f0 = brdf_params(brdf, who)
     c, ax, length, radius = tube_light(light, who)
     p = np.asarray(points, dtype=np.float64)
-    n, v = _unit(np.asarray(normals, dtype=np.float64)), _unit(np.asarray(views, dtype=np.float64))
+    n, v = unit(np.asarray(normals, dtype=np.float64)), unit(np.asarray(views, dtype=np.float64))
     r = 2.0 * np.sum(n * v, -1, keepdims=True) * n - v
     l0 = c - 0.5 * length * ax - p
     ld = length * ax
@@ -154,7 +152,7 @@ def representative_point_tube(light: Mapping[str, Any], brdf: Mapping[str, Any],
     lt = l0 + np.clip(t, 0.0, 1.0)[:, None] * ld
     c2r = np.sum(lt * r, -1, keepdims=True) * r - lt
     s = np.clip(radius / np.maximum(np.linalg.norm(c2r, axis=-1, keepdims=True), 1e-300), 0.0, 1.0)
-    l = _unit(lt + c2r * s)
+    l = unit(lt + c2r * s)
     dist = np.linalg.norm(c - p, axis=-1)
     e_perp = float(light.get("radiance", 1.0)) * tube_solid_angle(c, ax, length, radius, p)
     a_line = np.clip(alpha + 0.5 * np.clip(length / dist, 0.0, 1.0), 0.0, 1.0)

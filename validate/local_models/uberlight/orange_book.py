@@ -56,20 +56,9 @@ from typing import Any
 
 import numpy as np
 
-from ..backend import float_type
-from ..errors import ValidateError
-from .registry import define_family
-
-uberlight = define_family(
-    "uberlight",
-    "fn(light: mapping {'position': (3,), 'axes': (3, 3) rows x, y, z (forward), 'intensity', 'width', 'height', "
-    "'width_edge', 'height_edge', 'roundness', 'near', 'far', 'near_edge', 'far_edge', …}, points: (N, 3), "
-    "normals: (N, 3) unit, views: (N, 3) unit toward the viewer, material: {'albedo': (N,) or float, 'ks', "
-    "'specular_exponent'}, shadow: (N,) in [0, 1] or None) -> (N,) outgoing radiance",
-    lambda light, points, normals, views, material, **_: (len(points),),
-    lower=0.0,
-    bounds_reason="a non-negative light through a non-negative reflection gives radiance ≥ 0",
-)
+from ...backend import float_type
+from ...errors import ValidateError
+from ..families import uberlight
 
 SHAPE_KEYS = ("width", "height", "width_edge", "height_edge", "roundness")
 DISTANCE_KEYS = ("near", "far", "near_edge", "far_edge")

@@ -50,7 +50,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..families import irradiance as _irradiance
+from ...families import irradiance as _irradiance
 from .worker import FACE_SIZE, FaceSettings, engine_irradiance, unavailable_reason
 
 ENGINE_TECHNIQUES = {  # technique → (engine process, evaluation path)

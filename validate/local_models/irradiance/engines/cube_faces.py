@@ -19,7 +19,7 @@ every result.
 
 Layout: faces +X, −X, +Y, −Y, +Z, −Z; texel (row i, column j) of an N × N face is centred at
 s = (j + ½)/N, t = (i + ½)/N of OpenGL's cube-map selection table [1, Table 8.19]
-(:func:`validate.local_models.irradiance_map.face_direction`). Both engines read faces in exactly this
+(:func:`validate.local_models.irradiance.irradiance_map.face_direction`). Both engines read faces in exactly this
 layout: three.js's ``LightProbeGenerator.fromCubeRenderTarget`` (WebGL readback rows, bottom-up) and
 Babylon.js's ``CubeMapToSphericalPolynomialTools._FileFaces`` (right, left, up, down, front, back) —
 checked texel by texel in ``tests/experiments/test_engines.py``.
@@ -35,10 +35,10 @@ import math
 
 import numpy as np
 
-from ...errors import ValidateError
-from ...scenes import latlong
+from ....errors import ValidateError
+from ....geometry import cube_texel_directions, cube_texel_solid_angles, face_coords, face_direction
+from ....scenes import latlong
 from .. import sh as shm
-from ..irradiance_map import cube_texel_directions, cube_texel_solid_angles, face_coords, face_direction
 
 MAX_SUPERSAMPLE = 4
 HOT_CONTRAST = 50.0  # a texel brighter than 50 × the mean radiance Φ_Y/4π is splatted exactly
@@ -195,7 +195,7 @@ def face_flux(faces: np.ndarray) -> np.ndarray:
 
 def project_faces_sh9(faces: np.ndarray) -> np.ndarray:
     """Order-2 SH coefficients (9, 3) of the faces with exact texel solid angles, float64, in the suite's
-    basis (:mod:`validate.local_models.sh`): the engines' projection done exactly, for comparison."""
+    basis (:mod:`validate.local_models.irradiance.sh`): the engines' projection done exactly, for comparison."""
     n = faces.shape[1]
     d = cube_texel_directions(n).reshape(-1, 3)
     omega = np.broadcast_to(cube_texel_solid_angles(n), (6, n, n)).reshape(-1)

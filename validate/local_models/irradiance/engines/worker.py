@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from ...errors import ValidateError
+from ....errors import ValidateError
 from .cube_faces import render_faces
 
 HERE = Path(__file__).resolve().parent
