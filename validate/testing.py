@@ -57,9 +57,8 @@ examples/``).
 
 ``check_specular``, ``check_arealight``, ``check_shadow``, ``check_brdf``, ``check_uberlight``
     The same for the ``specular``, ``arealight``, ``shadow``, ``brdf`` and ``uberlight`` families; they are
-    implemented by their experiments (:mod:`validate.experiments.ibl`, ``.arealights``, ``.shadows``,
-    ``.brdfs``, ``.uberlight``) and documented there.
-    Where this version has none, calling one raises ``NotImplementedError``.
+    implemented by their experiments' ``check`` modules (:mod:`validate.experiments.ibl.check`,
+    ``arealights.check``, ``shadows.check``, ``brdfs.check``, ``uberlight.check``) and documented there.
 """
 
 from __future__ import annotations
@@ -71,8 +70,13 @@ from typing import Any
 import numpy as np
 
 from .errors import ValidateError
+from .experiments.arealights import check as arealights_check
+from .experiments.brdfs import check as brdfs_check
+from .experiments.ibl import check as ibl_check
 from .experiments.inputs import MissingProbe, find_probe, load_named_environment, probe_dirs
+from .experiments.shadows import check as shadows_check
 from .experiments.techniques import CheckResult, Stat
+from .experiments.uberlight import check as uberlight_check
 from .local_models.registry import Technique
 
 DEFAULT_ENVIRONMENTS = ("two_tone", "grace_probe")
@@ -134,26 +138,11 @@ def check_irradiance(fn: Callable[[np.ndarray, np.ndarray], np.ndarray] | Techni
     return CheckResult(tech.name, "irradiance", out)
 
 
-def _lazy(family: str, module: str, function: str) -> Callable[..., Any]:
-    def check(*args: Any, **kwargs: Any) -> Any:
-        try:
-            impl = getattr(__import__(f"validate.experiments.{module}", fromlist=[function]), function)
-        except (ImportError, AttributeError) as exc:
-            raise NotImplementedError(f"validate.testing.{function}: the {family} check is not available in this "
-                                      f"version (validate.experiments.{module}.{function}: {exc})") from None
-        return impl(*args, **kwargs)
-
-    check.__name__ = check.__qualname__ = function
-    check.__doc__ = (f"Check a ``{family}`` technique: see ``validate.experiments.{module}.{function}`` "
-                     "(NotImplementedError where this version has none).")
-    return check
-
-
-check_specular = _lazy("specular", "ibl", "check_specular")
-check_arealight = _lazy("arealight", "arealights", "check_arealight")
-check_shadow = _lazy("shadow", "shadows", "check_shadow")
-check_brdf = _lazy("brdf", "brdfs", "check_brdf")
-check_uberlight = _lazy("uberlight", "uberlight", "check_uberlight")
+check_specular = ibl_check.check_specular
+check_arealight = arealights_check.check_arealight
+check_shadow = shadows_check.check_shadow
+check_brdf = brdfs_check.check_brdf
+check_uberlight = uberlight_check.check_uberlight
 
 __all__ = ["CheckResult", "MissingProbe", "Stat", "check_arealight", "check_brdf", "check_irradiance", "check_shadow",
            "check_uberlight",
