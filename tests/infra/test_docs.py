@@ -120,3 +120,18 @@ def test_readme_headline_row_quotes_the_docs_results(results: dict) -> None:
     for probe in ("grace_probe", "rnl_probe"):
         cells.append(" / ".join(fmt_measured(by_id[f"sh9.paper.{probe}.{s}"]) for s in ("mean", "max")))
     assert [c.strip() for c in row.strip("|").split("|")[1:]] == cells
+
+
+def test_readme_names_every_subcommand_and_option() -> None:
+    import argparse
+
+    from validate.cli import _parser
+
+    readme = (REPO / "README.md").read_text(encoding="utf-8")
+    sub = next(a for a in _parser()._actions if isinstance(a, argparse._SubParsersAction))
+    for name, parser in sub.choices.items():
+        assert f"python -m validate {name}" in readme, f"README: no `python -m validate {name}`"
+        for action in parser._actions:
+            for opt in action.option_strings:
+                if opt.startswith("--") and opt != "--help":
+                    assert f"`{opt}" in readme or f"[{opt}" in readme, f"README: `{name} {opt}` not documented"
