@@ -112,13 +112,14 @@ def test_plugin_model_gets_a_row(tmp_path: Path) -> None:
         "def model(radiance, normals):\n"
         "    return 2.0 * sh.render_irradiance(sh.project_environment(radiance, 2), normals)\n")
     from validate.cli import load_plugin
-    from validate.experiments.sh9 import SETTINGS, analyse_environment
+    from validate.experiments.sh9 import QUICK
+    from validate.experiments.sh9.compute import analyse_environment
     from validate.local_models import irradiance
     from validate.scenes import procedural
 
     load_plugin(str(plugin))
     try:
-        r = analyse_environment(procedural.two_tone(64), SETTINGS["quick"], {}, {})
+        r = analyse_environment(procedural.two_tone(64), QUICK, {}, {})
         assert "my_sh2_doubled" in r["models"]
         # doubling E gives an error of E/Φ, about 1/4 of the flux at the brightest normal
         assert r["models"]["my_sh2_doubled"]["flux_luminance"]["max"] > 0.2

@@ -390,8 +390,7 @@ def _irradiance_technique(name: str) -> Any:
 
 
 def _sun_share(rad: np.ndarray) -> float:
-    from validate.experiments.sh9_compute import sun_share
-
+    from validate.experiments.sh9.compute import sun_share
     from validate.scenes.environment import Environment
 
     return sun_share(Environment("m", rad))

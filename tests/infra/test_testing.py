@@ -17,10 +17,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from validate.experiments.sh9_claims import BANDLIMITED_EXACT
 
 from validate import testing
 from validate.errors import ValidateError
+from validate.experiments.sh9.claims import BANDLIMITED_EXACT
 from validate.local_models.irradiance import sh_truncated
 
 REPO = Path(__file__).resolve().parents[2]

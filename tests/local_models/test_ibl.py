@@ -19,6 +19,7 @@ from validate.local_models.specular import common as specular_common
 from validate.local_models.specular import prefiltered_specular as ps
 from validate.local_models.specular import split_sum as ss
 from validate.metrics import image_error as ie
+from validate.metrics.flip import flip_hdr
 from validate.metrics.irradiance_error import WORST_CASE_MAX
 from validate.reference import ibl_render as rr
 from validate.reference.irradiance import reference_irradiance
@@ -292,7 +293,7 @@ def test_claim_phong_map_at_normal_incidence(disc) -> None:
     """Claim ibl.phong.normal_incidence (s = 100): over the θ_v ≤ 5° crop, Σ|ΔY| of the s + 1 map stays
     within the independent per-pixel bound Σ Y(U) of ibl_checks.phong_bound (measured 0.21 ± 0.07 of it at
     48², 8k spp), and the bound is not vacuous: U is below 5 % of the rendered luminance on average."""
-    from validate.experiments import ibl_checks as chk
+    from validate.experiments.ibl import reference_checks as chk
 
     key = procedural.direction_from_elevation(35.0, 30.0)
     cam = rr.camera_towards(key, 6.0, 48)
@@ -448,11 +449,11 @@ def test_flip_zero_for_identical_and_masked() -> None:
     rng = np.random.default_rng(0)
     ref = rng.random((32, 32, 3)) * 2
     mask = np.ones((32, 32), bool)
-    assert ie.flip_error(ref, ref.copy(), mask).mean == pytest.approx(0.0, abs=1e-7)
+    assert flip_hdr(ref, ref.copy(), mask, negatives="clamp").mean == pytest.approx(0.0, abs=1e-7)
     worse = ref * 1.3
-    f = ie.flip_error(ref, worse, mask)
+    f = flip_hdr(ref, worse, mask, negatives="clamp")
     assert f.mean > 0.01 and f.parameters["tonemapper"].lower() == "aces"
     mask[:16] = False  # errors outside the mask do not count
     worse2 = ref.copy()
     worse2[:16] *= 3.0
-    assert ie.flip_error(ref, worse2, mask).mean == pytest.approx(0.0, abs=1e-7)
+    assert flip_hdr(ref, worse2, mask, negatives="clamp").mean == pytest.approx(0.0, abs=1e-7)

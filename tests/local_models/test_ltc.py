@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from validate.errors import ValidateError
-from validate.experiments import arealights_specular as asp
+from validate.experiments.arealights import specular as asp
 from validate.local_models import family
 from validate.local_models.specular_arealight.ltc import (
     alpha_of,

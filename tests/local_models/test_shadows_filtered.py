@@ -100,8 +100,7 @@ def test_light_bleeding_case_orders_the_filterable_maps() -> None:
     """Synthetic two-occluder map, receivers fully shadowed: depth-test techniques leak nothing; at contact
     VSM leaks most and MSM least (Donnelly & Lauritzen 2006 §3.2; Annen et al. 2008 Fig. 1; Peters & Klein
     2015). Measured at contact: VSM 6.3 %, ESM 3.5 %, MSM 0.24 % mean V′."""
-    from validate.experiments.shadows_measure import bleeding_case
-
+    from validate.experiments.shadows.compute import bleeding_case
     from validate.local_models import shadow
 
     b = bleeding_case([shadow[n] for n in ("hard", "pcf", "vsm", "esm", "msm")])

@@ -170,8 +170,7 @@ def test_near_directional_bound_reduces_to_the_directional_closed_form() -> None
 
 def _cap_check(name: str, mirrored: bool) -> float:
     """flux_rgb max of a technique on near_directional against the cap's closed form (2500 normals)."""
-    from validate.experiments.sh9_closed_forms import closed_form
-
+    from validate.experiments.sh9.closed_forms import closed_form
     from validate.scenes import procedural
 
     env = procedural.near_directional()
@@ -253,9 +252,9 @@ def test_cmgen_auto_window_channels_narrow_in_turn() -> None:
 def test_cmgen_claims_fail_under_their_perturbations() -> None:
     """sh9's cmgen claims on measurements where the rejected cut-off rings (−0.5 % Φ) and the mirror
     doubles the error: both claims pass, both powers fail."""
-    from validate.experiments.sh9_claims import Measurements, cmgen_claims
-
     from validate.experiments import sh9 as sh9_exp
+    from validate.experiments.sh9.claims import cmgen_claims
+    from validate.experiments.sh9.compute import Measurements
 
     def stats(v: float) -> dict:
         return {"flux_rgb": {"mean": v, "max": v, "rms": v, "mean_uncertainty": 0.0, "max_uncertainty": 1e-5}}
@@ -264,6 +263,6 @@ def test_cmgen_claims_fail_under_their_perturbations() -> None:
                           "kernel_bound": 0.48, "negative": -0.01, "negative_rejected": 0.005,
                           "negative_unwindowed": 0.04},
            "models": {"sh9_cmgen_auto": stats(0.4805)}, "models_mirrored": {"sh9_cmgen_auto": stats(0.9)}}
-    claims = cmgen_claims(Measurements(sh9_exp.SETTINGS["quick"], {"near_directional": env}))
+    claims = cmgen_claims(Measurements(sh9_exp.QUICK, {"near_directional": env}))
     assert [c.id for c in claims] == ["sh9.cmgen_auto.nonnegative", "sh9.cmgen_auto.kernel_bound"]
     assert all(c.passed and c.power.fails for c in claims)

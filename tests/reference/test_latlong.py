@@ -1,7 +1,7 @@
 """The lat-long convention of :mod:`validate.scenes.latlong` is Mitsuba's ``envmap`` convention.
 
 Measured against Mitsuba itself: an ``envmap`` built from a small random bitmap is evaluated with
-``emitter.eval`` (through :func:`validate.reference.mitsuba_eval.eval_emitter`) and compared with our
+``emitter.eval`` (through :func:`validate.scenes.mitsuba_eval.eval_emitter`) and compared with our
 numpy :func:`~validate.scenes.latlong.bilinear_lookup`. A random 9×18 map makes any convention slip
 (row i at iπ/(H−1) vs (i+½)π/H, a half-texel shift in φ, a mirrored axis) an O(1) difference.
 """
@@ -12,8 +12,8 @@ import mitsuba as mi
 import numpy as np
 import pytest
 
-from validate.reference.mitsuba_eval import eval_emitter
 from validate.scenes import latlong
+from validate.scenes.mitsuba_eval import eval_emitter
 
 # Mitsuba evaluates in float32: directions are rounded to 2⁻²⁴ relative, φ = atan2(…) and the bilinear
 # weights follow with errors ~1e-7·W; on values in [0, 1) we measured max |Δ| = 1.8e-6 (random

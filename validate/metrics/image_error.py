@@ -16,10 +16,9 @@ pixels of a mask (the object), with luminance Y = 0.2126 R + 0.7152 G + 0.0722 B
   Σ (Y(A) − Y(R)) / Σ Y(R) — not the plain mean of the ratios, which Monte Carlo noise in the
   denominator biases upwards by ≈ mean(u²) (Jensen) — with standard error √(Σ σ_Y²) / Σ Y(R) (pixels
   are independent).
-* ``flip``      NVIDIA FLIP [1] in HDR mode (``flip_evaluator.evaluate(reference, test, "HDR")``: ACES
-  tone mapper, exposure range from the reference, 67 pixels per degree — the package's defaults,
-  returned as ``parameters``). Pixels outside the mask are set to the reference in both images, so
-  they contribute no error; the mean is taken over the mask. FLIP is perceptual (0 = identical,
+* ``flip``      NVIDIA FLIP [1] in HDR mode, :func:`validate.metrics.flip.flip_hdr` with the mask and
+  ``negatives="clamp"`` (the package's defaults, returned as ``parameters``). Pixels outside the mask are
+  black in both images, so they contribute no error; the mean is taken over the mask. FLIP is perceptual (0 = identical,
   1 = maximal) and has no Monte Carlo uncertainty attached: it is shown next to the relative error,
   not used in claims.
 
@@ -32,7 +31,6 @@ References
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass
-from typing import Any
 
 import numpy as np
 
@@ -119,27 +117,3 @@ def summarize(rel: RelativeError, select: np.ndarray) -> ImageErrorStats:
     """Statistics of an existing error map over a sub-region ``select`` (H, W) (e.g. a view-angle band)."""
     return _stats(rel.error, rel.uncertainty, rel.y_ref, rel.y_app, rel.y_se, select & np.isfinite(rel.error))
 
-
-@dataclass
-class FlipResult:
-    error: np.ndarray  # (H, W) FLIP map, NaN outside the mask
-    mean: float  # mean over the mask
-    parameters: dict[str, Any]
-
-
-def flip_error(reference: np.ndarray, approx: np.ndarray, mask: np.ndarray) -> FlipResult:
-    """HDR-FLIP [1] of ``approx`` against ``reference`` on the masked pixels (module doc)."""
-    import flip_evaluator
-
-    _check(reference, approx, mask)
-    m = mask & np.all(np.isfinite(reference), axis=-1)
-    ref = np.where(m[..., None], reference, 0.0)
-    test = np.where(m[..., None], np.nan_to_num(approx, nan=0.0), ref)
-    ref = np.ascontiguousarray(np.maximum(ref, 0.0), dtype=np.float32)
-    test = np.ascontiguousarray(np.maximum(test, 0.0), dtype=np.float32)
-    fmap, _, params = flip_evaluator.evaluate(ref, test, "HDR", applyMagma=False)
-    fmap = np.asarray(fmap, dtype=np.float64).reshape(mask.shape)
-    out = np.full(mask.shape, np.nan)
-    out[m] = fmap[m]
-    return FlipResult(out, float(fmap[m].mean()) if m.any() else float("nan"),
-                      {k: (float(v) if isinstance(v, (int, float, np.floating)) else v) for k, v in params.items()})

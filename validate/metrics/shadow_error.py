@@ -24,7 +24,8 @@ approximation's visibility V′ (N,) and the reference visible fraction of the d
 * ``flip_noise``: HDR-FLIP between the reference and the reference plus one draw of its own noise
   (r + σ ξ, ξ ~ N(0, 1), fixed seed, clamped at 0) — the FLIP a perfect model would score against this
   reference, quoted as FLIP's uncertainty.
-* FLIP [1]: HDR-FLIP of the two images (invalid pixels black in both), via ``flip_evaluator``
+* FLIP [1]: HDR-FLIP of the two images, :func:`validate.metrics.flip.flip_hdr` (no mask: invalid pixels black
+  in both; negative values refused)
   (defaults: 67 pixels per degree, ACES tone mapper, exposure range from the reference).
 * ``outside_band_test``: per-pixel two-sided Student-t test of a − r against σ with P − 1 degrees
   of freedom (P passes) at level α; the statistic is the fraction of pixels that exceed, with its
@@ -47,6 +48,7 @@ import numpy as np
 from ..errors import ValidateError
 from ..scenes.latlong import luminance
 from ..stats import two_sided_t_critical
+from .flip import flip_hdr
 
 REGIONS = ("lit", "penumbra", "umbra")
 FLOAT_TOLERANCE = 1e-6  # relative to L_norm: below this a difference is float rounding, not error
@@ -151,7 +153,7 @@ def shadow_errors(reference: np.ndarray, uncertainty: np.ndarray, approx: np.nda
     k = int(umbra.sum())
     leak = float(v_approx[umbra].mean()) if k else float("nan")
     leak_u = float(v_approx[umbra].std(ddof=1) / np.sqrt(k)) if k > 1 else 0.0
-    flip = flip_error(*images)[1] if images is not None else float("nan")
+    flip = flip_hdr(*images).mean if images is not None else float("nan")
     return ShadowErrors(region(np.ones(n, dtype=bool)), regions, fs, fl, flip, norm, fs_u, fl_u, leak, leak_u)
 
 
@@ -169,26 +171,8 @@ def flip_noise_floor(reference: np.ndarray, uncertainty: np.ndarray, seed: int =
     ref = np.nan_to_num(np.asarray(reference, dtype=np.float64))
     sig = np.nan_to_num(np.asarray(uncertainty, dtype=np.float64))
     noisy = np.maximum(ref + sig * np.random.default_rng(seed).standard_normal(ref.shape[:2])[..., None], 0.0)
-    return flip_error(ref, noisy)[1]
+    return flip_hdr(ref, noisy).mean
 
-
-def flip_error(reference: np.ndarray, test: np.ndarray) -> tuple[np.ndarray, float]:
-    """(HDR-FLIP map (H, W), mean) of linear HDR images (H, W, 3); NaN pixels are set to black in both."""
-    import flip_evaluator
-
-    ref = np.asarray(reference, dtype=np.float64)
-    tst = np.asarray(test, dtype=np.float64)
-    if ref.ndim != 3 or ref.shape[2] != 3 or ref.shape != tst.shape:
-        raise ValidateError(f"FLIP: images must both be (H, W, 3); got {ref.shape} and {tst.shape}")
-    bad = ~(np.isfinite(ref).all(axis=2) & np.isfinite(tst).all(axis=2))
-    ref = np.where(bad[..., None], 0.0, ref)
-    tst = np.where(bad[..., None], 0.0, tst)
-    if (ref < 0).any() or (tst < 0).any():
-        raise ValidateError("FLIP: HDR images must be nonnegative")
-    fmap, mean, _ = flip_evaluator.evaluate(np.ascontiguousarray(ref, dtype=np.float32),
-                                            np.ascontiguousarray(tst, dtype=np.float32), "HDR",
-                                            applyMagma=False)
-    return np.asarray(fmap).reshape(ref.shape[:2]), float(mean)
 
 
 @dataclass

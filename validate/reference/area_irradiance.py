@@ -21,7 +21,7 @@ under H₀ (pass means ≈ normal by the CLT), converted to a standard-normal qu
 z_i = sign(t_i) Φ⁻¹(F_t(|t_i|)) so every value has the same null distribution. The prediction is
 consistent when max_i |z_i| < z*, the Šidák-corrected two-sided critical value for M tests at
 family-wise level α (default 1 %): z* = Φ⁻¹(1 − α₁/2), α₁ = 1 − (1 − α)^{1/M} [2]
-(:mod:`validate.metrics.stats`). Only the first channel is tested: lights are grey and the three
+(:mod:`validate.stats`). Only the first channel is tested: lights are grey and the three
 channels share every path.
 
 Cached with :func:`validate.reference.cache.cached` (key: the scene description, the normals, the
@@ -41,9 +41,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..backend import init
 from ..errors import ValidateError
-from ..metrics.stats import mean_and_stderr, sidak_critical, t_to_z
 from ..scenes.area_lights import MeterScene, receiver_to_world
+from ..stats import mean_and_stderr, sidak_critical, t_to_z
 from .cache import array_digest, cached
 
 SEED_STRIDE = 1 << 20  # seeds of base seed s start at s·2²⁰
@@ -86,8 +87,6 @@ def measure_irradiance(meter: MeterScene, normals: np.ndarray, spp: int = 32, pa
 
     def compute() -> dict[str, np.ndarray]:
         import mitsuba as mi
-
-        from ..backend import init
 
         init()
         scene = mi.load_dict(meter.scene)

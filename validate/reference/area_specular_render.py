@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from ..backend import init
 from ..errors import ValidateError
 from ..geometry import perp, unit
 from ..scenes import area_lights
@@ -320,8 +321,6 @@ def render(light: Mapping[str, Any], alpha: float, point: np.ndarray, normal: np
     side 10⁻⁴ around p on a large ``roughconductor`` (ggx, α, F = 1) plane, ``direct`` integrator (emitter and BSDF
     sampling, MIS); pixels × pixels independent estimates of spp samples each."""
     import mitsuba as mi
-
-    from ..backend import init
 
     init()
     p, n, v = (np.asarray(x, dtype=np.float64) for x in (point, normal, view))

@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from ..atomic import atomic_path
+from ..backend import init
 
 REFERENCE_VERSION = 3
 
@@ -46,8 +47,6 @@ def cache_dir() -> Path | None:
 def key_of(parts: dict) -> str:
     import drjit as dr
     import mitsuba as mi
-
-    from ..backend import init
 
     full = dict(parts, _versions=[mi.__version__, dr.__version__, init().variant, REFERENCE_VERSION])
     blob = json.dumps(full, sort_keys=True, default=str).encode()

@@ -70,9 +70,10 @@ import numpy as np
 
 from ..backend import init
 from ..errors import ValidateError
-from ..metrics.stats import mean_and_stderr
+from ..geometry import face_direction
 from ..scenes.environment import Environment
 from ..scenes.latlong import luminance
+from ..stats import mean_and_stderr
 from .cache import cached
 
 RENDER_VERSION = 1  # bump when this module's rendering changes (part of the cache key)
@@ -214,7 +215,6 @@ def dented_sphere_vertices(spec: DentSpec) -> tuple[np.ndarray, np.ndarray]:
     """(positions (V, 3), faces (F, 3)): a welded cube-sphere grid displaced by the crater."""
     if not (0.0 <= spec.depth < 1.0 and 0.0 < spec.width_deg <= 180.0 and spec.resolution >= 2):
         raise ValidateError(f"dented sphere {spec}: expected 0 ≤ depth < 1, 0 < width ≤ 180°, resolution ≥ 2")
-    from ..geometry import face_direction
 
     k = spec.resolution
     g = np.linspace(-1.0, 1.0, k + 1)

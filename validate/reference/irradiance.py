@@ -51,8 +51,8 @@ import numpy as np
 from ..errors import ValidateError
 from ..scenes import latlong
 from ..scenes.environment import Environment
+from ..scenes.mitsuba_eval import eval_emitter
 from .cache import array_digest, cached
-from .mitsuba_eval import eval_emitter
 
 DEFAULT_CELLS = 64  # H_c of the coarse grid (the reference uses 2·H_c): converges to < 2e-4 of peak here
 REFINE_FRACTION = 1e-3

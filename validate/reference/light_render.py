@@ -45,9 +45,10 @@ from typing import Any
 
 import numpy as np
 
+from ..backend import init
 from ..errors import ValidateError
-from ..metrics.stats import mean_and_stderr
 from ..scenes.light_scenes import Light, LightScene
+from ..stats import mean_and_stderr
 from .cache import cached
 from .shadow_render import pixel_centre_positions, render_gbuffer, segment_visible
 
@@ -79,8 +80,6 @@ class LightRender:
 def load(scene: LightScene, lights: str = "emit", with_sensor: bool = True, exclude: int | None = None) -> Any:
     """The Mitsuba scene (``lights``: emit / block / none, see :meth:`LightScene.mitsuba_dict`)."""
     import mitsuba as mi
-
-    from ..backend import init
 
     init()
     return mi.load_dict(scene.mitsuba_dict(lights, with_sensor, exclude))

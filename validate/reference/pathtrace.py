@@ -57,10 +57,11 @@ from typing import Any
 
 import numpy as np
 
+from ..backend import init
 from ..errors import ValidateError
-from ..metrics.stats import mean_and_stderr, mean_z_bound, sidak_critical, sidak_p_value, t_to_z
 from ..scenes.environment import Environment
 from ..scenes.procedural import direction_from_elevation
+from ..stats import mean_and_stderr, mean_z_bound, sidak_critical, sidak_p_value, t_to_z
 from .cache import cached
 from .irradiance import reference_irradiance
 
@@ -205,7 +206,6 @@ def render_lambertian_sphere(env: Environment, resolution: int = 48, spp: int = 
     samples in a fixed order, so a fixed seed gives bit-identical images. Cached on the
     environment digest and every setting.
     """
-    from ..backend import init
 
     view = (VIEW_ELEVATION_DEG, VIEW_AZIMUTH_DEG) if view is None else (float(view[0]), float(view[1]))
     if resolution < 4:

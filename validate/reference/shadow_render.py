@@ -34,6 +34,7 @@ from typing import Any
 
 import numpy as np
 
+from ..backend import init
 from ..errors import ValidateError
 from ..scenes.shadow_scenes import ShadowScene
 from ..stats import mean_and_stderr
@@ -214,8 +215,6 @@ def disc_visibility(geometry: Any, scene: ShadowScene, position: np.ndarray, nor
 
 def load_scene(scene: ShadowScene, with_light: bool = True) -> Any:
     import mitsuba as mi
-
-    from ..backend import init
 
     init()
     return mi.load_dict(scene.mitsuba_dict(with_light=with_light, with_sensor=True))

@@ -42,10 +42,11 @@ from typing import Any
 
 import numpy as np
 
+from ..backend import init
 from ..errors import ValidateError
 from ..scenes.uberlight_scenes import UberScene
 from ..stats import mean_and_stderr
-from .cache import cached
+from .cache import array_digest, cached
 from .light_render import render_passes
 from .shadow_render import render_gbuffer, segment_visible
 
@@ -92,8 +93,6 @@ def projector_texture(mask: np.ndarray, intensity: float, fov_deg: float) -> np.
 def _load(scene: UberScene, texture: np.ndarray | None = None, with_light: bool = True) -> Any:
     import mitsuba as mi
 
-    from ..backend import init
-
     init()
     return mi.load_dict(scene.mitsuba_dict(texture, with_light))
 
@@ -104,7 +103,6 @@ def render(scene: UberScene, texture: np.ndarray | None = None, spp: int = 1, pa
     cam = scene.camera
     key = {"code": CODE_VERSION, "scene": scene.parts(), "spp": spp, "passes": passes, "seed": seed}
     if texture is not None:
-        from .cache import array_digest
 
         key["texture"] = array_digest(np.ascontiguousarray(texture, dtype=np.float32))
 

@@ -36,6 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..backend import init
 from ..errors import ValidateError
 from . import latlong
 from .environment import Environment
@@ -143,8 +144,6 @@ def check_min_size(shape: tuple[int, ...], kind: str, path: Path | str) -> None:
 def read_image(path: Path) -> np.ndarray:
     """Read an HDR image as float32 RGB (H, W, 3) with Mitsuba's reader; one-line errors."""
     import mitsuba as mi
-
-    from ..backend import init
 
     init()
     if not path.exists():

@@ -22,8 +22,11 @@ from collections.abc import Callable
 
 import numpy as np
 
+from ..backend import init
+from ..errors import ValidateError
 from . import latlong
 from .environment import Environment
+from .mitsuba_eval import eval_emitter
 
 SKY = np.array([0.55, 0.70, 1.00])
 GROUND = np.array([0.35, 0.28, 0.20])
@@ -154,9 +157,6 @@ def sunsky(elevation_deg: float, height: int = 512, supersample: int = 4) -> Env
     """Mitsuba ``sunsky`` baked to a lat-long map (cell-averaged so the sun's energy is kept)."""
     import mitsuba as mi
 
-    from ..backend import init
-    from ..reference.mitsuba_eval import eval_emitter
-
     backend = init()
     if not backend.is_vectorized:  # the scalar fallback evaluates one direction at a time
         height, supersample = min(height, 64), 1
@@ -190,7 +190,6 @@ def builtin_environments(quick: bool = False) -> list[Environment]:
 
 def builtin_environment(name: str, quick: bool = False) -> Environment:
     """One built-in environment by name (``BUILTIN_NAMES``); unknown name → ValidateError."""
-    from ..errors import ValidateError
 
     makers = _builtin_makers(quick)
     if name not in makers:

@@ -71,6 +71,7 @@ from ...backend import float_type, uint_type
 from ...errors import ValidateError
 from ...geometry import cube_texel_directions, face_coords, face_direction
 from ...scenes import latlong
+from .sh import render_irradiance
 
 MIN_FACE, MAX_FACE = 1, 4096
 DEFAULT_BLOCK_DEG = 4.0  # node block size for the cosine kernel: merging error ≈ β²/12 = 0.04 %
@@ -539,14 +540,12 @@ def compute_irradiance_latlong(radiance: np.ndarray, height: int, nodes: Environ
 
 def irradiance_cube_from_sh(coeffs: np.ndarray, face_size: int) -> CubeMap:
     """Irradiance cube map from SH lighting coefficients ((l+1)², 3): E = Σ A_l L_lm Y_lm [1, eq. 8]."""
-    from .sh import render_irradiance
 
     return CubeMap.build(lambda d: render_irradiance(coeffs, d), face_size)
 
 
 def irradiance_latlong_from_sh(coeffs: np.ndarray, height: int) -> LatLongMap:
     """Irradiance lat-long map from SH lighting coefficients."""
-    from .sh import render_irradiance
 
     return LatLongMap.build(lambda d: render_irradiance(coeffs, d), height)
 

@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from ...backend import float_type
+from ...scenes import latlong
 
 # R&H 2001 eq. 12 constants [1].
 C1, C2, C3, C4, C5 = 0.429043, 0.511664, 0.743125, 0.886227, 0.247708
@@ -155,7 +156,6 @@ def row_basis_fourier(height: int, lmax: int) -> np.ndarray:
     polynomial of degree ≤ lmax in φ (Y_lm is a degree-l polynomial in x = sin φ sin θ, y = cos θ,
     z = −cos φ sin θ), so Y_k(θ_i, φ) = Σ_q A[i, q, k] T_q(φ) exactly. A is found from the basis at
     2·lmax+1 equispaced φ per row (exact interpolation of such polynomials). Rows θ_i = iπ/(H−1)."""
-    from ...scenes import latlong
 
     theta = latlong.row_theta(height)
     q = 2 * lmax + 1
@@ -266,7 +266,6 @@ def project_environment(radiance: np.ndarray, lmax: int = 2) -> np.ndarray:
     no per-texel directions or basis values, memory independent of the map beyond one block per CPU.
     Equal to the direct sum :func:`project_samples` over the same texels to float32 rounding
     (tested)."""
-    from ...scenes import latlong
 
     h, w = radiance.shape[:2]
     rows = fourier_row_sums(radiance, lmax)

@@ -132,7 +132,8 @@ def geomerics_kernel(rho: float, x: np.ndarray) -> np.ndarray:
 GEOMERICS_BOUND = near_directional_bound(geomerics_kernel, near_directional_half_angle())
 HOLDER_SOURCE = ("Hölder (L¹·L^∞) on the windowed zonal kernel K̃_w(x) = Σ w_l A_l (2l+1)/(4π) P_l(x), as in R&H JOSA "
                  "2001 / SIGGRAPH 2001's 3/32 bound for SH9: max_n |E′ − E| ≤ sup|K̃_w − max(x, 0)| Φ for any "
-                 "lighting; sup computed exactly from the window (validate.local_models.irradiance.windowed_sh.kernel_bound) "
+                 "lighting; sup computed exactly from the window "
+                 "(validate.local_models.irradiance.windowed_sh.kernel_bound) "
                  "+ 0.1 % Φ, the reference's closed-form tolerance (texels vs Mitsuba's bilinear map)")
 
 
@@ -195,7 +196,8 @@ def geomerics_l1(coeffs4: np.ndarray, normals: np.ndarray) -> np.ndarray:
                       environments=("near_directional",),
                       source="closed form on a directional light (Hazel 2013's k = ((1 + x)/2)³ for ρ = 1: error ≤ 1/8 "
                              "at the horizon), widened for near_directional's 0.5° disc + one texel by Jensen's "
-                             "inequality and the cone (validate.local_models.irradiance.windowed_sh.near_directional_bound: "
+                             "inequality and the cone (validate.local_models.irradiance.kernel_bounds."
+                             "near_directional_bound: "
                              f"{GEOMERICS_BOUND:.5f}) + 0.1 % Φ, the reference's closed-form tolerance")
 def sh1_geomerics(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
     return geomerics_l1(sh.project_environment(radiance, 1), normals)

@@ -30,7 +30,7 @@ r = √3 ρ) its output is Φ k_ρ(n·m̂) with the closed-form kernel (:func:`h
 
 for a directional light (ρ = 1) k = ¼ + x/2 + 0.13546 (3x² − 1): error |k − max(x, 0)| ≤ 0.1145 at the
 horizon (SH9: 3/32 = 0.094 there; plain L1: ¼). Widened for the disc and its texels as in
-:func:`.windowed_sh.near_directional_bound` (Jensen below, the cone above), plus the reference's closed-form
+:func:`.kernel_bounds.near_directional_bound` (Jensen below, the cone above), plus the reference's closed-form
 tolerance (:data:`.windowed_sh.CLOSED_FORM_TOLERANCE`).
 
 References

@@ -65,7 +65,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...backend import float_type
+from ...backend import float_type, uint_type
 from ...errors import ValidateError
 from ..families import specular
 from ..irradiance.irradiance_map import (
@@ -233,7 +233,6 @@ class DFGTable:
         x0 = dr.minimum(dr.floor(x), n - 2.0)
         y0 = dr.minimum(dr.floor(y), n - 2.0)
         wx, wy = x - x0, y - y0
-        from ...backend import uint_type
 
         UInt = uint_type()
         base = UInt(y0) * n + UInt(x0)

@@ -1,3 +1,0 @@
-"""Moved to :mod:`validate.stats` (the ground floor: the reference uses it too). Kept as an alias."""
-
-from ..stats import *  # noqa: F403
