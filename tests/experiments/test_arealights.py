@@ -9,6 +9,7 @@ the unclipped form, a 2 % scale error), so the test has power; (3) the experimen
 
 from __future__ import annotations
 
+import importlib
 import json
 import math
 
@@ -19,13 +20,17 @@ from scipy.optimize import brentq
 from validate.errors import ValidateError
 from validate.experiments import Context
 from validate.experiments import arealights as exp
-from validate.experiments import arealights_compute as ac
+from validate.experiments.arealights import check as chk
 from validate.experiments.base import Claim
-from validate.local_models import arealight, disc_sh, point_light, sphere_cap
-from validate.local_models import sh as shm
+from validate.local_models import arealight
+from validate.local_models.arealight import disc_sh, point_light, sphere_cap
+from validate.local_models.irradiance import sh as shm
 from validate.metrics.irradiance_error import WORST_CASE_MAX
 from validate.reference import area_irradiance as ai
 from validate.scenes import area_lights, latlong
+
+cl = importlib.import_module("validate.experiments.arealights.claims")  # the module (`pkg.claims` is the function)
+ac = importlib.import_module("validate.experiments.arealights.compute")  # the module (`pkg.compute` is the function)
 
 # float64 quadrature vs float64 closed forms: Gauss–Legendre on smooth panels, measured ≤ 4e-16.
 FLOAT64_TOL = 1e-12
@@ -67,10 +72,10 @@ def test_rotated_zonal_equals_projection_of_rotated_cap() -> None:
 def test_seed_formulas() -> None:
     for a_deg in (1.0, 10.0, 20.0, 45.0, 60.0):
         a = math.radians(a_deg)
-        assert np.max(np.abs(disc_sh.seed_zonal_order2(a) - disc_sh.zonal_cap(a, 2))) < exp.SEED_DIGITS
+        assert np.max(np.abs(disc_sh.seed_zonal_order2(a) - disc_sh.zonal_cap(a, 2))) < cl.SEED_DIGITS
         z = np.linspace(-1, 1, 41)
         exact2 = disc_sh.disc_irradiance_sh(a, z, 2)
-        assert np.max(np.abs(disc_sh.seed_irradiance_order2(a, z) - exact2)) < exp.SEED_DIGITS
+        assert np.max(np.abs(disc_sh.seed_irradiance_order2(a, z) - exact2)) < cl.SEED_DIGITS
     k = disc_sh.irradiance_polynomial_order2(math.radians(20.0))
     assert np.max(np.abs(np.array(k) - np.array(disc_sh.SEED_E_20DEG))) < SEED_PRINT_TOL
 
@@ -135,8 +140,8 @@ def test_point_lights() -> None:
 
 
 def test_point_light_crossings() -> None:
-    s = exp.settings(quick=True)
-    pts = ac.distance_sweep(s, np.arange(0.0, 180.0 + 1e-9, 0.05), exp.POINT_THRESHOLD)
+    s = exp.QUICK
+    pts = ac.distance_sweep(s, np.arange(0.0, 180.0 + 1e-9, 0.05), ac.POINT_THRESHOLD)
     # disc on its axis: relative error r²/d² = 1 % at exactly d/r = 10
     assert abs(pts["crossing_inverse_square_disc_normal_incidence"] - 10.0) < 1e-3
     # sphere: the worst normal is θ = 90° (measured), where E/L = σ − sin σ cos σ and the point light gives
@@ -218,17 +223,17 @@ def test_bad_light_mapping_is_one_line_error() -> None:
 
 
 def test_check_arealight_passes_exact_and_catches_a_wrong_model() -> None:
-    r = exp.check_arealight("cap_exact")
+    r = chk.check_arealight("cap_exact")
     assert r.flux.max < 1e-4 and set(r.environments) == {"sphere_r1_d2", "sphere_alpha20", "disc_r1_d2"}
 
     def unclipped(light, points, normals):  # no horizon clipping: π sin²σ max(cos θ, 0)
         g = sphere_cap.light_geometry(light, points, normals)
         return np.pi * g["sin2_sigma"] * np.maximum(g["cos_theta"], 0.0)
 
-    bad = exp.check_arealight(unclipped, shapes=("sphere",), name="unclipped")
+    bad = chk.check_arealight(unclipped, shapes=("sphere",), name="unclipped")
     assert bad.flux.max > 0.05 and "disc_r1_d2" not in bad.environments
     # order 2 at α = 20°: 4.99 % of Φ (closed form), the value the range claim rests on
-    assert abs(exp.check_arealight("sh_order2")["sphere_alpha20"].flux.max - 0.04988) < 1e-4
+    assert abs(chk.check_arealight("sh_order2")["sphere_alpha20"].flux.max - 0.04988) < 1e-4
 
 
 def test_meter_bounds_zero_hit_and_noise() -> None:
@@ -292,9 +297,9 @@ def test_declared_threshold_becomes_claim_with_power(quick_result) -> None:
                          thresholds={"flux.max": 0.06}, source="R&H 2001 §4 'max error < 5 %' + 1 % slack",
                          shapes=("sphere", "disc"))
     try:
-        from validate.experiments.arealights import technique_measured
+        from validate.experiments.arealights.claims import technique_measured
         from validate.experiments.techniques import technique_claims
-        per = exp.measure_techniques(res.data["scenes"], {}, np.arange(0.0, 180.0 + 1e-9, 0.25), [tech])
+        per = ac.measure_techniques(res.data["scenes"], {}, np.arange(0.0, 180.0 + 1e-9, 0.25), [tech])
         (c,) = technique_claims("arealights", tech, technique_measured(per[tech.name]))
         assert isinstance(c, Claim) and c.passed and c.power.fails  # 4.99 % < 6 %; × 1.5 = 7.5 % > 6 %
     finally:

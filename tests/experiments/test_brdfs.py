@@ -4,6 +4,7 @@ reference, and the experiment's claims with their power checks (tiny settings)."
 from __future__ import annotations
 
 import dataclasses
+import importlib
 
 import numpy as np
 import pytest
@@ -11,12 +12,16 @@ import pytest
 from validate.errors import ValidateError
 from validate.experiments import Context
 from validate.experiments import brdfs as exp
-from validate.experiments import brdfs_claims as bc
-from validate.experiments import brdfs_measure as bm
-from validate.local_models import classic_brdfs as cb
+from validate.experiments.brdfs import check as chk
+from validate.experiments.brdfs import report as rep
 from validate.local_models import family
+from validate.local_models.brdf import classic_brdfs as cb
+from validate.local_models.brdf import common as brdf_common
 from validate.reference import brdf_render as br
 from validate.scenes import brdf_scenes as bs
+
+bc = importlib.import_module("validate.experiments.brdfs.claims")  # the module (`pkg.claims` is the function)
+bm = importlib.import_module("validate.experiments.brdfs.compute")  # the module (`pkg.compute` is the function)
 
 BUILTINS = ("lambert", "phong", "blinn_phong", "phong_normalized", "blinn_phong_normalized", "cook_torrance_printed",
             "cook_torrance", "oren_nayar", "oren_nayar_full", "minnaert")
@@ -63,13 +68,13 @@ def test_beckmann_d_is_normalised_and_smith_matches_mitsubas_rational_fit() -> N
     """∫ D cos θ_h dω_h = 1 (Walter 2007 eq. 4); exact Smith G1 within 0.35 % of the rational fit (eq. 27)."""
     dirs, w = bs.hemisphere_quadrature(256, 8)
     for a in (0.1, 0.3, 0.7):
-        assert abs(np.sum(w * cb.beckmann_d(dirs[:, 2], a) * dirs[:, 2]) - 1.0) < 1e-3
+        assert abs(np.sum(w * brdf_common.beckmann_d(dirs[:, 2], a) * dirs[:, 2]) - 1.0) < 1e-3
     c = np.linspace(0.05, 0.999, 200)
     for a in (0.1, 0.5, 1.0):
         t = np.sqrt(1 - c * c) / c
         x = 1.0 / (a * t)
         rational = np.where(x >= 1.6, 1.0, (3.535 * x + 2.181 * x * x) / (1 + 2.276 * x + 2.577 * x * x))
-        assert np.max(np.abs(cb.smith_g1(c, a, "beckmann") / rational - 1.0)) < 0.0035
+        assert np.max(np.abs(brdf_common.smith_g1(c, a, "beckmann") / rational - 1.0)) < 0.0035
 
 
 def test_fresnel_exact_matches_cook_torrance_dielectric_formula_and_mirror() -> None:
@@ -78,8 +83,8 @@ def test_fresnel_exact_matches_cook_torrance_dielectric_formula_and_mirror() -> 
     eta = 1.5
     g = np.sqrt(eta * eta + c * c - 1.0)
     ct = 0.5 * (g - c) ** 2 / (g + c) ** 2 * (1 + (c * (g + c) - 1) ** 2 / (c * (g - c) + 1) ** 2)
-    np.testing.assert_allclose(cb.fresnel_exact(c, eta, 0.0)[:, 0], ct, rtol=1e-10)
-    np.testing.assert_allclose(cb.fresnel_exact(c, 0.0, 1.0), 1.0, rtol=1e-10)
+    np.testing.assert_allclose(brdf_common.fresnel_exact(c, eta, 0.0)[:, 0], ct, rtol=1e-10)
+    np.testing.assert_allclose(brdf_common.fresnel_exact(c, 0.0, 1.0), 1.0, rtol=1e-10)
 
 
 @pytest.mark.parametrize("material, tol", [(bs.conductor(0.3, "ggx"), FLOAT32_TOL),
@@ -129,7 +134,7 @@ def test_vgroove_reference_is_lambert_at_small_slope() -> None:
     assert err + np.sum(r["stderr"]) / np.sum(lam) < bc.LAMBERT_LIMIT
 
 
-TINY = dataclasses.replace(bm.QUICK, grid=10, furnace=(24, 48), furnace_views_deg=(0.0, 60.0), sweep_alphas=(0.2, 0.5),
+TINY = dataclasses.replace(exp.QUICK, grid=10, furnace=(24, 48), furnace_views_deg=(0.0, 60.0), sweep_alphas=(0.2, 0.5),
                            sigmas_deg=(2.0, 30.0), thetas_deg=(0.0, 45.0, 70.0), dphis_deg=(0.0, 180.0), n_slope=3,
                            n_orient=4, paths=64, depth=6, image=16, gouraud_image=32, gouraud_exponents=(20.0,),
                            env_image=12, env_nodes=8, env_spp=16)
@@ -143,12 +148,12 @@ def test_experiment_claims_pass_and_every_power_check_fails(tmp_path) -> None:
     for c in cl:
         assert c.power is not None and c.power.fails, c.id
         assert c.passed, (c.id, c.measured, c.uncertainty, c.threshold)
-    entries = exp.entries(m)
+    entries = rep.techniques(m)
     for name in BUILTINS:
         assert entries[name]["metrics"], name
         for v in entries[name]["metrics"].values():
             assert np.isfinite(v["value"]) and np.isfinite(v["uncertainty"])
-    assert bc.findings(m)
+    assert rep.findings(m)
     el = m.plane["elongation"]  # Phong's r·v highlight stays round, the microfacet one stretches (Mitsuba: 3.76)
     assert abs(el["cook_torrance"] / el["mitsuba"] - 1.0) < 0.02 and el["phong"] < 0.6 * el["mitsuba"]
 
@@ -179,9 +184,9 @@ def test_check_brdf_accepts_a_correct_model_and_rejects_a_wrong_one() -> None:
     def missing_four(params, normals, lights, views):  # noqa: ANN001, ANN202
         return 4.0 * cb.cook_torrance(params, normals, lights, views)
 
-    ok = exp.check_brdf(my_ggx, ["conductor_ggx_a0.3"])
+    ok = chk.check_brdf(my_ggx, ["conductor_ggx_a0.3"])
     assert ok.max_rel.max + ok.max_rel.max_uncertainty < FLOAT32_TOL
-    bad = exp.check_brdf(missing_four, ["conductor_ggx_a0.3"])
+    bad = chk.check_brdf(missing_four, ["conductor_ggx_a0.3"])
     assert bad.rel_l1.max > 1.0
     with pytest.raises(ValidateError, match="unknown material"):
-        exp.check_brdf(my_ggx, ["no_such_material"])
+        chk.check_brdf(my_ggx, ["no_such_material"])

@@ -10,6 +10,7 @@ skip with the reason when they are absent; the availability tests run everywhere
 
 from __future__ import annotations
 
+import importlib
 import os
 import subprocess
 import sys
@@ -19,9 +20,9 @@ import numpy as np
 import pytest
 
 from validate.errors import ValidateError
+from validate.geometry import cube_texel_directions, cube_texel_solid_angles
 from validate.local_models import irradiance
-from validate.local_models.engines import UNAVAILABLE, cube_faces, worker
-from validate.local_models.irradiance_map import cube_texel_directions, cube_texel_solid_angles
+from validate.local_models.irradiance.engines import UNAVAILABLE, cube_faces, worker
 from validate.scenes import latlong, procedural
 
 needs_node = pytest.mark.skipif(UNAVAILABLE is not None, reason=f"engines unavailable: {UNAVAILABLE}")
@@ -102,7 +103,7 @@ def test_texel_weights_three_approximates_babylon_integrates() -> None:
 @pytest.mark.parametrize("n", [16, 32, 64])
 def test_three_departs_from_exact_sh9_within_the_weight_bound(n: int) -> None:
     """|E_three − E_SH9(faces)| ≤ ρ(N) · 17/16 · Φ (+ six-digit constants), ρ(N) = max |w/Ω − 1| ∝ N⁻²."""
-    from validate.experiments.engines_compute import three_weight_error
+    from validate.experiments.engines.compute import three_weight_error
 
     env = procedural.disc_on_sky(64)
     faces = cube_faces.render_faces(env.radiance, n)
@@ -155,7 +156,7 @@ def test_babylon_clamps_each_channel_at_4096() -> None:
 @needs_node
 def test_polynomial_path_applies_the_lobe_twice() -> None:
     """useSphericalHarmonics = false: E = SH9 with band l scaled by A_l/π (1, 2/3, 1/4)."""
-    from validate.experiments.engines_compute import DOUBLE_LOBE
+    from validate.experiments.engines.compute import DOUBLE_LOBE
 
     env = procedural.two_tone(64)
     faces = cube_faces.render_faces(env.radiance, N)
@@ -208,7 +209,8 @@ def test_without_node_nothing_is_registered(tmp_path: Path) -> None:
     """No ``node`` on PATH: the techniques are not registered (the rest of the family is unchanged)."""
     env = {k: v for k, v in os.environ.items() if k != "VALIDATE_NODE"}
     env["PATH"] = str(tmp_path)
-    code = ("from validate.local_models import irradiance\nfrom validate.local_models.engines import UNAVAILABLE\n"
+    code = ("from validate.local_models import irradiance\n"
+            "from validate.local_models.irradiance.engines import UNAVAILABLE\n"
             "print(sorted(t.name for t in irradiance if t.meta.get('engine')), 'sh9' in irradiance)\n"
             "print(UNAVAILABLE)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env,
@@ -221,7 +223,7 @@ def test_without_node_nothing_is_registered(tmp_path: Path) -> None:
 
 def test_importing_starts_no_node_process() -> None:
     code = ("import validate.local_models, validate.experiments\nvalidate.experiments.discover()\n"
-            "from validate.local_models.engines import worker\nprint(len(worker._WORKERS))")
+            "from validate.local_models.irradiance.engines import worker\nprint(len(worker._WORKERS))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          cwd=Path(__file__).resolve().parents[2], timeout=120)
     assert out.returncode == 0, out.stderr
@@ -238,7 +240,8 @@ def test_experiment_skips_with_the_reason(monkeypatch: pytest.MonkeyPatch, tmp_p
     from validate.experiments import engines
     from validate.experiments.base import Context
 
-    monkeypatch.setattr(engines, "UNAVAILABLE", "Node.js not found on PATH")
+    compute = importlib.import_module("validate.experiments.engines.compute")  # the package's `compute` is the function
+    monkeypatch.setattr(compute, "UNAVAILABLE", "Node.js not found on PATH")
     ctx = Context(out_dir=tmp_path, quick=True, show_progress=False)
     ctx._env_cache["envs"] = ([procedural.two_tone(64), procedural.near_directional(256)], [])
     res = engines.run(ctx)
@@ -251,9 +254,10 @@ def test_experiment_skips_with_the_reason(monkeypatch: pytest.MonkeyPatch, tmp_p
 @needs_node
 def test_claims_pass_and_their_power_checks_fail() -> None:
     """On four built-ins (below the clamp): every claim passes and every perturbed claim fails."""
-    from validate.experiments.engines import named_environments
-    from validate.experiments.engines_claims import Measurements, claims, findings
-    from validate.experiments.engines_compute import Settings, measure_environment
+    from validate.experiments.engines.claims import claims
+    from validate.experiments.engines.compute import Measurements, measure_environment, named_environments
+    from validate.experiments.engines.report import findings
+    from validate.experiments.engines.settings import Settings
 
     settings = Settings(normals=600, cells=32, face_size=worker.FACE_SIZE, sweep_sizes=(32,))
     envs = [procedural.constant(), procedural.two_tone(64), procedural.bandlimited(), procedural.disc_on_sky(64),

@@ -15,8 +15,9 @@ import pytest
 from validate.errors import ValidateError
 from validate.experiments import Context
 from validate.experiments import hemisphere as exp
-from validate.local_models import hemisphere as hm
+from validate.experiments.hemisphere.compute import red_book_prediction
 from validate.local_models import irradiance
+from validate.local_models.irradiance import hemisphere as hm
 from validate.reference import area_irradiance as ai
 from validate.scenes import area_lights, procedural
 
@@ -147,13 +148,13 @@ def test_hemisphere_techniques_registered_and_exact_on_two_tone() -> None:
 
 def test_red_book_prediction_is_the_weight_difference() -> None:
     betas = np.array([45.0, 135.0])
-    pred = exp.red_book_prediction(betas)
+    pred = red_book_prediction(betas)
     y = lambda c: float(c @ np.array([0.2126, 0.7152, 0.0722]))  # noqa: E731
     ys, yg = y(procedural.SKY), y(procedural.GROUND)
     d = 0.5 * (np.sqrt(2) - 1)
     f = 0.5 * (1 + np.cos(np.radians(betas)))
     assert np.allclose(pred, d * abs(ys - yg) / (f * ys + (1 - f) * yg), rtol=1e-12)
-    assert np.all(exp.red_book_prediction(betas, swapped=True) > 2 * pred)  # at 45°: |½ sin β − f| = 0.50 vs 0.207
+    assert np.all(red_book_prediction(betas, swapped=True) > 2 * pred)  # at 45°: |½ sin β − f| = 0.50 vs 0.207
 
 
 @pytest.fixture(scope="module")

@@ -20,7 +20,8 @@ from validate.errors import ValidateError
 from validate.experiments import Context, run_experiment
 from validate.experiments.base import ExperimentResult
 from validate.local_models import irradiance, specular
-from validate.local_models import prefiltered_specular as ps
+from validate.local_models.irradiance import sh_truncated
+from validate.local_models.specular import prefiltered_specular as ps
 from validate.reference import ibl_render as rr
 from validate.stats import t_to_z
 
@@ -36,9 +37,8 @@ IRR_PLUGIN = "test_sh9_brighter"
 
 
 def sh9_brighter(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    from validate.local_models import sh as shm
 
-    return 1.02 * shm.sh9(radiance, normals)
+    return 1.02 * sh_truncated.sh9(radiance, normals)
 
 
 def too_bright(radiance: np.ndarray, brdf: dict, normals: np.ndarray, views: np.ndarray) -> np.ndarray:
@@ -157,7 +157,7 @@ def test_builtin_specular_techniques_under_constant_light() -> None:
     for name in ("phong_prefiltered", "phong_prefiltered_s"):
         out = specular.call(name, ones, {"model": "phong", "exponent": 20.0, "reflectance": 0.5}, n, v)
         assert np.allclose(out, 0.5, rtol=1e-5)
-    from validate.local_models import split_sum as ss
+    from validate.local_models.specular import split_sum as ss
 
     a, b = ss.default_dfg_table().lookup(np.sum(n * v, axis=1), 0.3)
     out = specular.call("split_sum_ggx", ones, {"model": "ggx", "alpha": 0.3}, n, v)
@@ -167,7 +167,7 @@ def test_builtin_specular_techniques_under_constant_light() -> None:
 def test_check_specular_separates_right_from_wrong() -> None:
     """validate.testing entry point: the built-in s + 1 map and the same map 30 % too bright, on one
     environment: the wrong one's bias is larger by ≈ 0.3 (1 + bias)."""
-    from validate.experiments.ibl import check_specular
+    from validate.experiments.ibl.check import check_specular
 
     brdf = {"model": "phong", "exponent": 10.0}
     good = check_specular("phong_prefiltered", brdf=brdf, environments=("disc_on_sky",))

@@ -17,9 +17,10 @@ import pytest
 
 from validate.errors import ValidateError
 from validate.experiments import lights as exp
-from validate.experiments import lights_metrics as lm
-from validate.experiments import lights_sweeps as sw
-from validate.local_models import family, sphere_cap
+from validate.experiments.lights import image_metrics as lm
+from validate.experiments.lights import sweeps as sw
+from validate.local_models import family
+from validate.local_models.arealight import sphere_cap
 from validate.reference import light_render as lr
 from validate.scenes import light_scenes as ls
 

@@ -1,4 +1,5 @@
-"""Multiple-scattering GGX compensation (validate.local_models.brdf_multiscatter) and the multiscatter experiment."""
+"""Multiple-scattering GGX compensation (validate.local_models.brdf.brdf_multiscatter) and the multiscatter
+experiment."""
 
 from __future__ import annotations
 
@@ -8,8 +9,11 @@ import pytest
 from validate.errors import ValidateError
 from validate.experiments import multiscatter as ms
 from validate.experiments.base import Context
+from validate.experiments.multiscatter.claims import SS_LIMIT, sidak_z
+from validate.experiments.multiscatter.compute import e_correlated, metrics
+from validate.experiments.multiscatter.settings import Settings
 from validate.local_models import family
-from validate.local_models.brdf_multiscatter import tables
+from validate.local_models.brdf.brdf_multiscatter import tables
 from validate.scenes import brdf_scenes as bs
 
 COMPENSATED = ("ggx_kulla_conty", "ggx_fdez_aguera", "ggx_turquin", "ggx_metalness_fdez_aguera")
@@ -53,9 +57,9 @@ def test_bad_alpha_is_one_line_error():
 
 
 def test_experiment_claims_pass_and_power_fails(tmp_path):
-    s = ms.Settings(alphas=(0.5, 1.0), mus=(0.3, 1.0), metalness=(0.0, 0.5, 1.0), nodes=64, walkers=50_000,
-                    walk_alphas=(0.6, 1.0), chi2_cases=((0.3, 30.0), (1.0, 20.0)), chi2_samples=200_000, chi2_res=31,
-                    recip_f0s=(1.0,), recip_lanes=128, furnace_mus=(0.5,), furnace_directions=100_000, render_spp=16)
+    s = Settings(alphas=(0.5, 1.0), mus=(0.3, 1.0), metalness=(0.0, 0.5, 1.0), nodes=64, walkers=50_000,
+                 walk_alphas=(0.6, 1.0), chi2_cases=((0.3, 30.0), (1.0, 20.0)), chi2_samples=200_000, chi2_res=31,
+                 recip_f0s=(1.0,), recip_lanes=128, furnace_mus=(0.5,), furnace_directions=100_000, render_spp=16)
     ctx = Context(out_dir=tmp_path, quick=True, show_progress=False)
     m = ms.compute(ctx, s)
     claims = {c.id: c for c in ms.claims(m)}
@@ -64,7 +68,7 @@ def test_experiment_claims_pass_and_power_fails(tmp_path):
         assert c.passed and c.power.fails, c
     bug = claims["multiscatter.regression.ggx_metalness_blended_f0_bug.furnace_error.metalness"]
     assert bug.passed and bug.measured > 0.2 and bug.power.fails
-    assert ms.metrics(m, "cook_torrance")["furnace_error.f0_1"]["value"] > 0.6
+    assert metrics(m, "cook_torrance")["furnace_error.f0_1"]["value"] > 0.6
     for cid in ("single_scatter", "furnace", "chi2", "reciprocity", "eval_furnace", "render_furnace",
                 "mitsuba_single_scatter"):
         c = claims[f"multiscatter.walk.{cid}"]
@@ -77,7 +81,7 @@ def test_random_walk_reference():
     from validate.reference import microsurface_walk as mw
     r = mw.walk(0.8, 0.6, (1.0, 0.5), 60_000, 3)
     assert abs(r.albedo[0] - 1.0) < 1e-12 and r.truncated == 0.0
-    assert abs(r.single[0] - ms.e_correlated(0.8, 0.6)) < 4 * r.single_se[0]
+    assert abs(r.single[0] - e_correlated(0.8, 0.6)) < 4 * r.single_se[0]
     assert r.albedo[1] > r.single[1] + 0.02
 
 
@@ -100,7 +104,7 @@ def test_walk_bsdf_chi2_at_a_sharp_lobe_needs_the_pdf_noise_below_poisson():
     """α = 0.1: with 4 × 32 pdf walks the heavy-tailed next-event estimate's noise dominates the expected counts
     (max Var Ê/Ê > 1) and its 4-seed variance is unreliable; the experiment's rule (walks quadrupled until
     Var Ê ≤ Ê) brings the correct sampler above the 1 % level, and still rejects α × 1.1."""
-    from validate.experiments.multiscatter import CHI2_POWER, chi2_case
+    from validate.experiments.multiscatter.compute import CHI2_POWER, chi2_case
     from validate.reference import microsurface_bsdf as mb
 
     kw = {"samples": 400_000, "seed": 3, "res": 51, "ires": 6, "walks": 32}
@@ -117,7 +121,7 @@ def test_walk_bsdf_reciprocity_and_its_power():
     shadowing by the distant G₁ breaks reciprocity by many standard errors."""
     from validate.reference import microsurface_bsdf as mb
 
-    bound = ms.sidak_z(9)
+    bound = sidak_z(9)
     assert mb.reciprocity_walk(0.8, 1.0, 64, 128, 9)["max_abs_z"] < bound
     assert mb.reciprocity_walk(0.8, 1.0, 64, 128, 9, nee_distant_g1=True)["max_abs_z"] > 2 * bound
 
@@ -133,15 +137,15 @@ def test_walk_bsdf_eval_matches_numpy_walk_and_furnace():
     half = mb.furnace_eval(0.7, 0.4, 0.5, 100_000, 8, 4)
     ref = mw.walk(0.7, 0.4, (0.5,), 100_000, 4)
     assert abs(half["albedo"] - ref.albedo[0]) < 4 * np.hypot(half["se"], ref.albedo_se[0]), (half, ref)
-    assert half["albedo"] > ms.e_correlated(0.7, 0.4) * 0.5 + 0.02  # more than F₀ × single scattering
+    assert half["albedo"] > e_correlated(0.7, 0.4) * 0.5 + 0.02  # more than F₀ × single scattering
 
 
 def test_walk_bsdf_first_order_is_mitsuba_roughconductor_with_correlated_g2():
     from validate.reference import microsurface_bsdf as mb
 
     r = mb.single_scatter_vs_mitsuba(0.5, 5000, 1)
-    assert r["max_rel_diff"] < ms.SS_LIMIT and r["separable_max_rel_diff"] > 0.1
-    assert mb.single_scatter_vs_mitsuba(0.5, 5000, 1, 1.01)["max_rel_diff"] > 10 * ms.SS_LIMIT
+    assert r["max_rel_diff"] < SS_LIMIT and r["separable_max_rel_diff"] > 0.1
+    assert mb.single_scatter_vs_mitsuba(0.5, 5000, 1, 1.01)["max_rel_diff"] > 10 * SS_LIMIT
 
 
 def test_walk_bsdf_sample_weight_pdf_and_bad_input():

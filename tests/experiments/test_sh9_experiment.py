@@ -7,6 +7,7 @@ Thresholds are the claims' own (R&H 2001: mean < 1 %, max < 5 % of Φ; the direc
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable
 from pathlib import Path
 
@@ -14,13 +15,18 @@ import numpy as np
 import pytest
 
 from validate.errors import ValidateError
-from validate.experiments import Context, sh9_claims
+from validate.experiments import Context
 from validate.experiments import sh9 as sh9_exp
-from validate.experiments.sh9_claims import Measurements
-from validate.local_models import irradiance, sh
+from validate.experiments.sh9 import report as sh9_report
+from validate.experiments.sh9.claims import BANDLIMITED_EXACT, CONVERGENCE, PAPER_MAX, PAPER_MEAN
+from validate.experiments.sh9.compute import Measurements, analyse_environment
+from validate.local_models import irradiance
+from validate.local_models.irradiance import sh_truncated
 from validate.metrics.irradiance_error import METRIC_NAMES, WORST_CASE_MAX, WORST_CASE_MEAN
 from validate.scenes.environment import Environment
 from validate.scenes.probes import read_aliases, read_published_sh9
+
+sh9_claims = importlib.import_module("validate.experiments.sh9.claims")  # the module (`sh9.claims` is the function)
 
 # Independent figures quoted in the issue (a numpy quadrature over the angular maps, luminance,
 # flux-normalised): grace 0.86 % / 3.26 %, rnl ≈ 0.4 % / 1.4 %. Our pipeline resamples the angular
@@ -44,10 +50,10 @@ DECLARED = {"sh9_hanning": 8, "sh9_lanczos": 8, "sh1_geomerics": 1, "zh3_halluci
 
 @pytest.fixture(scope="module")
 def quick_result(tmp_path_factory: pytest.TempPathFactory):
-    irradiance.add(PLUGIN_BOUND, sh.sh9, "SH9 declaring the directional bound",
+    irradiance.add(PLUGIN_BOUND, sh_truncated.sh9, "SH9 declaring the directional bound",
                    thresholds={"flux_rgb.max": WORST_CASE_MAX}, source="R&H JOSA 2001: |K̃ − max(x,0)| ≤ 3/32")
-    irradiance.add(PLUGIN_EXACT, sh.sh9, "SH9 declaring exactness on order-≤ 2 lighting",
-                   thresholds={"flux_luminance.max": sh9_exp.BANDLIMITED_EXACT}, environments=EXACT_SCOPE,
+    irradiance.add(PLUGIN_EXACT, sh_truncated.sh9, "SH9 declaring exactness on order-≤ 2 lighting",
+                   thresholds={"flux_luminance.max": BANDLIMITED_EXACT}, environments=EXACT_SCOPE,
                    source="R&H 2001: order-2 lighting is represented exactly")
     try:
         ctx = Context(out_dir=tmp_path_factory.mktemp("sh9"), quick=True, show_progress=False, log=lambda _: None)
@@ -130,13 +136,13 @@ def test_technique_entries_cover_every_registered_technique(quick_result) -> Non
 
 def test_a_plugin_named_sh9_is_a_duplicate() -> None:
     with pytest.raises(ValidateError, match="already registered"):
-        irradiance.register("sh9")(sh.sh9)
+        irradiance.register("sh9")(sh_truncated.sh9)
 
 
 def test_bandlimited_closed_form_is_independent_of_the_model() -> None:
     """A_l from R&H JOSA 2001 eq. 19 written out in sh9_closed_forms equals the published values
     (reference README: A0 = π, A1 = 2π/3, A2 = π/4, A4 = −π/24, A6 = π/64, A8 = −π/128, odd l > 1: 0)."""
-    from validate.experiments.sh9_closed_forms import clamped_cosine_coefficient
+    from validate.experiments.sh9.closed_forms import clamped_cosine_coefficient
 
     published = {0: np.pi, 1: 2 * np.pi / 3, 2: np.pi / 4, 3: 0.0, 4: -np.pi / 24, 5: 0.0, 6: np.pi / 64,
                  8: -np.pi / 128}
@@ -183,7 +189,7 @@ def test_figures_exist_and_json_keys_are_stable(quick_result) -> None:
 @pytest.fixture(scope="module")
 def paper_results(load_probe: Callable[[str], Environment]) -> dict[str, dict]:
     """The paper's probes analysed at full settings (10k normals), once per module."""
-    return {f: sh9_exp.analyse_environment(load_probe(f), sh9_exp.SETTINGS["full"], read_published_sh9(),
+    return {f: analyse_environment(load_probe(f), sh9_exp.FULL, read_published_sh9(),
                                            read_aliases()) for f in sorted(INDEPENDENT)}
 
 
@@ -192,14 +198,14 @@ def paper_results(load_probe: Callable[[str], Environment]) -> dict[str, dict]:
 def test_paper_probes_reproduce_rh2001(filename: str, paper_results: dict[str, dict]) -> None:
     r = paper_results[filename]
     st = r["errors"]["flux_luminance"]
-    assert st["mean"] + st["mean_uncertainty"] < sh9_exp.PAPER_MEAN
-    assert st["max"] + st["max_uncertainty"] < sh9_exp.PAPER_MAX
+    assert st["mean"] + st["mean_uncertainty"] < PAPER_MEAN
+    assert st["max"] + st["max_uncertainty"] < PAPER_MAX
     mean_ind, max_ind = INDEPENDENT[filename]
     assert abs(st["mean"] - mean_ind) < INDEPENDENT_TOL_MEAN
     assert abs(st["max"] - max_ind) < INDEPENDENT_TOL_MAX
     # the other normalisations measure the same approximation more harshly (3–10 % relative)
     assert 0.03 <= r["errors"]["relative"]["mean"] <= 0.10
-    assert r["convergence"] < sh9_exp.CONVERGENCE
+    assert r["convergence"] < CONVERGENCE
     pub = r["published"]
     assert pub["max_deviation"] < 0.01
     assert pub["scale"] == pytest.approx({"grace_probe.hdr": 3.19, "rnl_probe.hdr": 9.97}[filename], rel=0.01)
@@ -207,7 +213,7 @@ def test_paper_probes_reproduce_rh2001(filename: str, paper_results: dict[str, d
 
 @pytest.mark.probes
 def test_paper_and_published_claims_have_failing_power(paper_results: dict[str, dict]) -> None:
-    m = Measurements(sh9_exp.SETTINGS["full"], {f.removesuffix(".hdr"): r for f, r in paper_results.items()})
+    m = Measurements(sh9_exp.FULL, {f.removesuffix(".hdr"): r for f, r in paper_results.items()})
     claims = sh9_claims.paper_claims(m) + sh9_claims.published_claims(m)
     assert len(claims) == 3 * len(paper_results)
     for c in claims:
@@ -230,26 +236,26 @@ def test_paper_claims_from_any_folder(load_probe: Callable[[str], Environment], 
                                       tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """The published table and aliases ship with the package: from a folder without ../shared/reference the
     paper's probe is still recognised and its sh9.paper.* and sh9.published.* claims are made."""
-    from validate.experiments.sh9_compute import published_check
+    from validate.experiments.sh9.compute import published_check
 
     monkeypatch.chdir(tmp_path)
     monkeypatch.delenv("VALIDATE_REFERENCE", raising=False)
     pub = published_check(load_probe("grace_probe.hdr"), read_published_sh9(), read_aliases())
     assert pub["published"]["probe"] == "grace"
     r = dict(paper_results["grace_probe.hdr"], **pub)
-    m = Measurements(sh9_exp.SETTINGS["full"], {"grace_probe": r})
+    m = Measurements(sh9_exp.FULL, {"grace_probe": r})
     ids = {c.id for c in sh9_claims.paper_claims(m) + sh9_claims.published_claims(m)}
     assert ids == {"sh9.paper.grace_probe.mean", "sh9.paper.grace_probe.max", "sh9.published.grace_probe"}
 
 
 @pytest.mark.probes
 def test_near_matches_of_paper_probes_say_why_not_compared(load_probe: Callable[[str], Environment]) -> None:
-    r = sh9_exp.analyse_environment(load_probe("ict_grace_256x128.hdr"), sh9_exp.SETTINGS["quick"],
+    r = analyse_environment(load_probe("ict_grace_256x128.hdr"), sh9_exp.QUICK,
                                     read_published_sh9(), read_aliases())
     assert "published" not in r
     assert "not the Debevec angular map grace_probe.hdr" in r["published_note"]
-    m = Measurements(sh9_exp.SETTINGS["quick"], {"ict_grace_256x128": r})
-    assert any("ict_grace_256x128.hdr" in f for f in sh9_claims.findings(m))
+    m = Measurements(sh9_exp.QUICK, {"ict_grace_256x128": r})
+    assert any("ict_grace_256x128.hdr" in f for f in sh9_report.findings(m))
 
 
 def _stats(v: float) -> dict[str, dict[str, float]]:
@@ -264,9 +270,9 @@ def test_technique_power_mirror_or_error_growth(mirrored: float, expect: str) ->
     from validate.experiments.techniques import technique_claims
     from validate.local_models.registry import Technique
 
-    tech = Technique("fake", "irradiance", sh.sh9, "fake", {"flux_luminance.max": 0.05})
+    tech = Technique("fake", "irradiance", sh_truncated.sh9, "fake", {"flux_luminance.max": 0.05})
     env = {"models": {"fake": _stats(0.04)}, "models_mirrored": {"fake": _stats(mirrored)}}
-    m = Measurements(sh9_exp.SETTINGS["quick"], {"two_tone": env})
+    m = Measurements(sh9_exp.QUICK, {"two_tone": env})
     (c,) = technique_claims("sh9", tech, sh9_claims.technique_measured(m, "fake", ["two_tone"]))
     assert c.id == "sh9.technique.fake.flux_luminance.max" and c.passed
     assert expect in c.power.perturbation and c.power.fails
@@ -276,7 +282,7 @@ def test_technique_power_mirror_or_error_growth(mirrored: float, expect: str) ->
 def test_technique_findings_say_where_a_technique_beats_sh9() -> None:
     envs = {"a": {"errors": _stats(0.02), "models": {"t": _stats(0.01)}},
             "b": {"errors": _stats(0.01), "models": {"t": _stats(0.03)}}}
-    (sentence,) = sh9_claims.technique_findings(Measurements(sh9_exp.SETTINGS["quick"], envs))
+    (sentence,) = sh9_report.technique_findings(Measurements(sh9_exp.QUICK, envs))
     assert sentence.startswith("technique t: worst flux-normalised error 3 % mean (b) / 3 % max (b)")
     assert "lower mean error than SH9 on 1 of 2 environments (a)" in sentence
 
@@ -287,10 +293,10 @@ def test_zh3_findings_name_grace_and_the_sunniest_probe() -> None:
         models = {"zh3_stored": _stats(stored), "zh3_hallucinated": _stats(hall), "sh1": _stats(sh1)}
         return {"kind": kind, "sun_share": share, "errors": _stats(sh9), "models": models}
 
-    m = Measurements(sh9_exp.SETTINGS["quick"], {"grace_probe": env("probe", 0.05, 0.0086, 0.0080, 0.02, 0.05),
+    m = Measurements(sh9_exp.QUICK, {"grace_probe": env("probe", 0.05, 0.0086, 0.0080, 0.02, 0.05),
                                                  "sunny": env("probe", 0.7, 0.02, 0.025, 0.03, 0.06),
                                                  "near_directional": env("procedural", 1.0, 0.03, 0.03, 0.03, 0.1)})
-    found = sh9_claims.zh3_findings(m)
+    found = sh9_report.zh3_findings(m)
     assert len(found) == 3 and found[0].startswith("ZH3 vs SH9 on grace_probe") and " on sunny " in found[1]
     assert "closer to the truth than SH9 (9) by 0.06 %" in found[0]
     assert "farther from the truth than SH9 (9) by 0.5 %" in found[1]
@@ -299,9 +305,9 @@ def test_zh3_findings_name_grace_and_the_sunniest_probe() -> None:
 
 
 def test_thresholds_on_other_experiments_metrics_are_findings_not_errors() -> None:
-    irradiance.add("test_foreign", sh.sh9, thresholds={"flux_luminance.max": 0.5, "peak_map.max": 0.01})
+    irradiance.add("test_foreign", sh_truncated.sh9, thresholds={"flux_luminance.max": 0.5, "peak_map.max": 0.01})
     try:
-        m = Measurements(sh9_exp.SETTINGS["quick"], {"a": {"errors": _stats(0.01), "models": {"test_foreign": _stats(
+        m = Measurements(sh9_exp.QUICK, {"a": {"errors": _stats(0.01), "models": {"test_foreign": _stats(
             0.01)}, "models_mirrored": {"test_foreign": _stats(0.1)}}})
         ids = [c.id for c in sh9_claims.all_technique_claims(m) if ".test_foreign." in c.id]
         assert ids == ["sh9.technique.test_foreign.flux_luminance.max"]

@@ -17,9 +17,10 @@ import pytest
 
 from validate.errors import ValidateError
 from validate.experiments import Context, run_experiment
-from validate.experiments.shadows_claims import BAND_EXCEED_MAX
-from validate.local_models import shadow_map as smod
+from validate.experiments.shadows.claims import BAND_EXCEED_MAX
+from validate.local_models.shadow import shadow_map as smod
 from validate.metrics import shadow_error as se
+from validate.metrics.flip import flip_hdr
 from validate.reference import shadow_render as sr
 from validate.scenes import shadow_scenes as ss
 
@@ -302,14 +303,15 @@ def test_region_errors_false_areas_and_bad_shapes() -> None:
 def test_flip_is_zero_for_identical_images_and_grows_with_error() -> None:
     rng = np.random.default_rng(0)
     img = rng.uniform(0.1, 1.0, (24, 32, 3))
-    _, same = se.flip_error(img, img)
+    same = flip_hdr(img, img).mean
     assert same == 0.0
     worse = img.copy()
     worse[8:16] = 0.0
-    fmap, diff = se.flip_error(img, worse)
+    f = flip_hdr(img, worse)
+    fmap, diff = f.error, f.mean
     assert diff > 0.05 and fmap.shape == (24, 32)
     with pytest.raises(ValidateError, match="nonnegative"):
-        se.flip_error(img, -img)
+        flip_hdr(img, -img)
 
 
 def test_outside_band_test_has_its_size_and_power() -> None:

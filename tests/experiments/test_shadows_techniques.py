@@ -12,10 +12,14 @@ import pytest
 from validate.errors import ValidateError
 from validate.experiments import Context
 from validate.experiments import shadows as exp
-from validate.experiments.shadows_claims import RATE_SLOPE_MAX
-from validate.experiments.shadows_measure import QUICK, fit_rate
+from validate.experiments.shadows import report as rep
+from validate.experiments.shadows.check import check_shadow
+from validate.experiments.shadows.claims import RATE_SLOPE_MAX
+from validate.experiments.shadows.compute import fit_rate
+from validate.experiments.shadows.settings import QUICK
 from validate.local_models import shadow
-from validate.local_models import shadow_map as smod
+from validate.local_models.shadow import percentage_closer
+from validate.local_models.shadow import shadow_map as smod
 from validate.metrics import shadow_error as se
 from validate.scenes.latlong import luminance
 
@@ -45,7 +49,7 @@ def tiny_run(tmp_path_factory: pytest.TempPathFactory):
         ctx = Context(out_dir=tmp_path_factory.mktemp("shadows_tiny"), quick=True, show_progress=False,
                       log=lambda _: None)
         m = exp.compute(ctx, TINY)
-        yield m, exp.claims(m), exp.technique_entries(m), exp.sections(m, ctx), ctx
+        yield m, exp.claims(m), rep.techniques(m), exp.sections(m, ctx), ctx
     finally:
         shadow.unregister("test_half")
 
@@ -92,8 +96,8 @@ def _map_inputs(m) -> tuple:  # noqa: ANN001
 
 
 def test_check_shadow_tells_a_good_technique_from_a_wrong_one() -> None:
-    good = exp.check_shadow(smod.shadow_pcss, radius=1.0, resolution=512)
-    wrong = exp.check_shadow(lambda sm, light, p, n: np.ones(len(p)), radius=1.0, resolution=512, name="off")
+    good = check_shadow(percentage_closer.shadow_pcss, radius=1.0, resolution=512)
+    wrong = check_shadow(lambda sm, light, p, n: np.ones(len(p)), radius=1.0, resolution=512, name="off")
     assert good.technique == "shadow_pcss" and wrong.technique == "off"
     assert good.umbra.mean < PCSS_UMBRA_MAX < 0.5 < wrong.umbra.mean  # shadows off: the umbra is fully lit
     assert good.penumbra.mean + good.penumbra.mean_uncertainty < wrong.penumbra.mean

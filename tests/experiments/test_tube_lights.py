@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from validate.errors import ValidateError
-from validate.experiments import arealights_specular as asp
+from validate.experiments.arealights import specular as asp
 from validate.local_models import family
-from validate.local_models.representative_point import tube_solid_angle
+from validate.local_models.specular_arealight.representative_point import tube_solid_angle
 from validate.reference import area_specular_render as asr
 
 # A Fibonacci lattice of 600² directions over 4π counts a smooth region to ≈ its boundary length × the lattice

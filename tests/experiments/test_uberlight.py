@@ -3,6 +3,8 @@ the closed forms, and the claims against the Mitsuba projector and the barn-door
 
 from __future__ import annotations
 
+import dataclasses
+import importlib
 import math
 
 import numpy as np
@@ -10,9 +12,11 @@ import pytest
 
 from validate.errors import ValidateError
 from validate.experiments import uberlight as exp
-from validate.experiments import uberlight_measure as um
-from validate.local_models import uberlight as ub
+from validate.experiments.uberlight import check as chk
+from validate.local_models.uberlight import orange_book as ub
 from validate.reference import uberlight_render as ur
+
+um = importlib.import_module("validate.experiments.uberlight.compute")  # the module (`pkg.compute` is the function)
 
 FLOAT32_SHAPE = 2e-5  # |A_drjit − A_numpy|: float32 powers near the edge, times the smoothstep slope ≤ 1.5/Δ
 SHAPE = {"width": 0.35, "height": 0.25, "width_edge": 0.1, "height_edge": 0.05, "roundness": 1.0}
@@ -88,7 +92,7 @@ def test_smoothstep_vs_disc_penumbra() -> None:
 
 
 def test_bad_light_is_one_line_error() -> None:
-    light = um.light_mapping(exp.us.Luminaire("projector"), 1.0, dict(SHAPE, roundness=0.0))
+    light = um.light_mapping(um.us.Luminaire("projector"), 1.0, dict(SHAPE, roundness=0.0))
     with pytest.raises(ValidateError, match="roundness"):
         ub.uberlight.call("uberlight", light, np.zeros((1, 3)), np.array([[0, 1.0, 0]]), np.array([[0, 1.0, 0]]),
                           {"albedo": 0.5})
@@ -98,9 +102,9 @@ def test_projector_claim_and_power() -> None:
     """Claim 1 on a small render: the inverse-square überlight equals the projector (threshold declared by the
     technique), and a 1 % wider beam or a 1° roll fails it."""
     s = exp.QUICK  # 64 × 48: at 48 × 36 no pixel centre falls in the sliver a 1° roll sweeps
-    frame, keep = exp.projector_frame(s, exp.PROJECTOR_SHAPE)
+    frame, keep = um.projector_frame(s, um.PROJECTOR_SHAPE)
     lum = frame.scene.luminaire
-    base = um.light_mapping(lum, exp.INTENSITY, exp.PROJECTOR_SHAPE)
+    base = um.light_mapping(lum, um.INTENSITY, um.PROJECTOR_SHAPE)
     limit = ub.uberlight["uberlight_inverse_square"].thresholds["projector.max_rel"]
 
     def err(light: dict) -> float:
@@ -109,8 +113,8 @@ def test_projector_claim_and_power() -> None:
         return um.projector_errors(frame, out, keep)["max_rel"]
     assert keep.sum() > 500 and (frame.radiance[keep] > 0).sum() > 100
     assert err(base) < limit
-    assert err(dict(base, width=exp.PROJECTOR_SHAPE["width"] * 1.01)) > limit
-    assert err(dict(base, axes=exp.rolled(lum, 1.0))) > limit
+    assert err(dict(base, width=um.PROJECTOR_SHAPE["width"] * 1.01)) > limit
+    assert err(dict(base, axes=um.rolled(lum, 1.0))) > limit
 
 
 @pytest.mark.slow
@@ -118,9 +122,9 @@ def test_projector_claim_and_power() -> None:
 def test_barndoor_claim_and_power(hole_roundness: float) -> None:
     """Claim 2 for one luminaire size at a small resolution: the fitted edge is within the budget, edges × 1.5
     are not; with a rounded hole the fitted roundness follows the hole's (measured 0.64 for 0.6 at r = 0.025)."""
-    s = dict(exp.QUICK, barndoor_width=48, barndoor_height=36, barndoor_spp=64, barndoor_passes=8)
-    sc = exp.barndoor(s, 0.04, hole_roundness)
-    frame = um.Frame(sc, ur.render(sc, None, s["barndoor_spp"], s["barndoor_passes"], s["seed"]), shadowed=False)
+    s = dataclasses.replace(exp.QUICK, barndoor_width=48, barndoor_height=36, barndoor_spp=64, barndoor_passes=8)
+    sc = um.barndoor(s, 0.04, hole_roundness)
+    frame = um.Frame(sc, ur.render(sc, None, s.barndoor_spp, s.barndoor_passes, s.seed), shadowed=False)
     fit = um.fit_beam(frame)
     p = np.asarray(fit["params"])
     e, u, _ = um.edge_rms(frame, p, p)
@@ -142,7 +146,7 @@ def test_check_uberlight_gates_a_plugin() -> None:
     def no_falloff(light, points, normals, views, material, shadow=None):  # noqa: ANN001, ANN202
         return ub.uberlight_listing(light, points, normals, views, material, shadow)
     limit = ub.uberlight["uberlight_inverse_square"].thresholds["projector.max_rel"]
-    r = exp.check_uberlight(mine)
+    r = chk.check_uberlight(mine)
     assert r.projector.max + r.projector.max_uncertainty < limit
     assert r.barndoor.max < 0.05  # the fitted shape reproduces the beam (RMS 0.6–0.7 % of the peak measured)
-    assert exp.check_uberlight(no_falloff).projector.max > 1.0
+    assert chk.check_uberlight(no_falloff).projector.max > 1.0

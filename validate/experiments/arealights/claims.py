@@ -41,9 +41,8 @@ from typing import Any
 from ...local_models import arealight
 from ..base import Claim
 from ..techniques import Measured, technique_claims
-from . import compute as ac
 from . import specular as asp
-from .compute import ALPHA20, ALPHA_INSIDE, ALPHA_OUTSIDE, SH_THRESHOLD
+from .compute import ALPHA, ALPHA20, ALPHA_INSIDE, ALPHA_OUTSIDE, CAP_QUADRATURE_TOLERANCE, SH_THRESHOLD
 from .settings import NAME, SCALE_ERROR
 
 SEED_DIGITS = 1e-5  # one unit in the 6th significant digit of the seed's constants (π/2 printed 1.57079)
@@ -64,7 +63,7 @@ def _reference_claims(m: dict[str, Any]) -> list[Claim]:
                         "uncertainty = change of the projection when its nodes are doubled"
                  ).with_power("the l = 2 band's sign flipped (L20 → −L20)", sf["band2_flipped_deviation"]),
            Claim("arealights.cap.quadrature", "closed-form cap irradiance (float32 drjit) = brute-force quadrature",
-                 "max |E − E_quad| / (π sin²σ)", ac.CAP_QUADRATURE_TOLERANCE, cq["max"], 0.0, unit="%",
+                 "max |E − E_quad| / (π sin²σ)", CAP_QUADRATURE_TOLERANCE, cq["max"], 0.0, unit="%",
                  source="float32 rounding: measured 8.8e-7 over sin²σ = 0.01…0.9; 1e-5 leaves an 11× margin"
                  ).with_power("horizon clamp dropped (π sin²σ max(cos θ, 0) everywhere, the point-light form)",
                               cq["unclipped"])]
@@ -75,7 +74,7 @@ def _reference_claims(m: dict[str, Any]) -> list[Claim]:
                          "meter within its uncertainty",
                          f"max |z| over {len(c['theta_deg'])} normals (Student t, {c['passes'] - 1} dof → z)",
                          t["critical_z"], t["max_abs_z"], 0.0,
-                         source=f"Šidák-corrected two-sided test (Šidák 1967), family-wise α = {ac.ALPHA:g}; the "
+                         source=f"Šidák-corrected two-sided test (Šidák 1967), family-wise α = {ALPHA:g}; the "
                                 "Monte Carlo uncertainty is inside z"
                          ).with_power(f"closed form scaled by {1 + SCALE_ERROR:g} (a {SCALE_ERROR:.0%} reference bias)",
                                       c["scaled_test"]["max_abs_z"]))

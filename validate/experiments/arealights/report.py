@@ -12,10 +12,9 @@ from ...report import plots
 from ..base import Context, Figure, Section, Table
 from ..formatting import pct as _pct
 from ..techniques import technique_entry
-from . import compute as ac
 from . import specular as asp
 from .claims import technique_measured
-from .compute import ALPHA20, ALPHA_INSIDE, ALPHA_OUTSIDE
+from .compute import ALPHA, ALPHA20, ALPHA_INSIDE, ALPHA_OUTSIDE
 from .settings import NAME, SCALE_ERROR
 
 FLOOR = 1e-9  # log-scale floor for exact techniques (float32 rounding shows as ~1e-7)
@@ -48,7 +47,7 @@ def _reference_section(m: dict[str, Any], ctx: Context) -> Section:
                      f"{t['critical_z']:.2f}", f"{t['max_abs_deviation']:.2e}"])
     table = Table(["scene", "σ", "samples / normal", "max |z| closed form", "max |z| unclipped", "max |z| ×1.02",
                    "critical |z|", "max |E_Mitsuba − E_closed|"], rows,
-                  f"Šidák-corrected two-sided test at α = {ac.ALPHA:g} over the normals of each scene.")
+                  f"Šidák-corrected two-sided test at α = {ALPHA:g} over the normals of each scene.")
     return Section("The reference: Mitsuba's irradiance meter vs the exact cap irradiance", [
         "A sphere light of radius r at distance d and a disc light of radius r facing the receiver on its axis are "
         "both uniform spherical caps seen from the receiver (sin²σ = r²/d² and r²/(r² + d²)). Mitsuba's "

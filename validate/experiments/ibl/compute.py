@@ -22,6 +22,7 @@ from ...local_models.irradiance import sh as shm
 from ...local_models.registry import Technique
 from ...local_models.specular import prefiltered_specular as ps
 from ...metrics import image_error as ie
+from ...metrics.flip import FlipResult, flip_hdr
 from ...metrics.irradiance_error import irradiance_errors
 from ...reference import ibl_render as rr
 from ...reference.irradiance import reference_irradiance
@@ -58,7 +59,7 @@ class Comparison:
     parameter: str
     approx: np.ndarray
     rel: ie.RelativeError
-    flip: ie.FlipResult
+    flip: FlipResult
     bands: list[ie.ImageErrorStats]
 
     def row(self) -> dict:
@@ -66,11 +67,11 @@ class Comparison:
                 **self.rel.stats.to_json(), "flip_mean": self.flip.mean, "bands": [b.to_json() for b in self.bands]}
 
 
-def flip(reference: np.ndarray, approx: np.ndarray, mask: np.ndarray, enabled: bool = True) -> ie.FlipResult:
+def flip(reference: np.ndarray, approx: np.ndarray, mask: np.ndarray, enabled: bool = True) -> FlipResult:
     """HDR-FLIP of the masked pixels, or a NaN placeholder when the settings skip it (quick runs)."""
     if enabled:
-        return ie.flip_error(reference, approx, mask)
-    return ie.FlipResult(np.full(mask.shape, np.nan), float("nan"), {"skipped": "quick settings"})
+        return flip_hdr(reference, approx, mask, negatives="clamp")
+    return FlipResult(np.full(mask.shape, np.nan), float("nan"), {"skipped": "quick settings"})
 
 
 def compare(render: rr.Render, approx: np.ndarray, label: str, group: str, parameter: str,

@@ -24,7 +24,7 @@ Agreement test (:func:`agreement`), luminance, over the N pixels with s > 0:
   mean of per-pixel z is not used: with skewed pass values — area lights — per-pixel t is biased,
   measured −0.03 per pixel at 16 passes, which a 4/√N bound on the mean flags.)
 * outliers: per pixel t = (m − q) / √(s_m² + s_q²) with P − 1 dof, converted to a standard-normal z
-  (:func:`validate.metrics.stats.t_to_z`); consistent when max |z| is below the Šidák-corrected
+  (:func:`validate.stats.t_to_z`); consistent when max |z| is below the Šidák-corrected
   critical value at family-wise α = 0.01 [Šidák 1967].
 """
 
