@@ -21,6 +21,7 @@ test-slow: setup
 
 lint:
 	.venv/bin/ruff check validate tests
+	.venv/bin/lint-imports
 
 bench: setup
 	.venv/bin/python -m validate bench
