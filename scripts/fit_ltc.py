@@ -2,9 +2,10 @@
 
 Usage: .venv/bin/python scripts/fit_ltc.py [--size 16] [--out PATH]
 
-Per (roughness r = √α, cos θ_v) on :func:`validate.local_models.ltc.table_axes`, rows from r = 1 down to r = 0
-(each entry started from the rougher neighbour's solution, as the paper's code does), fit M by Nelder–Mead
-(:func:`validate.local_models.ltc.fit_entry`); prints the fit error ∫ |E·D − f cos| dω / E (mean, max, where).
+Per (roughness r = √α, cos θ_v) on :func:`validate.local_models.specular_arealight.ltc.table_axes`, rows from
+r = 1 down to r = 0 (each entry started from the rougher neighbour's solution, as the paper's code does), fit
+M by Nelder–Mead (:func:`validate.local_models.specular_arealight.ltc.fit_entry`); prints the fit error ∫ |E·D − f cos| dω / E
+(mean, max, where).
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from validate.local_models import ltc  # noqa: E402
+from validate.local_models.specular_arealight import ltc  # noqa: E402
 
 
 def fit_table(size: int) -> list[list[ltc.Entry]]:

@@ -38,7 +38,7 @@ import numpy as np
 
 from ..backend import init
 from ..errors import ValidateError
-from ..geometry import perp, unit
+from ..geometry import frame, perp, unit
 from ..scenes import area_lights
 from ..scenes import brdf_scenes as bs
 from . import brdf_render as br
@@ -84,8 +84,7 @@ def light_directions(light: Mapping[str, Any], point: np.ndarray, n: int) -> tup
         axis = to_c / d
         ct, wct = _gl(n, np.sqrt(1.0 - (r / d) ** 2), 1.0)
         phi = (np.arange(2 * n) + 0.5) * (np.pi / n)
-        t = perp(axis)
-        b = np.cross(axis, t)
+        t, b = frame(axis)
         st = np.sqrt(1.0 - ct * ct)
         dirs = (ct[:, None, None] * axis + st[:, None, None] * (np.cos(phi)[None, :, None] * t
                                                                   + np.sin(phi)[None, :, None] * b))
@@ -104,8 +103,7 @@ def light_directions(light: Mapping[str, Any], point: np.ndarray, n: int) -> tup
         r = float(light["radius"])
         rho2, w2 = _gl(n, 0.0, r * r)
         phi = (np.arange(2 * n) + 0.5) * (np.pi / n)
-        t = perp(nrm)
-        b = np.cross(nrm, t)
+        t, b = frame(nrm)
         rho = np.sqrt(rho2)
         pts = c + rho[:, None, None] * (np.cos(phi)[None, :, None] * t + np.sin(phi)[None, :, None] * b)
         da = np.outer(0.5 * w2, np.full(2 * n, np.pi / n))
@@ -295,8 +293,7 @@ def write_hemisphere_obj(path: str, center: np.ndarray, axis: np.ndarray, radius
                          rings: int = CAP_RINGS, segments: int = CAP_SEGMENTS) -> None:
     """A hemisphere {center + R m : m·axis ≥ 0} as an OBJ triangle mesh, faces wound counter-clockwise seen from
     outside (outward face normals): the pole, then ``rings`` rings at polar angles kπ/(2·rings)."""
-    t = perp(axis)
-    b = np.cross(axis, t)
+    t, b = frame(axis)
     th = np.arange(1, rings + 1) * (0.5 * np.pi / rings)
     ph = np.arange(segments) * (2.0 * np.pi / segments)
     ring = (np.cos(th)[:, None, None] * axis + np.sin(th)[:, None, None]
@@ -324,8 +321,7 @@ def render(light: Mapping[str, Any], alpha: float, point: np.ndarray, normal: np
 
     init()
     p, n, v = (np.asarray(x, dtype=np.float64) for x in (point, normal, view))
-    t = perp(n)
-    b = np.cross(n, t)
+    t, b = frame(n)
     plane = {"type": "rectangle", "to_world": mi.ScalarTransform4f(_frame_matrix(p, t, b, n, 50.0, 50.0)),
              "bsdf": bs.conductor(alpha, "ggx", coloured=False).bsdf}
     up = perp(v)
