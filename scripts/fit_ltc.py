@@ -4,7 +4,8 @@ Usage: .venv/bin/python scripts/fit_ltc.py [--size 16] [--out PATH]
 
 Per (roughness r = √α, cos θ_v) on :func:`validate.local_models.specular_arealight.ltc.table_axes`, rows from
 r = 1 down to r = 0 (each entry started from the rougher neighbour's solution, as the paper's code does), fit
-M by Nelder–Mead (:func:`validate.local_models.specular_arealight.ltc.fit_entry`); prints the fit error ∫ |E·D − f cos| dω / E
+M by Nelder–Mead (:func:`validate.local_models.specular_arealight.ltc.fit_entry`); prints the fit error
+∫ |E·D − f cos| dω / E
 (mean, max, where).
 """
 
