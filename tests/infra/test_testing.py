@@ -12,7 +12,6 @@ import ast
 import os
 import subprocess
 import sys
-import types
 from pathlib import Path
 
 import numpy as np
@@ -81,20 +80,6 @@ def test_missing_probe_skips_or_errors(tmp_path: Path, monkeypatch: pytest.Monke
         testing.find_probe(str(tmp_path / "absent.exr"))
 
 
-@pytest.mark.parametrize("function, module", [("check_specular", "ibl"), ("check_arealight", "arealights"),
-                                              ("check_shadow", "shadows")])
-def test_other_families_delegate_lazily(function: str, module: str, monkeypatch: pytest.MonkeyPatch) -> None:
-    """The wrapper imports its experiment's implementation at call time; none → NotImplementedError."""
-    name = f"validate.experiments.{module}"
-    monkeypatch.setitem(sys.modules, name, types.ModuleType(name))
-    with pytest.raises(NotImplementedError, match=f"{function}"):
-        getattr(testing, function)()
-    fake = types.ModuleType(name)
-    setattr(fake, function, lambda *a, **k: ("called", a, k))
-    monkeypatch.setitem(sys.modules, name, fake)
-    assert getattr(testing, function)(1, x=2) == ("called", (1,), {"x": 2})
-
-
 def _pytest(args: list[str], cwd: Path, probes_dir: Path) -> subprocess.CompletedProcess:
     env = dict(os.environ, VALIDATE_PROBES=str(probes_dir))
     return subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", *args], cwd=cwd,
@@ -128,15 +113,29 @@ def test_example_is_self_contained() -> None:
     assert modules == {"__future__", "numpy", "validate.testing"}
 
 
-@pytest.mark.parametrize("name", ["check_specular", "check_arealight", "check_shadow", "check_brdf",
-                                  "check_uberlight"])
-def test_every_family_check_resolves_to_its_experiment(name):
-    """The lazy wrappers of validate.testing point at functions that exist (no NotImplementedError)."""
+CHECKS = {"check_specular": "ibl", "check_arealight": "arealights", "check_shadow": "shadows", "check_brdf": "brdfs",
+          "check_uberlight": "uberlight"}
+
+
+@pytest.mark.parametrize("name", sorted(CHECKS))
+def test_every_family_check_is_its_experiments_check_module(name: str) -> None:
+    """validate.testing imports each experiment's ``check`` module directly: the public function is that
+    module's function (the same object, no wrapper, no module-name strings)."""
     import importlib
 
-    import validate.testing as vt
+    check = importlib.import_module(f"validate.experiments.{CHECKS[name]}.check")
+    assert name in testing.__all__ and getattr(testing, name) is getattr(check, name)
 
-    module = {"check_specular": "ibl", "check_arealight": "arealights", "check_shadow": "shadows",
-              "check_brdf": "brdfs", "check_uberlight": "uberlight"}[name]
-    assert name in vt.__all__
-    assert callable(getattr(importlib.import_module(f"validate.experiments.{module}"), name))
+
+def test_nothing_below_testing_imports_it() -> None:
+    """No module of the validate package other than the CLI imports validate.testing (no loop back up)."""
+    for path in (REPO / "validate").rglob("*.py"):
+        if path.name in ("testing.py", "cli.py"):
+            continue
+        tree = ast.parse(path.read_text())
+        for n in ast.walk(tree):
+            if isinstance(n, ast.ImportFrom):
+                mod = "." * n.level + (n.module or "")
+                assert not mod.endswith("testing") and "testing" not in [a.name for a in n.names if n.level], path
+            elif isinstance(n, ast.Import):
+                assert all(a.name != "validate.testing" for a in n.names), path

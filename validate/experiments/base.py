@@ -34,11 +34,17 @@ class Power:
     uncertainty: float = 0.0
 
     def to_json(self) -> dict[str, Any]:
-        return {"perturbation": self.perturbation, "measured": _finite(self.measured),
-                "uncertainty": _finite(self.uncertainty), "fails": bool(self.fails)}
+        return {"perturbation": self.perturbation, "measured": finite_or_none(self.measured),
+                "uncertainty": finite_or_none(self.uncertainty), "fails": bool(self.fails)}
 
 
-def _finite(x: float) -> float | None:
+def fields_json(obj: Any) -> dict[str, Any]:
+    """A (settings) dataclass's fields as a JSON-able dict, tuples as lists (one level deep)."""
+    return {k: list(v) if isinstance(v, tuple) else v for k, v in vars(obj).items()}
+
+
+def finite_or_none(x: float) -> float | None:
+    """``x`` as a float, or None for NaN and ±inf (``results.json`` stays strict JSON)."""
     x = float(x)
     return x if x == x and abs(x) != float("inf") else None
 
@@ -75,7 +81,7 @@ class Claim:
 
     def to_json(self) -> dict[str, Any]:
         d = asdict(self)
-        d["measured"], d["uncertainty"] = _finite(self.measured), _finite(self.uncertainty)
+        d["measured"], d["uncertainty"] = finite_or_none(self.measured), finite_or_none(self.uncertainty)
         d["passed"] = self.passed
         d["power"] = self.power.to_json() if self.power is not None else None
         return d

@@ -17,3 +17,18 @@ def pct(x: float | None, digits: int = 3) -> str:
 def pct_fixed(x: float | None, digits: int = 2) -> str:
     """A fraction as per cent with ``digits`` decimals: 0.0086 → "0.86 %"; None/NaN → "n/a"."""
     return "n/a" if _missing(x) else f"{100 * float(x):.{digits}f} %"
+
+
+def pm(value: float | None, uncertainty: float | None, digits: int = 3, fixed: bool = False) -> str:
+    """A value ± its uncertainty, both as per cent: :func:`pct` (``digits`` significant digits) or, with ``fixed``,
+    :func:`pct_fixed` (``digits`` decimals): 0.0086, 0.0004 → "0.86 % ± 0.04 %"; a missing value → "—"."""
+    f = pct_fixed if fixed else pct
+    return "—" if _missing(value) else f"{f(value, digits)} ± {f(uncertainty, digits)}"
+
+
+def pm_entry(entry: dict[str, float] | None) -> str:
+    """A ``{"value", "uncertainty"}`` entry with one per-cent sign, value to 3 and uncertainty to 2 significant
+    digits: "0.86 ± 0.041 %"; None or empty → "—"."""
+    if not entry:
+        return "—"
+    return f"{100 * entry['value']:.3g} ± {100 * entry['uncertainty']:.2g} %"

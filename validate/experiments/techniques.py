@@ -14,6 +14,7 @@ from typing import Any
 
 from ..errors import ValidateError
 from ..local_models.registry import Technique
+from ..metrics.irradiance_error import ErrorStats
 from .base import Claim
 
 
@@ -26,6 +27,11 @@ class Measured:
     uncertainty: float
     perturbed: float | None = None
     perturbation: str = ""
+
+
+def stats_json(stats: Mapping[str, ErrorStats]) -> dict[str, dict[str, float]]:
+    """Every metric's :class:`~validate.metrics.irradiance_error.ErrorStats` as its JSON dict."""
+    return {k: v.to_json() for k, v in stats.items()}
 
 
 def technique_scope(tech: Technique, names: list[str]) -> list[str]:

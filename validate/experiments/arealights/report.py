@@ -11,6 +11,7 @@ from ...metrics.irradiance_error import WORST_CASE_MAX
 from ...report import plots
 from ..base import Context, Figure, Section, Table
 from ..formatting import pct as _pct
+from ..formatting import pm
 from ..techniques import technique_entry
 from . import specular as asp
 from .claims import technique_measured
@@ -22,8 +23,6 @@ FLOOR = 1e-9  # log-scale floor for exact techniques (float32 rounding shows as 
 
 
 
-def _pm(v: float, u: float) -> str:
-    return f"{_pct(v)} ± {_pct(u)}"
 
 
 def sections(m: dict[str, Any], ctx: Context) -> list[Section]:
@@ -68,8 +67,8 @@ def _technique_section(m: dict[str, Any]) -> Section:
                 row += ["—", "—"]
                 continue
             mit = v.get("mitsuba")
-            row += [_pm(v["flux.max"], v["flux.uncertainty"]),
-                    _pm(mit["value"], mit["uncertainty"]) if mit else "—"]
+            row += [pm(v["flux.max"], v["flux.uncertainty"]),
+                    pm(mit["value"], mit["uncertainty"]) if mit else "—"]
         rows.append(row)
     headers = ["technique"] + [h for sc in scenes for h in (f"{sc}: closed form", f"{sc}: Mitsuba")]
     return Section("Every arealight technique on the three scenes", [

@@ -7,22 +7,17 @@ from typing import Any
 import numpy as np
 
 from ...report import plots
-from ..base import Context, Figure, Section, Table
+from ..base import Context, Figure, Section, Table, fields_json
 from ..formatting import pct as _pct
+from ..formatting import pm_entry
 from ..techniques import technique_entry
 from .claims import vgroove_sigmas
 from .compute import Measurements
 from .settings import NAME
 
 
-def _pm(d: dict[str, float] | None) -> str:
-    if not d:
-        return "—"
-    return f"{100 * d['value']:.3g} ± {100 * d['uncertainty']:.2g} %"
-
-
 def _metric_table(m: Measurements, metric: str, mats: list[str], caption: str) -> Table:
-    rows = [[t.name] + [_pm(m.metrics.get(t.name, {}).get(f"{metric}.{n}")) for n in mats] for t in m.techniques]
+    rows = [[t.name] + [pm_entry(m.metrics.get(t.name, {}).get(f"{metric}.{n}")) for n in mats] for t in m.techniques]
     return Table(["technique"] + mats, rows, caption)
 
 
@@ -40,7 +35,7 @@ def _plane_section(m: Measurements, ctx: Context) -> Section:
     el = m.plane["elongation"]
     table = Table(["model", "elongation (x/y)", "plane_rel_l1"],
                   [[k, f"{el[k]:.3f}" if k in el else "—",
-                    _pm(m.metrics.get(k, {}).get("plane_rel_l1.mirror_beckmann_a0.2")) if k != "mitsuba" else "—"]
+                    pm_entry(m.metrics.get(k, {}).get("plane_rel_l1.mirror_beckmann_a0.2")) if k != "mitsuba" else "—"]
                    for k in keys], "Highlight widths at half maximum along / across the view azimuth, on the plane.")
     return Section("A plane under a point light", [
         "Plane z = 0, unit point light 1 above the origin, orthographic viewer 70° from the normal; images in plane "
@@ -307,4 +302,4 @@ SUMMARY = ("Every registered brdf technique — textbook Phong and Blinn–Phong
 
 def settings_json(m: Measurements) -> dict[str, Any]:
     """``experiments.brdfs.settings``: every field, tuples as lists."""
-    return {k: (list(v) if isinstance(v, tuple) else v) for k, v in vars(m.settings).items()}
+    return fields_json(m.settings)

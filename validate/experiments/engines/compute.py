@@ -31,11 +31,12 @@ from ...local_models import irradiance as irradiance_family
 from ...local_models.irradiance import sh as shm
 from ...local_models.irradiance.engines import UNAVAILABLE, cube_faces, worker
 from ...local_models.registry import Technique
-from ...metrics.irradiance_error import ErrorStats, irradiance_errors
+from ...metrics.irradiance_error import irradiance_errors
 from ...reference.irradiance import reference_irradiance
 from ...scenes import latlong
 from ...scenes.environment import Environment
 from ..base import Context
+from ..techniques import stats_json
 from .settings import Settings
 
 BABYLON_CLAMP = 4096.0  # CubeMapToSphericalPolynomialTools.MAX_HDRI_VALUE (Babylon.js 9.35)
@@ -57,9 +58,6 @@ def compared_techniques() -> list[Technique]:
     techs = list(irradiance_family)
     return sorted(techs, key=lambda t: t.name != BASELINE)  # SH9 first: the others are compared with it
 
-
-def stats_json(stats: dict[str, ErrorStats]) -> dict[str, dict[str, float]]:
-    return {k: v.to_json() for k, v in stats.items()}
 
 
 def deviation(a: np.ndarray, b: np.ndarray, flux: np.ndarray) -> float:

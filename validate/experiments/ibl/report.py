@@ -9,7 +9,7 @@ import numpy as np
 from ...local_models.specular import split_sum as ss
 from ...report import plots
 from ..base import Context, Figure, Section, Table
-from ..formatting import pct
+from ..formatting import pct, pm
 from .claims import technique_results
 from .compute import CRATER_AO, MAP_MAX_ERROR, Comparison, IblMeasurements
 from .scene import ALBEDO, ANGLE_BINS, BLEND_EXPONENT, BLEND_WEIGHT, CAMERA_OFFSET_DEG
@@ -63,8 +63,6 @@ def fnum(x: float) -> str:
     return "—" if x is None or not np.isfinite(x) else f"{x:.3f}"
 
 
-def _pm(mean: float, unc: float) -> str:
-    return f"{pct(mean)} ± {pct(unc)}"
 
 
 # ---------------------------------------------------------------------------------------------
@@ -83,15 +81,15 @@ def diffuse_findings(m: IblMeasurements) -> list[str]:
     out = [f"Smallest irradiance-map resolution keeping the max error < 1 % (of the peak irradiance, all "
            f"{len(mp.sweeps)} environments): cube faces {mp.face}² ({6 * mp.face ** 2 if mp.face else '—'} texels), "
            f"lat-long {mp.height}×{2 * mp.height if mp.height else '—'}; the independent check at {mp.claim_face}² "
-           f"gives {_pm(mp.check.max, mp.check.uncertainty)} (worst: {mp.check.env}). From faces 8² to 32² the max "
+           f"gives {pm(mp.check.max, mp.check.uncertainty)} (worst: {mp.check.env}). From faces 8² to 32² the max "
            "error falls " + ", ".join(f"{r:.1f}× ({n})" for n, r in per.items()) + " per doubling: 4× would be "
            "second order (bilinear, smooth E); a source much smaller than a texel leaves a kink in E at its "
            "terminator, where interpolation is first order (2×).",
            "Reference cross-check: Mitsuba's Lambertian sphere vs ρ/π × quadrature: bias "
-           f"{_pm(xc.bias, xc.bias_uncertainty)}, mean |error| {pct(xc.mean)} (MC noise {pct(xc.mean_uncertainty)})."]
+           f"{pm(xc.bias, xc.bias_uncertainty)}, mean |error| {pct(xc.mean)} (MC noise {pct(xc.mean_uncertainty)})."]
     techs = m.diffuse.techniques
     out.append("Irradiance techniques on the rendered Lambertian sphere (mean relative error, bias): "
-               + "; ".join(f"{k} {_pm(c.rel.stats.mean, c.rel.stats.mean_uncertainty)}, {pct(c.rel.stats.bias)}"
+               + "; ".join(f"{k} {pm(c.rel.stats.mean, c.rel.stats.mean_uncertainty)}, {pct(c.rel.stats.bias)}"
                            for k, c in techs.items()) + ".")
     return out
 
@@ -101,7 +99,7 @@ def specular_findings(m: IblMeasurements) -> list[str]:
     for tech, comps in m.specular.comparisons.items():
         if comps:
             out.append(f"Specular technique {tech}: mean relative error " + "; ".join(
-                f"{c.group} {c.parameter}: {_pm(c.rel.stats.mean, c.rel.stats.mean_uncertainty)} (θ_v < 10°: "
+                f"{c.group} {c.parameter}: {pm(c.rel.stats.mean, c.rel.stats.mean_uncertainty)} (θ_v < 10°: "
                 f"{pct(c.bands[0].mean)}, 80–90°: {pct(c.bands[-1].mean)})" for c in comps.values()) + ".")
     ratios = {a: ss.centre_weight_ratio(a) for a in m.st.alphas}
     out.append("Why the split sum errs even at normal incidence: the n·l-weighted prefilter lobe K_α is normalised "
@@ -113,7 +111,7 @@ def specular_findings(m: IblMeasurements) -> list[str]:
                    f"independent bound for the s + 1 map and {v['ratio_s']:.2f} for the same-exponent map.")
     mx = m.mix
     out.append(f"Mixing shader (w = {BLEND_WEIGHT:g}, s = {BLEND_EXPONENT:g}): bias {pct(mx.bias)} against "
-               f"blendbsdf, {_pm(mx.predicted, mx.sigma)} predicted by its ingredient maps, mean |error| "
+               f"blendbsdf, {pm(mx.predicted, mx.sigma)} predicted by its ingredient maps, mean |error| "
                f"{pct(mx.comparison.rel.stats.mean)}, FLIP {fnum(mx.comparison.flip.mean)}; with DiffusePercent = 0.9 "
                f"the bias is {pct(mx.bias_unlit)}.")
     return out
@@ -139,7 +137,7 @@ def concave_finding(m: IblMeasurements) -> str:
 
 def comparison_row(c: Comparison) -> list[Any]:
     s = c.rel.stats
-    return [c.group, c.parameter, c.label, _pm(s.mean, s.mean_uncertainty), pct(s.p95), _pm(s.bias, s.bias_uncertainty),
+    return [c.group, c.parameter, c.label, pm(s.mean, s.mean_uncertainty), pct(s.p95), pm(s.bias, s.bias_uncertainty),
             pct(c.bands[0].mean), fnum(c.flip.mean)]
 
 
@@ -265,7 +263,7 @@ def concave_section(m: IblMeasurements, figs: Figures) -> Section:
               vmax=1.0, label="visibility")
     figs.heat(SEC_E, "dent_err_map.png", c.errors["map vs direct render"], "map vs direct: |ΔY|/Y",
               "Relative error of the irradiance map.")
-    rows = [[k, _pm(v["all"]["mean"], v["all"]["mean_uncertainty"]), _pm(v["crater"]["mean"],
+    rows = [[k, pm(v["all"]["mean"], v["all"]["mean_uncertainty"]), pm(v["crater"]["mean"],
              v["crater"]["mean_uncertainty"]), pct(v["crater"]["bias"]), fnum(v["flip"])]
             for k, v in c.data.items() if isinstance(v, dict)]
     return Section(SEC_E, ["Local IBL shades every point as if it saw the whole hemisphere. The exact unoccluded "

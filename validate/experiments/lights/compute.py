@@ -121,7 +121,7 @@ def attenuation(s: Settings, frames: dict[str, Frame]) -> dict[str, Any]:
     """E/E_inv² over distance for every point technique; scale-fitted error over the scene's distances."""
     d = np.asarray(s.distances)
     curves = sw.attenuation_curves(d, s.range)
-    f = frames.point
+    f = frames["point"]
     dist = np.linalg.norm(f.position - np.asarray(f.scene.lights[0].position), axis=1)
     lo, hi = float(dist.min()), float(dist.max())
     ds = np.geomspace(lo, hi, 64)
@@ -137,7 +137,7 @@ def attenuation(s: Settings, frames: dict[str, Frame]) -> dict[str, Any]:
 
 def grid_unshadowed(frames: dict[str, Frame], s: Settings) -> dict[str, Any]:
     """Unshadowed n×n grid (midpoint and corner rules) vs Lambert's formula over the bare ground."""
-    g = frames.ground_rectangle
+    g = frames["ground_rectangle"]
     rect = g.scene.lights[0]
     exact = lr.rectangle_irradiance(rect, g.position, g.normal)
     ns = list(s.grid_ns)
@@ -165,7 +165,7 @@ def grid_shadowed(frames: dict[str, Frame], s: Settings) -> dict[str, Any]:
             err = se.shadow_errors(ref_img, np.zeros_like(ref_img), f.shade(e), np.nan_to_num(v_ref), v_ref)
             for reg in ("lit", "penumbra", "umbra"):
                 rows[reg].append(err.regions[reg].mean)
-            rows.total.append(err.total.mean)
+            rows["total"].append(err.total.mean)
         slopes = {reg: sw.loglog_slope(out["n"], rows[reg], SLOPE_FROM_N) if min(rows[reg]) > 0 else None
                   for reg in ("lit", "penumbra")}
         out[kind] = dict(rows, slopes=slopes, pixels={r: err.regions[r].pixels for r in ("lit", "penumbra", "umbra")},
@@ -176,7 +176,7 @@ def grid_shadowed(frames: dict[str, Frame], s: Settings) -> dict[str, Any]:
 
 def closed_form_check(frames: dict[str, Frame]) -> dict[str, Any]:
     """Lambert's rectangle formula against Mitsuba over the bare ground (and with L × 1.02, the power check)."""
-    g = frames.ground_rectangle
+    g = frames["ground_rectangle"]
     exact = lr.rectangle_irradiance(g.scene.lights[0], g.position, g.normal)
     ok = np.isfinite(exact)
     pred = g.shade(np.where(ok, exact, 0.0))
@@ -187,7 +187,7 @@ def closed_form_check(frames: dict[str, Frame]) -> dict[str, Any]:
 
 def linearity(frames: dict[str, Frame], m: Measurements) -> dict[str, Any]:
     """The four-light render against the sum of the single renders, on the four-light render's pixels."""
-    al = frames.all
+    al = frames["all"]
     v = al.valid
     parts = [frames.get(f"sum_{k}", frames[k]).ref for k in SUM_LIGHTS]
     total = sum(r.radiance[v] for r in parts)
@@ -197,13 +197,13 @@ def linearity(frames: dict[str, Frame], m: Measurements) -> dict[str, Any]:
     p = lm.agreement(al.passes, 1.02 * total, np.sqrt(var), total_se)
     unblocked = sum(frames[k].ref.radiance[v] for k in SUM_LIGHTS)  # singles without the rectangle's shadow
     q = lm.agreement(al.passes, unblocked, np.sqrt(var), total_se)
-    m.images.linearity_z = al.image(a.z)
+    m.images["linearity_z"] = al.image(a.z)
     return {"test": a.to_json(), "power_bias": p.to_json(), "power_unblocked": q.to_json(), "lights": list(SUM_LIGHTS)}
 
 
 def model_sum(frames: dict[str, Frame], s: Settings) -> dict[str, Any]:
     """Local models summed (inverse square + Mitsuba spot + directional + 16×16 shadowed grid) vs the render."""
-    al = frames.all
+    al = frames["all"]
     names = {"point": "point_inverse_square", "spot": "spot_mitsuba", "directional": "directional",
              "rectangle": "area_grid_shadowed"}
     e = np.zeros(len(al.position))
@@ -216,7 +216,7 @@ def model_sum(frames: dict[str, Frame], s: Settings) -> dict[str, Any]:
 def lamp_comparison(frames: dict[str, Frame], m: Measurements) -> dict[str, Any]:
     """A real lamp (disc behind an aperture) against the spot models fitted to its far-field profile, and
     against the 16×16 grid over its disc with the tube's shadow rays."""
-    f = frames.lamp
+    f = frames["lamp"]
     lamp = f.scene.lights[0]
     fit = sw.fit_lamp(*lamp.size)
     base = {"type": "spot", "position": np.asarray(lamp.position), "direction": lamp.frame()[2],
@@ -226,12 +226,12 @@ def lamp_comparison(frames: dict[str, Frame], m: Measurements) -> dict[str, Any]
               "area_grid_shadowed": dict(lamp.lamp_disc().as_mapping(), grid=16)}
     out: dict[str, Any] = {"fit": fit, "radius": lamp.size[0], "depth": lamp.size[1], "aperture": lamp.size[2],
                            "models": {}}
-    m.images.lamp = {"Mitsuba lamp": f.ref.radiance}
+    m.images["lamp"] = {"Mitsuba lamp": f.ref.radiance}
     for name, lmap in models.items():
         approx = f.shade(family.call(name, lmap, f.position, f.normal, visible=f.visible))
         out["models"][name] = lm.image_errors(f.radiance, f.uncertainty, approx).to_json()
         out["models"][name]["agreement"] = lm.agreement(f.passes, approx).to_json()
-        m.images.lamp[name] = f.image(approx)
+        m.images["lamp"][name] = f.image(approx)
     return out
 
 
@@ -257,7 +257,7 @@ def compute(ctx: Context, s: Settings) -> Measurements:
     m.data["model_sum"] = model_sum(frames, s)
     m.data["lamp"] = lamp_comparison(frames, m)
     m.data["references"] = {k: f.ref.settings() for k, f in frames.items()}
-    m.images.references = {k: f.ref.radiance for k, f in frames.items()}
+    m.images["references"] = {k: f.ref.radiance for k, f in frames.items()}
     return m
 
 

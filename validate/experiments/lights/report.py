@@ -11,14 +11,11 @@ from ...report import plots
 from ...scenes import light_scenes as ls
 from ..base import Context, Figure, Section, Table
 from ..formatting import pct_fixed as _pct
+from ..formatting import pm
 from ..techniques import technique_entry
 from .compute import Measurements
 from .settings import NAME
 from .sweeps import lamp_profile, mitsuba_spot_profile
-
-
-def _pm(entry: dict[str, Any]) -> str:
-    return f"{_pct(entry['value'], 3)} ± {_pct(entry['uncertainty'], 3)}"
 
 
 def references_section(m: Any, ctx: Context, name: str) -> Section:
@@ -39,8 +36,8 @@ def techniques_section(m: Any, ctx: Context, name: str) -> Section:
     rows = []
     for tech, d in m.data["techniques"].items():
         for kind, met in d["metrics"].items():
-            rows.append([tech, kind, _pm(met["mean"]), _pm(met["max"]), _pm(met["bias"]),
-                         _pct(met["mismatch"]["value"], 3)])
+            rows.append([tech, kind, *(pm(met[k]["value"], met[k]["uncertainty"], 3, fixed=True)
+                                       for k in ("mean", "max", "bias")), _pct(met["mismatch"]["value"], 3)])
     figs = []
     for tech, (kind, err) in m.images.get("error", {}).items():
         path, rel = ctx.figure_path(name, f"error_{tech}.png")

@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 
 from ...report import plots
-from ..base import Context, Figure, Section, Table
+from ..base import Context, Figure, Section, Table, fields_json
 from ..techniques import technique_entry
 from .compute import Measurements, metric, metrics
 from .settings import NAME
@@ -147,7 +147,7 @@ def data(m: Measurements) -> dict[str, Any]:
 
 
 def settings_json(m: Measurements) -> dict[str, Any]:
-    return {k: list(v) if isinstance(v, tuple) else v for k, v in vars(m.settings).items()}
+    return fields_json(m.settings)
 
 
 def techniques(m: Measurements) -> dict[str, Any]:

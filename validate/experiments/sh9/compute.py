@@ -36,7 +36,7 @@ from ...local_models import irradiance as irradiance_family
 from ...local_models.irradiance import cmgen_window
 from ...local_models.irradiance import sh as shm
 from ...local_models.irradiance.windowed_sh import kernel_bound
-from ...metrics.irradiance_error import ErrorStats, irradiance_errors
+from ...metrics.irradiance_error import irradiance_errors
 from ...metrics.published import fit_exposure
 from ...reference import pathtrace
 from ...reference.irradiance import reference_irradiance
@@ -44,6 +44,7 @@ from ...scenes import latlong
 from ...scenes.environment import Environment
 from ...scenes.probes import published_status, read_aliases, read_published_sh9
 from ..base import Context
+from ..techniques import stats_json
 from .closed_forms import closed_form
 from .settings import Settings
 
@@ -65,9 +66,6 @@ CMGEN = "sh9_cmgen_auto"
 DENSE_NORMALS = 20000
 SUN_CAP_DEG = 5.0  # the sun (0.27° radius) and its aureole
 
-
-def stats_json(stats: dict[str, ErrorStats]) -> dict[str, dict[str, float]]:
-    return {k: v.to_json() for k, v in stats.items()}
 
 
 def sphere_normals(res: int) -> tuple[np.ndarray, np.ndarray]:

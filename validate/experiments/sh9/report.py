@@ -14,14 +14,11 @@ from ...metrics.published import PUBLISHED_TOLERANCE
 from ...report import plots
 from ..base import Context, Figure, Section, Table
 from ..formatting import pct as _pct
+from ..formatting import pm
 from ..techniques import technique_entry
 from .claims import ATTAINS_BOUND, CMGEN, PAPER_MAX, PAPER_MEAN, ZH3_COMPARED, foreign_thresholds
 from .compute import Measurements
 from .settings import NAME
-
-
-def _pm(st: dict[str, float], stat: str) -> str:
-    return f"{_pct(st[stat])} ± {_pct(st[f'{stat}_uncertainty'])}"
 
 
 def environment_figures(name: str, r: dict[str, Any], ctx: Context) -> list[Figure]:
@@ -89,7 +86,8 @@ def metric_section(m: Measurements) -> Section:
     for name, r in m.environments.items():
         e = r["errors"]
         rows.append([name, r["kind"], f"{r['flux_luminance']:.4g}", _pct(r["convergence"]),
-                     _pm(e["flux_luminance"], "mean"), _pm(e["flux_luminance"], "max"), _pct(e["flux_rgb"]["max"]),
+                     *(pm(e["flux_luminance"][st], e["flux_luminance"][f"{st}_uncertainty"]) for st in ("mean", "max")),
+                     _pct(e["flux_rgb"]["max"]),
                      _pct(e["relative"]["mean"]), _pct(e["relative"]["max"]), _pct(e["peak"]["mean"]),
                      _pct(e["peak"]["max"])])
     table = Table(["environment", "kind", "Φ_Y", "ref. convergence", "flux mean", "flux max", "flux max (worst RGB)",
@@ -125,7 +123,7 @@ def technique_section(m: Measurements) -> Section:
         row: list[Any] = [tech.name]
         for e in envs:
             st = m.environments[e]["models"].get(tech.name, {}).get("flux_luminance")
-            row.append(f"{_pm(st, 'mean')} / {_pm(st, 'max')}" if st else "—")
+            row.append(" / ".join(pm(st[s], st[f"{s}_uncertainty"]) for s in ("mean", "max")) if st else "—")
         rows.append(row)
     return Section("Technique comparison (registered irradiance techniques)", [
         "Every technique registered in the irradiance family (validate.local_models.irradiance), built-in or "

@@ -14,8 +14,9 @@ import numpy as np
 from ...local_models import shadow
 from ...metrics import shadow_error as se
 from ...report import plots
-from ..base import Context, Figure, Section, Table
+from ..base import Context, Figure, Section, Table, finite_or_none
 from ..formatting import pct_fixed as pct
+from ..formatting import pm
 from ..techniques import technique_entry
 from .claims import (
     PENUMBRA_SHARE_X,
@@ -165,8 +166,6 @@ def _radius_curve(m: Measurements, ctx: Context) -> Figure:
     return Figure(rel, "penumbra error vs light radius: mean over penumbra pixels and share of the image", 500)
 
 
-def _pm(v: float, u: float, digits: int = 2) -> str:
-    return f"{pct(v, digits)} ± {pct(u, digits)}" if np.isfinite(v) else "—"
 
 
 def comparison_table(m: Measurements) -> Table:
@@ -175,9 +174,11 @@ def comparison_table(m: Measurements) -> Table:
         for t in m.techniques:
             e = m.at_default(r)[t.name]
             v = error_metrics(e, m.frame.flip_noise[r])
-            rows.append([f"{r:g}", t.name, _pm(*v["total"]), _pm(*v["lit"]),
-                         f"{_pm(*v['penumbra'])} ({e.regions['penumbra'].pixels} px)", _pm(*v["umbra"]),
-                         _pm(*v["false_shadow"]), _pm(*v["false_light"]), _pm(*v["leak"]),
+            cell = {k: pm(*v[k], 2, fixed=True) for k in ("total", "lit", "penumbra", "umbra", "false_shadow",
+                                                          "false_light", "leak")}
+            rows.append([f"{r:g}", t.name, cell["total"], cell["lit"],
+                         f"{cell['penumbra']} ({e.regions['penumbra'].pixels} px)", cell["umbra"],
+                         cell["false_shadow"], cell["false_light"], cell["leak"],
                          f"{v['flip'][0]:.4f} ± {v['flip'][1]:.4f}" if np.isfinite(v["flip"][0]) else "—",
                          str(t.meta.get("memory_bytes_per_texel", "—"))])
     return Table(["r (m)", "technique", "total", "lit", "penumbra", "umbra", "false shadow (acne)",
@@ -231,16 +232,13 @@ def _table_notes(m: Measurements) -> list[str]:
 
 def techniques(m: Measurements) -> dict[str, Any]:
     """``ExperimentResult.techniques``: every metric of every technique at every radius, ± uncertainty."""
-    return {t.name: technique_entry(t, {k: {"value": _finite(v.value), "uncertainty": _finite(v.uncertainty)}
+    return {t.name: technique_entry(t, {k: {"value": finite_or_none(v.value),
+                                            "uncertainty": finite_or_none(v.uncertainty)}
                                         for k, v in technique_metrics(m, t.name).items()},
                                     resolution=m.settings.default_resolution,
                                     memory_bytes_per_texel=t.meta.get("memory_bytes_per_texel"))
             for t in m.techniques}
 
-
-def _finite(x: float) -> float | None:
-    """NaN (an empty region, FLIP not computed at that radius) → None, so results.json stays strict JSON."""
-    return float(x) if np.isfinite(x) else None
 
 
 def findings(m: Measurements) -> list[str]:

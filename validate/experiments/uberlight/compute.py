@@ -316,7 +316,7 @@ def projector_comparison(s: Settings, m: Measurements) -> None:
         m.measured[tech.name]["projector.max_rel.roll"] = Measured(e["max_rel"], e["uncertainty"], pr,
                                                                    "light rolled 1° about its axis")
         m.images.setdefault("projector", {})[tech.name] = frame.image(approx)
-    m.images.projector_ref = frame.ref.radiance
+    m.images["projector_ref"] = frame.ref.radiance
     m.data["projector"] = out
     m.data["distance_shaping"] = distance_shaping(frame, keep, base)
 
