@@ -14,12 +14,12 @@ attenuation, the exact cap; plug-ins alike) is called through the family on ever
 supports (meta ``shapes``): a row in the technique table, a curve in the α and d/r sweeps, an entry
 ``techniques[<name>]`` with every metric ± uncertainty, and a claim per declared threshold.
 
-Specular part (:mod:`.arealights_specular`): every ``specular_arealight`` technique (LTC, Karis's representative
+Specular part (:mod:`.specular`): every ``specular_arealight`` technique (LTC, Karis's representative
 point for spheres and tubes, plug-ins) against Mitsuba's GGX ``roughconductor`` integrated over rectangle, disc,
 sphere and tube (capsule) emitters (:mod:`validate.reference.area_specular_render`), by roughness and light size
 (a tube's: its length).
 
-Error normalisations (unit radiance; :mod:`.arealights_compute`): ``flux`` = |E′ − E| / Φ with Φ =
+Error normalisations (unit radiance; :mod:`.compute`): ``flux`` = |E′ − E| / Φ with Φ =
 2π(1 − cos σ) the cap's flux (R&H's normalisation); ``peak`` = |E′ − E| / E(0); ``mitsuba_flux`` the same
 against the meter. The 5 % statement ([1] eqs. 20.29–20.31, worked at α = 20°; 5 % the level [2] reports for
 order-2 SH) is decided as the α range over which order-2 SH meets it: by the closed form on a 0.5° α grid,

@@ -1,4 +1,4 @@
-"""Claims and findings of the ``brdfs`` experiment (numbers from :mod:`.brdfs_measure`)."""
+"""Claims of the ``brdfs`` experiment (numbers from :mod:`.compute`; findings in :mod:`.report`)."""
 
 from __future__ import annotations
 

@@ -46,7 +46,7 @@ from .scene import (
 )
 from .settings import Settings
 
-MAP_MAX_ERROR = 0.01  # the sweep's criterion (see ibl_claims.DIFFUSE_MAP_SOURCE)
+MAP_MAX_ERROR = 0.01  # the sweep's criterion (see claims.DIFFUSE_MAP_SOURCE)
 CRATER_AO = 0.95  # "crater" pixels: cosine-weighted visibility below 0.95
 
 

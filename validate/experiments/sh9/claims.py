@@ -1,7 +1,7 @@
-"""``sh9`` claims and findings, from the measurements alone (no computation here).
+"""``sh9`` claims, from the measurements alone (no computation here; findings: :mod:`.report`).
 
 Every claim carries its power check: the same claim on the value measured under a perturbation of
-the size a real bug has (see :mod:`.sh9_compute` for how each perturbed value is obtained). Sources
+the size a real bug has (see :mod:`.compute` for how each perturbed value is obtained). Sources
 cite the paper, the theorem or the measured margin; thresholds are named constants below.
 """
 

@@ -12,7 +12,7 @@ Per environment (:func:`analyse_environment`, run through ``ctx.map``):
   ``error_x1.5`` (E + 1.5 (E_SH9 − E): the approximation's error grown by half);
 * every registered ``irradiance`` technique through ``family.call`` (output contract checked), at the
   normals and at the normals mirrored x → −x (a handedness bug: the power check of its claims);
-* the closed form where one exists (:mod:`.sh9_closed_forms`), the published coefficients where the
+* the closed form where one exists (:mod:`.closed_forms`), the published coefficients where the
   probe is one of the paper's (:mod:`validate.metrics.published`), or why not;
 * Filament cmgen's automatic window (:mod:`validate.local_models.irradiance.cmgen_window`, technique
   ``sh9_cmgen_auto``): the cut-off it picks for this map, the Hölder bound of that map's kernel, and the

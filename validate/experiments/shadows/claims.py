@@ -1,4 +1,4 @@
-"""Claims and findings of the ``shadows`` experiment, from :class:`~.shadows_measure.Measurements` alone.
+"""Claims of the ``shadows`` experiment, from :class:`~.compute.Measurements` alone (findings: :mod:`.report`).
 
 Claims (each with a power check: the same claim under a perturbation of the size a real bug has):
 
