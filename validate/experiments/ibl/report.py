@@ -214,7 +214,7 @@ def specular_sections(m: IblMeasurements, figs: Figures) -> list[Section]:
         for case, tech, c in comps:
             figs.heat(title, f"err_{tech}_{case.key}.png", c.rel.error, f"{tech}, {case.label}: |ΔY|/Y",
                       f"{tech} on {case.group} {case.label}: relative error (FLIP mean {fnum(c.flip.mean)}).")
-        for tech in {t for _, t, _ in comps}:
+        for tech in dict.fromkeys(t for _, t, _ in comps):  # registry order (a set's order varies with the hash seed)
             figs.line(title, f"angle_{models[0]}_{tech}.png", MIDS,
                       {f"{case.label}": np.array([b.mean for b in c.bands]) for case, t, c in comps if t == tech},
                       "view angle θ_v (deg)", "mean |ΔY|/Y", f"{tech}: error vs view angle",
