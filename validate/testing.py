@@ -69,6 +69,7 @@ from typing import Any
 
 import numpy as np
 
+from .backend import init
 from .errors import ValidateError
 from .experiments.arealights import check as arealights_check
 from .experiments.brdfs import check as brdfs_check
@@ -77,14 +78,16 @@ from .experiments.inputs import MissingProbe, find_probe, load_named_environment
 from .experiments.shadows import check as shadows_check
 from .experiments.techniques import CheckResult, Stat
 from .experiments.uberlight import check as uberlight_check
+from .local_models import irradiance
 from .local_models.registry import Technique
+from .metrics.irradiance_error import irradiance_errors
+from .reference.irradiance import reference_irradiance
+from .scenes.latlong import fibonacci_sphere
 
 DEFAULT_ENVIRONMENTS = ("two_tone", "grace_probe")
 
 
 def _technique(fn: Callable[..., Any] | Technique | str, name: str | None) -> Technique:
-    from .local_models import irradiance
-
     if isinstance(fn, str):
         fn = irradiance[fn]
     if isinstance(fn, Technique):
@@ -107,12 +110,6 @@ def check_irradiance(fn: Callable[[np.ndarray, np.ndarray], np.ndarray] | Techni
                      environments: Iterable[str] = DEFAULT_ENVIRONMENTS, normals: int = 2500,
                      name: str | None = None, missing: str = "skip") -> CheckResult:
     """Measure an irradiance technique against the reference on each environment (module docstring)."""
-    from .backend import init
-    from .local_models import irradiance
-    from .metrics.irradiance_error import irradiance_errors
-    from .reference.irradiance import reference_irradiance
-    from .scenes.latlong import fibonacci_sphere
-
     if missing not in ("skip", "error"):
         raise ValidateError(f"check_irradiance: missing={missing!r} must be 'skip' or 'error'")
     if not isinstance(normals, (int, np.integer)) or normals < 16:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import importlib
 import pkgutil
 
+from ..errors import ValidateError
 from .base import (
     EXPERIMENTS,
     Claim,
@@ -38,8 +39,6 @@ def discover() -> dict[str, Experiment]:
 
 
 def run_experiment(name: str, ctx: Context) -> ExperimentResult:
-    from ..errors import ValidateError
-
     exps = discover()
     if name not in exps:
         raise ValidateError(f"unknown experiment {name!r}; available: {', '.join(exps)}")

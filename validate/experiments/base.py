@@ -17,6 +17,10 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any, ClassVar, Protocol, TypeVar, runtime_checkable
 
+from ..backend import init
+from ..errors import ValidateError
+from ..scenes import probes, procedural
+
 T = TypeVar("T")
 
 
@@ -216,8 +220,6 @@ class Context:
             [fn_future] = client.scatter([fn], broadcast=True, hash=False)
             item_futures = client.scatter(items, hash=False)
         except Exception as exc:  # e.g. an item or closure that cannot be pickled
-            from ..errors import ValidateError
-
             why = (str(exc).strip().splitlines() or [""])[0][:200]
             raise ValidateError(f"task {desc!r}: cannot ship the work to Dask workers "
                                 f"({type(exc).__name__}: {why})") from None
@@ -235,8 +237,6 @@ class Context:
     @staticmethod
     def _run_task(fn: Callable[[Any], T], item: Any, setup: Callable[[], None] | None) -> T:
         """One task on a worker: choose the variant (probe), run the setup once, then ``fn(item)``."""
-        from ..backend import init
-
         init()
         if setup is not None and repr(setup) not in Context._ready:
             setup()
@@ -245,8 +245,6 @@ class Context:
 
     @staticmethod
     def _task_error(desc: str, item: Any, exc: BaseException | None) -> Exception:
-        from ..errors import ValidateError
-
         def label(x: Any) -> str:
             if hasattr(x, "name"):
                 return str(x.name)
@@ -267,8 +265,6 @@ class Context:
 
             import dask
             from dask.distributed import Client, LocalCluster
-
-            from ..errors import ValidateError
 
             if self.scheduler is not None:
                 try:
@@ -305,8 +301,6 @@ class Context:
         a scanned directory that failed validation. Explicitly named files raise instead.
         """
         if "envs" not in self._env_cache:
-            from ..scenes import probes, procedural
-
             envs = list(procedural.builtin_environments(self.quick))
             only = set(probes.read_aliases()) if self.quick else None  # quick: the paper's probes only
             found, skipped = probes.load_probes(self.probes_dir, self.probe_files, self.layout,

@@ -46,6 +46,7 @@ from ...local_models.specular_arealight.ltc import (
 )
 from ...local_models.specular_arealight.representative_point import representative_point_tube
 from ...reference import area_specular_render as asr
+from ...report import plots
 from ...stats import sidak_critical
 from ..base import Claim, Figure, Section, Table
 from ..techniques import Measured, technique_claims, technique_entry
@@ -427,8 +428,6 @@ def best_line_power(rows: list[dict[str, Any]]) -> tuple[float, float]:
 
 
 def section(m: dict[str, Any], ctx: Any) -> Section:
-    from ...report import plots
-
     s = m["settings"]
     techs = m["techniques"]
     rows = []

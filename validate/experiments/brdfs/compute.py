@@ -39,10 +39,18 @@ from typing import Any
 import numpy as np
 
 from ...local_models import family
+from ...local_models.brdf.common import (
+    Geometry,
+    cook_torrance_printed_terms,
+    fresnel_exact,
+    fresnel_schlick,
+    oren_nayar_full_terms,
+)
 from ...local_models.registry import Technique
 from ...reference import brdf_render as br
 from ...reference.ibl_render import register_phong_bsdf
 from ...scenes import brdf_scenes as bs
+from ...scenes import latlong, procedural
 from ...scenes.latlong import luminance
 from ..base import Context
 from .settings import Settings
@@ -181,8 +189,6 @@ def term_analysis(m: Measurements, mats: list[bs.Material]) -> None:
     """rel_l1 and reflected-energy ratio vs Mitsuba of each step of :data:`TERM_STEPS` (Beckmann materials), and
     the Fresnel terms alone on the dielectric material: weighted error of Schlick(n·l) and Schlick(v·h) against
     the exact F(v·h)."""
-    from ...local_models.brdf.common import Geometry, cook_torrance_printed_terms, fresnel_exact, fresnel_schlick
-
     lights, views, w = bs.brdf_grid(m.settings.grid, m.settings.grid)
     g = Geometry(_normals(len(lights)), lights, views)
     out: dict[str, Any] = {"steps": [s for s, _ in TERM_STEPS], "materials": {}}
@@ -247,8 +253,6 @@ def minnaert_fit(params: dict[str, Any], lights: np.ndarray, views: np.ndarray, 
 def on_terms(params: dict[str, Any], lights: np.ndarray, views: np.ndarray, ref: np.ndarray) -> dict[str, float]:
     """The full Oren–Nayar model without its inter-reflection term L₂ (power check of the ON claim), and the share
     of L₂ in the full model's light (Σ L₂ / Σ (L₁ + L₂))."""
-    from ...local_models.brdf.common import Geometry, oren_nayar_full_terms
-
     g = Geometry(_normals(len(lights)), lights, views)
     l1, l2 = oren_nayar_full_terms(float(params["sigma"]), np.asarray(params["albedo"], dtype=np.float64), g)
     l1, l2 = (luminance(np.broadcast_to(x * g.front[:, None], (len(lights), 3))) for x in (l1, l2))
@@ -386,8 +390,6 @@ def env_radiance_local(fn: Any, radiance: np.ndarray, normals: np.ndarray, views
                        nodes: int) -> np.ndarray:
     """L_o(n, v) = Σ_m w_m L(ω_m) q(ω_m, v; n) over a Gauss–Legendre (cos θ) × uniform φ grid of ``nodes`` × 2·nodes
     directions on the hemisphere about each normal, L by Mitsuba's bilinear envmap lookup; (P, 3)."""
-    from ...scenes import latlong
-
     local, w = bs.hemisphere_quadrature(nodes, 2 * nodes)
     t, b = _frames(normals)
     out = np.zeros((len(normals), 3))
@@ -406,8 +408,6 @@ def env_radiance_local(fn: Any, radiance: np.ndarray, normals: np.ndarray, views
 def env_analysis(m: Measurements, mats: list[bs.Material]) -> None:
     """Every technique on a sphere under ``two_tone`` vs Mitsuba's path-traced sphere, per material."""
     from ...reference import ibl_render as ir
-    from ...scenes import procedural
-
     s = m.settings
     env = procedural.two_tone()
     cam = ir.camera_towards(np.array([0.0, 0.3, 1.0]), 0.0, s.env_image)

@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from ...backend import init
 from ...errors import ValidateError
 from ...local_models import shadow
 from ...local_models.registry import Technique
@@ -265,8 +266,6 @@ def bleeding_case(techniques: list[Technique]) -> dict[str, Any]:
     receivers on the plane z = 3 behind both are fully shadowed (V = 0), so any V′ > 0 is a leak. Per
     technique and case: mean V′ (``leak``) and the fraction of receivers with V′ > 0.1 (``leak_area``)."""
     import mitsuba as mi
-
-    from ...backend import init
 
     init()
     view = smod.LightView(np.zeros(3), np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0]),
