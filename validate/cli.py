@@ -33,6 +33,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from .errors import ValidateError
+from .report.docs import update_docs
 
 
 class Interrupted(BaseException):
@@ -204,8 +205,6 @@ def _cmd_list(plugins: list[str]) -> int:
 
 def _cmd_docs(results: Path, docs: Path, check: bool) -> int:
     """``docs``: render the generated blocks of ``docs/*.md`` (see :mod:`validate.report.docs`)."""
-    from .report.docs import update_docs
-
     changed = update_docs(results, docs, check=check)
     for path in changed:
         print(f"{'stale' if check else 'updated'}: {path}")
