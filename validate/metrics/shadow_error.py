@@ -174,7 +174,6 @@ def flip_noise_floor(reference: np.ndarray, uncertainty: np.ndarray, seed: int =
     return flip_hdr(ref, noisy).mean
 
 
-
 @dataclass
 class PixelTest:
     fraction: float  # fraction of tested pixels whose |a − r| exceeds the t bound

@@ -46,10 +46,6 @@ from . import brdf_render as br
 CHUNK = 2_000_000  # BSDF evaluations per Mitsuba call
 
 
-
-
-
-
 @lru_cache(maxsize=32)
 def _leggauss(n: int) -> tuple[np.ndarray, np.ndarray]:
     """Gauss–Legendre nodes and weights on [−1, 1] (cached: the tube's caps ask for them per polar node)."""

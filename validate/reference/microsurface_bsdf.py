@@ -384,8 +384,6 @@ def _plugin_class() -> type:
     return MicrosurfaceWalk
 
 
-
-
 # ---------------------------------------------------------------- checks of the plug-in (χ², reciprocity, furnace)
 
 def _bsdf_dict(alpha: float, f0: float, walks: int, seed: int, **extra: Any) -> dict[str, Any]:

@@ -133,7 +133,6 @@ def _alpha_dist(params: Mapping[str, Any], who: str) -> tuple[float, str]:
     return round(float(a), 6), d
 
 
-
 def f_avg_exact(eta: np.ndarray, k: np.ndarray) -> np.ndarray:
     """F_avg = 2∫₀¹ F(μ) μ dμ of the exact Fresnel of η + ik (RGB, (3,)), 64-node Gauss–Legendre."""
     x, w = np.polynomial.legendre.leggauss(64)

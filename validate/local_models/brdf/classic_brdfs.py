@@ -146,8 +146,6 @@ def blinn_phong_normalized(params: Mapping[str, Any], normals: np.ndarray, light
     return g.finish(f * column(g.cl))
 
 
-
-
 @brdf.register("cook_torrance_printed", "Cook–Torrance as printed in Ganovelli eq. 6.60–6.66: F_Schlick(n·l) D "
                "G_Vcavity / ((n·l)(n·v)), no π or 4")
 def cook_torrance_printed(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray,
@@ -155,8 +153,6 @@ def cook_torrance_printed(params: Mapping[str, Any], normals: np.ndarray, lights
     g = Geometry(normals, lights, views)
     diffuse = param(params, "albedo", "cook_torrance_printed") / np.pi * column(g.cl)
     return g.finish(diffuse + cook_torrance_printed_terms(params, g))
-
-
 
 
 @brdf.register("cook_torrance", "microfacet BRDF (Walter 2007 eq. 20): F(v·h) D G1(l)G1(v) / (4(n·l)(n·v)), exact "
@@ -173,8 +169,6 @@ def cook_torrance(params: Mapping[str, Any], normals: np.ndarray, lights: np.nda
     return g.finish(diffuse + microfacet_specular(params, g))
 
 
-
-
 @brdf.register("oren_nayar", "Oren–Nayar qualitative model: ρ/π (A + B max(0, cos Δφ) sin α tan β) (eq. 30)")
 def oren_nayar(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray, views: np.ndarray) -> np.ndarray:
     g = Geometry(normals, lights, views)
@@ -182,8 +176,6 @@ def oren_nayar(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarra
     al, be = alpha_beta(g)
     shape = a + b * np.maximum(g.cos_dphi, 0.0) * np.sin(al) * np.tan(np.minimum(be, np.pi / 2 - 1e-9))
     return g.finish(param(params, "albedo", "oren_nayar") / np.pi * column(shape * g.cl))
-
-
 
 
 @brdf.register("oren_nayar_full",

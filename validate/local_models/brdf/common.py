@@ -26,8 +26,6 @@ def param(params: Mapping[str, Any], key: str, who: str) -> np.ndarray:
     return arr if arr.ndim == 1 else arr.reshape(())
 
 
-
-
 class Geometry:
     """Per-sample dot products of (n, l, v): cosines, half vector, mirror direction, azimuth difference."""
 

@@ -118,9 +118,6 @@ def kernel_mean(weights: Sequence[float], samples: int = 200001) -> float:
     return float(np.trapezoid(np.abs(zonal_kernel(weights, x) - np.maximum(x, 0.0)), x) / 2)
 
 
-
-
-
 def geomerics_kernel(rho: float, x: np.ndarray) -> np.ndarray:
     """[2] per unit flux, written from the paper's formula (not from :func:`geomerics_l1`): R0 = Φ/4,
     |R1| = ρΦ/4, q = (1 + x)/2, p = 1 + 2ρ, a = (1 − ρ)/(1 + ρ): k_ρ(x) = ¼ (a + (1 − a)(p + 1) q^p)."""

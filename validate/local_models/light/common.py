@@ -13,8 +13,6 @@ from ...backend import float_type
 from ...errors import ValidateError
 
 Visible = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
-
-
 DIRECTIONAL_REACH = 1.0e3  # m: a directional light's shadow rays test this far towards the light
 
 

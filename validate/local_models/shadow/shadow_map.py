@@ -488,15 +488,6 @@ def shade(albedo: np.ndarray, irradiance: np.ndarray, visibility: np.ndarray) ->
     return np.asarray(albedo) / np.pi * (np.asarray(irradiance) * np.asarray(visibility))[:, None]
 
 
-
-
-
-
-
-
-
-
-
 # ---------------------------------------------------------------------------------------------- filterable maps
 
 GAUSS5 = np.array([1.0, 4.0, 6.0, 4.0, 1.0]) / 16.0  # 5-tap binomial Gauss (the 5×5 Gauss filtering of [7] Fig. 1)

@@ -5,21 +5,16 @@ Registers nothing."""
 
 from __future__ import annotations
 
+import hashlib
 import math
 from collections.abc import Callable
 
 import numpy as np
 
-from ..irradiance.irradiance_map import (
-    DEFAULT_BLOCK_DEG,
-)
+from ..irradiance.irradiance_map import DEFAULT_BLOCK_DEG
 
 TEXELS_PER_LOBE = 4  # largest texel ≤ σ/4 (module docstring)
-
-
 MIN_FACE = 8  # smallest cube face of a prefiltered map
-
-
 MAX_FACE = 256  # largest cube face of a prefiltered map
 
 
@@ -45,15 +40,11 @@ def reflect(normals: np.ndarray, views: np.ndarray) -> np.ndarray:
 
 
 MAP_CACHE_SIZE = 24  # prefiltered maps kept per process (sparse cube maps: ≤ 6·256²·3 float32 = 4.7 MB each)
-
-
 _MAP_CACHE: dict[tuple, object] = {}
 
 
 def array_digest(a: np.ndarray) -> str:
     """Content hash of an array (shape, dtype and bytes): the cache key of maps built from it."""
-    import hashlib
-
     a = np.ascontiguousarray(a)
     h = hashlib.blake2b(digest_size=16)
     h.update(f"{a.shape}{a.dtype}".encode())

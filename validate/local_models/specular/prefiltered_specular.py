@@ -102,10 +102,6 @@ def phong_support_cos(s: float) -> float:
     return c if c > 0.5 else -1.0
 
 
-
-
-
-
 def phong_face_size(s: float) -> int:
     """Cube face size for exponent s (module docstring): 8, 32, 128, 256 for s = 1, 10, 100, 1000."""
     return face_size_for_width(phong_lobe_width(s))
@@ -126,8 +122,6 @@ def prefilter_phong_cube(radiance: np.ndarray, s: float, face_size: int | None =
         nodes = environment_nodes(radiance, block_deg_for_width(sigma))
     kernel, support = phong_kernel(s), phong_support_cos(s)
     return CubeMap.build(lambda d: convolve_zonal(nodes, d, kernel, 1.0, support), n, needed)
-
-
 
 
 def shade_phong_map(specular_map: CubeMap, normals: np.ndarray, views: np.ndarray) -> np.ndarray:
@@ -160,11 +154,6 @@ def mix_shader(base_color: np.ndarray | float, diffuse_percent: float, specular_
 # ---------------------------------------------------------------------------------------------
 # Registered techniques (family ``specular``) and a small map cache
 # ---------------------------------------------------------------------------------------------
-
-
-
-
-
 
 
 def cached_phong_cube(radiance: np.ndarray, s: float, directions: np.ndarray) -> CubeMap:

@@ -67,7 +67,6 @@ SHAPES = ("rectangle", "disc", "sphere", "tube")
 TUBE_ARC_SIDES = 32  # segments per half-circle end of a tube's stadium polygon
 
 
-
 # ---------------------------------------------------------------------------------------------
 # BRDF and quadrature used by the fit
 
@@ -261,10 +260,6 @@ def load_table(path: str = str(DATA)) -> Table:
         return Table(z["m_inv"], z["norm"], z["fresnel"], z["l1_error"], z["params"])
 
 
-
-
-
-
 def light_polygon(light: Mapping[str, Any], points: np.ndarray, who: str) -> np.ndarray:
     """World-space polygon vertices (N, K, 3), counter-clockwise seen from the front (emitting) side."""
     shape = light.get("shape")
@@ -361,8 +356,6 @@ def local_frames(normals: np.ndarray, views: np.ndarray) -> tuple[np.ndarray, np
     fallback = perp(n)
     x = np.where(xn > 1e-9, x / np.maximum(xn, 1e-300), fallback)
     return np.stack([x, np.cross(n, x), n], axis=1), mu
-
-
 
 
 def ltc_integral(light: Mapping[str, Any], alpha: float, points: np.ndarray, normals: np.ndarray,
