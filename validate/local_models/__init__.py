@@ -1,8 +1,9 @@
-"""Local lighting models: one small drjit module per technique, registered by name in its family.
+"""Local lighting models: one small module per technique (numpy or drjit), registered by name in its family.
 
-Families (:mod:`.families`): ``irradiance``, ``specular``, ``arealight``, ``shadow``; later families
-define themselves the same way (:func:`.registry.define_family`). To compare your own technique,
-write one function in one file and register it with its family's decorator::
+Families (all defined in :mod:`.families`): ``irradiance``, ``specular``, ``arealight``, ``shadow``, ``brdf``,
+``light``, ``specular_arealight``, ``uberlight``; a plug-in may define another with
+:func:`.registry.define_family`. To compare your own technique, write one function in one file and register it
+with its family's decorator::
 
     import numpy as np
     from validate.local_models import irradiance
