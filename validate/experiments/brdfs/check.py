@@ -10,6 +10,7 @@ from ...errors import ValidateError
 from ...local_models.registry import Technique
 from ..techniques import CheckResult, Stat
 from .compute import Measurements, furnace_metrics, grid_metrics, vgroove_metrics
+from .compute import materials as experiment_materials
 from .settings import FULL, QUICK
 
 
@@ -28,7 +29,7 @@ def check_brdf(fn: Callable[..., np.ndarray] | Technique, materials: Sequence[st
                                                           "checked by validate.testing")
     s = QUICK if quick else FULL
     m = Measurements(s, [tech])
-    mats = {x.name: x for x in materials(s)}
+    mats = {x.name: x for x in experiment_materials(s)}
     wanted = list(materials) if materials is not None else list(mats)
     vgroove = [w for w in wanted if w.startswith("vgroove_")]
     unknown = [w for w in wanted if w not in mats and w not in {f"vgroove_s{x:g}" for x in s.sigmas_deg}]
