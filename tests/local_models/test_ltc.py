@@ -7,6 +7,7 @@ import pytest
 
 from validate.errors import ValidateError
 from validate.experiments.arealights import specular as asp
+from validate.experiments.arealights.settings import SpecularSettings
 from validate.local_models import family
 from validate.local_models.specular_arealight.ltc import (
     alpha_of,
@@ -94,7 +95,7 @@ def test_reference_tends_to_the_albedo_under_a_huge_light():
 
 
 def test_specular_claims_pass_and_powers_fail():
-    m = asp.compute({"alphas": [0.1, 0.6], "sigmas_deg": [15.0], "nodes": 32, "render_pixels": 32, "render_spp": 32})
+    m = asp.compute(SpecularSettings(alphas=(0.1, 0.6), sigmas_deg=(15.0,), nodes=32, render_pixels=32, render_spp=32))
     claims = asp.claims(m)
     assert {c.id for c in claims} >= {"arealights.specular.ltc_polygon_exact",
                                       "arealights.specular.reference_vs_render",

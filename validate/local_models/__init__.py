@@ -57,6 +57,8 @@ from . import (  # noqa: E402 (the family packages, loaded just above)
     specular_arealight,
     uberlight,
 )
+from .irradiance import sh  # noqa: E402 (the SH toolkit of the plug-in API: `from validate.local_models import sh`)
 
 __all__ = ["FAMILIES", "Family", "Technique", "arealight", "brdf", "define_family", "family", "find_technique",
-           "irradiance", "light", "register_irradiance_model", "shadow", "specular", "specular_arealight", "uberlight"]
+           "irradiance", "light", "register_irradiance_model", "sh", "shadow", "specular", "specular_arealight",
+           "uberlight"]
