@@ -264,8 +264,8 @@ def cmgen_claims(m: Measurements) -> list[Claim]:
                          st["max"] - bound, st["max_uncertainty"], unit="%",
                          source="Hölder on the windowed zonal kernel K̃_w = Σ w_l A_l (2l+1)/(4π) P_l of the map's "
                                 "cut-off (the argument of R&H JOSA 2001's 3/32 bound; validate.local_models."
-                                "windowed_sh.kernel_bound); 0.1 % Φ: the reference's closed-form tolerance (texels "
-                                "vs bilinear map)")
+                                "irradiance.windowed_sh.kernel_bound); 0.1 % Φ: the reference's closed-form tolerance "
+                                "(texels vs bilinear map)")
                    .with_power(MIRRORED + ", worst environment", mirrored))
     return out
 
