@@ -55,6 +55,12 @@ examples/``).
     ``r[env].<metric>`` one environment; ``r.environments[env][metric]`` the same as a dict;
     ``repr(r)`` lists every value ± uncertainty (pytest shows it when an assert fails).
 
+``compare(old, new) -> Comparison``
+    Two runs' ``results.json`` (paths, their folders, or loaded dicts) compared claim by claim and
+    technique metric by metric (:mod:`validate.compare`): ``c.regressions`` lists the claims that passed
+    and now fail and the metrics worse beyond √(σ_old² + σ_new²); ``c.table()`` the changed rows. A CI
+    gate: ``assert not compare("baseline/results.json", "reports/results.json").regressions``.
+
 ``check_specular``, ``check_arealight``, ``check_shadow``, ``check_brdf``, ``check_uberlight``
     The same for the ``specular``, ``arealight``, ``shadow``, ``brdf`` and ``uberlight`` families; they are
     implemented by their experiments (:mod:`validate.experiments.ibl`, ``.arealights``, ``.shadows``,
@@ -66,15 +72,18 @@ from __future__ import annotations
 
 import os
 import sys
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .errors import ValidateError
 from .experiments.techniques import CheckResult, Stat
 from .local_models.registry import Technique
+
+if TYPE_CHECKING:
+    from .compare import Comparison
 
 PROBE_EXTENSIONS = (".hdr", ".exr", ".pfm")
 DEFAULT_ENVIRONMENTS = ("two_tone", "grace_probe")
@@ -176,6 +185,14 @@ def check_irradiance(fn: Callable[[np.ndarray, np.ndarray], np.ndarray] | Techni
     return CheckResult(tech.name, "irradiance", out)
 
 
+def compare(old: str | os.PathLike[str] | Mapping[str, Any], new: str | os.PathLike[str] | Mapping[str, Any]
+            ) -> Comparison:
+    """Compare two runs (module docstring; the rules are :mod:`validate.compare`'s)."""
+    from .compare import compare as compare_runs
+
+    return compare_runs(old, new)  # type: ignore[arg-type]
+
+
 def _lazy(family: str, module: str, function: str) -> Callable[..., Any]:
     def check(*args: Any, **kwargs: Any) -> Any:
         try:
@@ -199,4 +216,4 @@ check_uberlight = _lazy("uberlight", "uberlight", "check_uberlight")
 
 __all__ = ["CheckResult", "MissingProbe", "Stat", "check_arealight", "check_brdf", "check_irradiance", "check_shadow",
            "check_uberlight",
-           "check_specular", "find_probe", "load_named_environment", "probe_dirs"]
+           "check_specular", "compare", "find_probe", "load_named_environment", "probe_dirs"]
