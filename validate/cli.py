@@ -226,14 +226,23 @@ def _first_missing(path: Path) -> Path | None:
     return missing
 
 
+def _check_output_folder(out: Path) -> None:
+    """Refuse at once an ``--out`` that is, or lies under, something other than a folder."""
+    for p in [out, *out.parents]:
+        if os.path.lexists(p):
+            if not p.is_dir():
+                where = "" if p == out else f" ({p})"
+                raise OutputError(f"{out}: cannot create the output folder: a file is in the way{where}")
+            return
+
+
 @contextlib.contextmanager
 def _output_folder(out: Path) -> Iterator[tuple[Path, dict[str, bool]]]:
     """Create ``out`` and a staging folder in it; yield (staging, state). On the way out the staging
     folder is removed, and on failure a freshly created ``out`` too (unless ``state["committed"]``).
     OSErrors become one-line :class:`OutputError`; paths inside the staging folder are named as the
     outputs they were going to be."""
-    if os.path.lexists(out) and not out.is_dir():
-        raise OutputError(f"{out}: cannot create the output folder: a file is in the way")
+    _check_output_folder(out)
     fresh = _first_missing(out)
     try:
         out.mkdir(parents=True, exist_ok=True)
@@ -303,8 +312,7 @@ def _run(args: argparse.Namespace, names: list[str] | None) -> int:
         from .compare import load
 
         baseline = load(args.baseline)[1]  # read now: it may be the results.json this run replaces
-    if os.path.lexists(out) and not out.is_dir():
-        raise OutputError(f"{out}: cannot create the output folder: a file is in the way")
+    _check_output_folder(out)
     previous = load_results(out) if names is not None else {}
     with _output_folder(out) as (staging, state):
         results, held = _run_in(args, exps, todo, staging, out, previous, baseline, be, t0, state)
