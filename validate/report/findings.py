@@ -10,8 +10,9 @@ A finding goes to the first rule that fits:
    group headed by those words as the first such finding writes them ("White-furnace albedo");
 4. otherwise → "Other findings".
 
-Groups keep the order of their first finding ("Other findings" last); findings keep their order inside a group. A page shows
-the first :data:`VISIBLE` findings of each group and folds the rest into a ``<details>`` block.
+Groups keep the order of their first finding ("Other findings" last); findings keep their order
+inside a group. A page shows the first :data:`VISIBLE` findings of each group and folds the rest
+into a ``<details>`` block.
 """
 
 from __future__ import annotations
@@ -53,7 +54,7 @@ def _topic(text: str) -> tuple[str, str] | None:
 
 def group_findings(findings: Iterable[str], techniques: Iterable[str] = (),
                    inputs: Iterable[str] = ()) -> list[dict[str, Any]]:
-    """[{"title", "items": [...], "visible": [...], "folded": [...]}, ...] by the module's rules."""
+    """[{"title", "findings": [...], "visible": [...], "folded": [...]}, ...] by the module's rules."""
     items = [str(f) for f in findings]
     techs, ins = set(techniques), set(inputs)
     keys: list[tuple[str, str]] = []  # (group key, heading)
@@ -76,8 +77,8 @@ def group_findings(findings: Iterable[str], techniques: Iterable[str] = (),
             keys.append((GENERAL, GENERAL))
     groups: dict[str, dict[str, Any]] = {}
     for (key, heading), f in zip(keys, items, strict=True):
-        groups.setdefault(key, {"title": heading, "items": []})["items"].append(f)
+        groups.setdefault(key, {"title": heading, "findings": []})["findings"].append(f)
     out = [g for k, g in groups.items() if k != GENERAL] + ([groups[GENERAL]] if GENERAL in groups else [])
     for g in out:
-        g["visible"], g["folded"] = g["items"][:VISIBLE], g["items"][VISIBLE:]
+        g["visible"], g["folded"] = g["findings"][:VISIBLE], g["findings"][VISIBLE:]
     return out

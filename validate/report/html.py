@@ -36,7 +36,7 @@ import json
 import math
 import re
 from collections.abc import Mapping
-from numbers import Integral, Real
+from numbers import Real
 from pathlib import Path, PurePosixPath
 from typing import Any
 

@@ -5,6 +5,7 @@ plot description — numbers only, drawn by :mod:`.summary_plots`:
 
 * :class:`Matrix` — technique × input (environment, sky, material, luminaire), each cell the headline
   error ± its uncertainty, coloured by the error (sh9, engines, hemisphere, ibl, uberlight);
+* :class:`Bars` — one bar per technique on its own input, ± σ, coloured by the input (ibl);
 * :class:`Curves` — headline error against the swept parameter, one line per technique with a ±1σ
   band where the JSON carries σ (lights: distance; arealights: light size; brdfs, multiscatter:
   roughness; shadows: map size).
@@ -81,7 +82,28 @@ class Curves:
         return sorted(out, key=lambda r: r[1])
 
 
-Summary = Matrix | Curves
+@dataclass(frozen=True)
+class Bars:
+    """One headline value ± σ per (technique, input) pair, coloured by input: for sparse matrices, where
+    each technique was measured on its own input (ibl: diffuse techniques on a Lambertian sphere,
+    specular ones on their BSDF)."""
+
+    title: str
+    metric: str
+    labels: list[str]
+    groups: list[str]
+    values: list[float]
+    sigmas: list[float]
+    unit: str = "%"
+    over: str = "materials"
+
+    def ranking(self) -> list[tuple[str, float, float]]:
+        """(label, value, σ), best first."""
+        rows = zip(self.labels, self.values, self.sigmas, strict=True)
+        return sorted([r for r in rows if math.isfinite(r[1])], key=lambda r: r[1])
+
+
+Summary = Matrix | Curves | Bars
 
 
 def _f(x: Any) -> float:
@@ -155,13 +177,14 @@ def hemisphere(e: Entry) -> Summary | None:
 
 
 def ibl(e: Entry) -> Summary | None:
-    """Approximation × material: mean relative error on the rendered sphere (MC σ from the reference)."""
-    cells = {}
-    for c in e.get("comparisons") or []:
-        col = f"{c.get('group', '')} {c.get('parameter', '')}".strip()
-        cells[(str(c.get("approximation")), col)] = (_f(c.get("mean")), _f(c.get("mean_uncertainty", 0.0)))
-    return _matrix("Image-based lighting on a rendered sphere", "mean relative error |ΔL|/L, %", cells,
-                   "materials")
+    """Approximation on its material: mean relative error on the rendered sphere ± the reference's MC σ."""
+    rows = [(str(c.get("approximation")), f"{c.get('group', '')} {c.get('parameter', '')}".strip(),
+             _f(c.get("mean")), _f(c.get("mean_uncertainty", 0.0))) for c in e.get("comparisons") or []]
+    rows = [r for r in rows if math.isfinite(r[2])]
+    if not rows:
+        return None
+    return Bars("Image-based lighting on a rendered sphere", "mean relative error |ΔL|/L, %",
+                [r[0] for r in rows], [r[1] for r in rows], [r[2] for r in rows], [r[3] for r in rows])
 
 
 def uberlight(e: Entry) -> Summary | None:
@@ -323,7 +346,7 @@ def verdict(s: Summary | None, claims: list[Mapping[str, Any]]) -> list[str]:
     claims passed with their power checks ("fails ✓" is the power check doing its job)."""
     lines = []
     rank = s.ranking() if s is not None else []
-    over = s.over if isinstance(s, Matrix) else (s.xlabel.split(" (")[0] if s is not None else "")
+    over = s.xlabel.split(" (")[0] if isinstance(s, Curves) else (s.over if s is not None else "")
     if rank:
         for label, (name, v, sig) in (("Best", rank[0]), ("Worst", rank[-1])):
             lines.append(f"{label}: {name} — {pm(v, sig, s.unit)} ({s.metric.split(',')[0]}, worst over {over})")

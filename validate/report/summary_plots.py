@@ -20,7 +20,7 @@ from matplotlib.ticker import FuncFormatter
 
 from ..format import pm, sig
 from . import plots
-from .summary import Curves, Matrix, Summary
+from .summary import Bars, Curves, Matrix, Summary
 
 MAX_WIDTH_IN = 11.0  # 1100 px at plots.FIG_DPI: fits the page column of a 1280-px window
 LOG_RANGE = 1e-4  # colour-scale floor relative to its top
@@ -66,6 +66,8 @@ def draw_matrix(m: Matrix, path: str | os.PathLike[str]) -> None:
     bar = fig.colorbar(im, ax=ax, fraction=0.035, pad=0.01)
     bar.set_label(m.metric, fontsize=8)
     bar.ax.tick_params(labelsize=7)
+    bar.ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: sig(v, 2)))
+    bar.ax.yaxis.set_minor_formatter(FuncFormatter(lambda v, _: ""))
     plots._save_figure(path, fig)
 
 
@@ -73,9 +75,7 @@ def plots_cmap() -> object:
     """The matrix colour map with unmeasured (masked) cells in the report's mask grey."""
     from matplotlib import colormaps
 
-    cmap = colormaps[_CMAP].copy()
-    cmap.set_bad(plots.MASK_COLOUR)
-    return cmap
+    return colormaps[_CMAP].with_extremes(bad=plots.MASK_COLOUR)
 
 
 def draw_curves(c: Curves, path: str | os.PathLike[str]) -> None:
@@ -113,9 +113,38 @@ def draw_curves(c: Curves, path: str | os.PathLike[str]) -> None:
     plots._save_figure(path, fig)
 
 
+def draw_bars(b: Bars, path: str | os.PathLike[str]) -> None:
+    """Horizontal bars of ``b`` with ±σ error bars (log x), one colour per input, as a PNG at ``path``."""
+    k = _percent(b.unit)
+    fig = plots._new_figure((9.5, 1.2 + 0.24 * len(b.labels)))
+    ax = fig.add_subplot()
+    groups = list(dict.fromkeys(b.groups))
+    colours = {g: f"C{i % 10}" for i, g in enumerate(groups)}
+    y = np.arange(len(b.labels))
+    vals = np.asarray(b.values, dtype=np.float64) * k
+    errs = np.nan_to_num(np.asarray(b.sigmas, dtype=np.float64) * k)
+    ax.barh(y, vals, xerr=errs, color=[colours[g] for g in b.groups], error_kw={"elinewidth": 0.8, "capsize": 2})
+    for yi, v, s in zip(y, b.values, b.sigmas, strict=True):
+        right = (v + (s if math.isfinite(s) else 0.0)) * k
+        ax.text(right * 1.04, yi, _cell_text(v, s, b.unit), va="center", fontsize=6.5)
+    ax.set_yticks(y, b.labels, fontsize=7.5)
+    ax.invert_yaxis()
+    ax.set_xscale("log")
+    ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{sig(v, 2)}{' %' if b.unit == '%' else ''}"))
+    ax.set_xlabel(b.metric, fontsize=9)
+    ax.set_title(b.title, fontsize=10)
+    ax.tick_params(labelsize=8)
+    ax.grid(True, axis="x", alpha=0.3)
+    handles = [ax.barh([0], [0], color=colours[g], label=g) for g in groups]
+    ax.legend(handles=handles, fontsize=7.5, loc="center left", bbox_to_anchor=(1.01, 0.5))
+    plots._save_figure(path, fig)
+
+
 def draw(s: Summary, path: str | os.PathLike[str]) -> None:
     """Write the summary figure ``s`` as a PNG at ``path`` (atomically)."""
     if isinstance(s, Matrix):
         draw_matrix(s, path)
+    elif isinstance(s, Bars):
+        draw_bars(s, path)
     else:
         draw_curves(s, path)
