@@ -44,8 +44,8 @@ def _mark(phase: str) -> None:
 
 
 def _block(phase: str) -> None:
-    _mark(phase)
     if phase == "python":
+        _mark(phase)
         end = time.monotonic() + 60
         while time.monotonic() < end:
             sum(range(1000))
@@ -56,14 +56,17 @@ def _block(phase: str) -> None:
                               "sensor": {"type": "perspective", "film": {"type": "hdrfilm", "width": 256,
                                                                           "height": 256}},
                               "shape": {"type": "sphere"}})
+        _mark(phase)
         np.asarray(mi.render(scene, spp=1 << 16))
     elif phase == "pipe":
         proc = subprocess.Popen([sys.executable, "-c", STUBBORN_CHILD], stdout=subprocess.PIPE)
         Path(os.environ["TINY_MARK"], "child.pid").write_text(str(proc.pid))
         assert proc.stdout is not None
         proc.stdout.readline()
+        _mark(phase)
         proc.stdout.read()  # blocks until the child ends (it ignores the signals)
     elif phase == "subprocess":
+        _mark(phase)
         subprocess.run([sys.executable, "-c", STUBBORN_CHILD], capture_output=True, check=False)
 
 
