@@ -413,6 +413,28 @@ def _commit(out: Path, staging: Path, done: dict, results: dict) -> Path:
     return out / REPORT_FILE
 
 
+def _failure(exc: BaseException) -> int:
+    """The one line and exit status for what ended a command. Once a signal arrived, whatever it
+    raised on its way out counts as the interruption: a native extension (Mitsuba's initialisation,
+    a drjit callback) may wrap the signal's exception in its own (ImportError, RuntimeError)."""
+    signum = interrupt.interrupted()
+    if isinstance(exc, Interrupted) or signum is not None:
+        signum = exc.signum if isinstance(exc, Interrupted) else signum
+        assert signum is not None
+        interrupt.announce(signum)
+        return 128 + signum
+    if isinstance(exc, KeyboardInterrupt):  # SIGINT before the handlers were installed
+        print("validate: interrupted; the previous report is untouched", file=sys.stderr)
+        return 130
+    if isinstance(exc, ValidateError):
+        print(f"validate: error: {exc}", file=sys.stderr)
+        return 2
+    if isinstance(exc, OSError):  # an output fault outside the run's folder (e.g. bench.json): still one line
+        print(f"validate: error: {output_error(exc.filename or '(output)', exc)}", file=sys.stderr)
+        return 2
+    raise exc
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = _parser()
     args = parser.parse_args(argv)
@@ -437,18 +459,8 @@ def main(argv: list[str] | None = None) -> int:
             except ValueError:
                 raise ValidateError(f"--sizes {args.sizes}: expected heights like 1024,2048") from None
             return run_bench(args.out, sizes)
-    except ValidateError as exc:
-        print(f"validate: error: {exc}", file=sys.stderr)
-        return 2
-    except OSError as exc:  # an output fault outside the run's folder (e.g. bench.json): still one line
-        print(f"validate: error: {output_error(exc.filename or '(output)', exc)}", file=sys.stderr)
-        return 2
-    except Interrupted as exc:
-        interrupt.announce(exc.signum)
-        return 128 + exc.signum
-    except KeyboardInterrupt:  # SIGINT before the handlers were installed
-        print("validate: interrupted; the previous report is untouched", file=sys.stderr)
-        return 130
+    except (Exception, Interrupted, KeyboardInterrupt) as exc:
+        return _failure(exc)
     finally:
         undo()
     return 0
