@@ -10,9 +10,12 @@
     var top = set.querySelector("img.cmp-technique");
     var range = set.querySelector("input.cmp-range");
     var state = set.querySelector(".cmp-state");
+    var divider = set.querySelector(".cmp-divider");
     function apply(p) {
       p = Math.max(0, Math.min(100, Number(p)));
       top.style.clipPath = "inset(0 0 0 " + p + "%)";
+      divider.style.left = p + "%";
+      divider.style.display = (p <= 0 || p >= 100) ? "none" : "block";
       range.value = String(p);
       var s = p >= 100 ? "truth" : (p <= 0 ? "technique" : "wipe");
       set.setAttribute("data-state", s);
