@@ -32,6 +32,7 @@ overview's "Changes since <baseline>" section.
 from __future__ import annotations
 
 import functools
+import hashlib
 import json
 import math
 import re
@@ -261,9 +262,11 @@ def _section(s: Mapping[str, Any], out_dir: Path, experiment: str, index: int) -
     }
 
 
-def summary_path(experiment: str) -> str:
-    """Report-relative path of an experiment's summary figure: ``figures/summary/exp-<name>.png``."""
-    return f"{SUMMARY_DIR}/{anchor(experiment)}.png"
+def summary_path(experiment: str, spec: summary.Summary) -> str:
+    """Report-relative path of an experiment's summary figure, named by what it shows:
+    ``figures/summary/exp-<name>-<hash of the plotted numbers>.png`` (an unchanged figure is not redrawn)."""
+    digest = hashlib.sha1(repr((summary.FIGURE_VERSION, spec)).encode("utf-8")).hexdigest()[:12]
+    return f"{SUMMARY_DIR}/{anchor(experiment)}-{digest}.png"
 
 
 def _summary(name: str, e: Mapping[str, Any], claims: list[dict[str, Any]], out_dir: Path) -> dict[str, Any]:
@@ -271,7 +274,7 @@ def _summary(name: str, e: Mapping[str, Any], claims: list[dict[str, Any]], out_
     spec = summary.summary_for(name, e)
     fig = None
     if spec is not None:
-        fig = _figure({"path": summary_path(name), "caption": f"{spec.title} — {spec.metric}"}, out_dir)
+        fig = _figure({"path": summary_path(name, spec), "caption": f"{spec.title} — {spec.metric}"}, out_dir)
     return {"figure": fig, "verdict": summary.verdict(spec, claims)}
 
 
@@ -410,8 +413,8 @@ def render_pages(out_dir: Path, results: Mapping[str, Any]) -> dict[str, str]:
 
 
 def draw_summaries(out_dir: Path, results: Mapping[str, Any]) -> list[Path]:
-    """Draw every experiment's summary figure (:mod:`.summary`) into ``out_dir/figures/summary/``;
-    figures of experiments no longer in the results, or without a summary, are removed."""
+    """Draw every experiment's summary figure (:mod:`.summary`) into ``out_dir/figures/summary/``, unless
+    the file for the same numbers is already there; other files in that folder are removed."""
     from . import summary_plots  # matplotlib: loaded only when pages are written
 
     out_dir = Path(out_dir)
@@ -420,8 +423,9 @@ def draw_summaries(out_dir: Path, results: Mapping[str, Any]) -> list[Path]:
     for name, e in experiments.items() if isinstance(experiments, Mapping) else ():
         spec = summary.summary_for(name, e) if isinstance(e, Mapping) else None
         if spec is not None:
-            path = out_dir / summary_path(name)
-            summary_plots.draw(spec, path)
+            path = out_dir / summary_path(name, spec)
+            if not path.is_file():
+                summary_plots.draw(spec, path)
             written.append(path)
     for stale in (out_dir / SUMMARY_DIR).glob("*.png"):
         if stale not in written:

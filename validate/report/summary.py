@@ -29,6 +29,7 @@ from typing import Any
 from ..format import pm
 
 Entry = Mapping[str, Any]
+FIGURE_VERSION = 1  # part of a summary figure's file name: bump when the drawing changes
 
 
 @dataclass(frozen=True)
