@@ -386,31 +386,58 @@ def _run_in(args: argparse.Namespace, exps: dict, todo: list[str], staging: Path
 
 
 def _commit(out: Path, staging: Path, done: dict, results: dict) -> Path:
-    """Move each experiment's figures into ``out``, write results.json and every page into the staging
-    folder, then rename them into place: one :class:`~validate.atomic.Transaction`, so a full disk or
-    any other failure leaves the previous report exactly as it was."""
+    """Move each experiment's figures into ``out``, draw the summary figures and write results.json and
+    every page into the staging folder, then rename them into place: one
+    :class:`~validate.atomic.Transaction`, so a full disk or any other failure leaves the previous
+    report exactly as it was."""
     from .atomic import Transaction, write_text
-    from .report.html import REPORT_FILE, RESULTS_FILE, render_pages, write_results_json
+    from .report import html
 
     new = staging / "commit"
     with Transaction(staging / "replaced") as tx:
+        summaries = _stage_summaries(out, staging, results)
         for n in done:
             src = staging / "figures" / n
             if src.exists():
                 tx.move(src, out / "figures" / n)
-        pages = render_pages(out, results)  # figure paths are checked against their final place
-        write_results_json(new, results)
+        if summaries is not None:
+            tx.move(summaries, out / html.SUMMARY_DIR)
+        pages = html.render_pages(out, results)  # figure paths are checked against their final place
+        html.write_results_json(new, results)
         for name, text in pages.items():
             write_text(new / name, text)
         for name in pages:
-            if name != REPORT_FILE:
+            if name != html.REPORT_FILE:
                 tx.move(new / name, out / name)
         for stale in sorted(out.glob("exp-*.html")):
             if stale.name not in pages:
                 tx.remove(stale)
-        tx.move(new / RESULTS_FILE, out / RESULTS_FILE)
-        tx.move(new / REPORT_FILE, out / REPORT_FILE)
-    return out / REPORT_FILE
+        tx.move(new / html.RESULTS_FILE, out / html.RESULTS_FILE)
+        tx.move(new / html.REPORT_FILE, out / html.REPORT_FILE)
+    return out / html.REPORT_FILE
+
+
+def _stage_summaries(out: Path, staging: Path, results: dict) -> Path | None:
+    """The report's summary figures (``report.html.draw_summaries``) drawn in the staging folder: the
+    current ones are hard-linked in first (no copy, no disk space), so only changed figures are drawn.
+    Returns the staged folder (None where this version of the report draws none)."""
+    from .report import html
+
+    draw = getattr(html, "draw_summaries", None)
+    if draw is None:
+        return None
+    staged, current = staging / html.SUMMARY_DIR, out / html.SUMMARY_DIR
+    try:
+        staged.mkdir(parents=True, exist_ok=True)
+        for f in current.glob("*.png") if current.is_dir() else ():
+            try:
+                os.link(f, staged / f.name)
+            except OSError:
+                shutil.copy2(f, staged / f.name)  # another file system or no hard links: a copy
+    except OSError as exc:
+        raise output_error(getattr(exc, "filename", None) or staged, exc) from None
+    draw(staging, results)
+    return staged
 
 
 def _failure(exc: BaseException) -> int:
