@@ -102,6 +102,15 @@ def pct(x: Any, digits: int = DEFAULT_DIGITS) -> str:
     return f"{sig(v * 100.0, digits)} %"
 
 
+def pct_fixed(x: Any, digits: int = 2) -> str:
+    """A fraction as per cent with ``digits`` decimals: pct_fixed(0.0086) → "0.86 %"; None / NaN → "n/a"
+    (drop-in for the experiments' pct_fixed)."""
+    v = _number(x)
+    if v is None or not math.isfinite(v):
+        return "n/a"
+    return f"{100.0 * v:.{digits}f} %"
+
+
 def _sigma_place(sigma: float) -> tuple[int, int]:
     """(significant digits, decimal exponent of the leading digit) of σ > 0 rounded by the PDG rule [1]
     on its leading three digits: 100–354 → two digits, 355–949 → one, 950–999 → up to 1000, two."""

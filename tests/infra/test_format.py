@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from validate.errors import ValidateError
-from validate.format import decimals_for, fmt_quantity, pct, pm, round_sigma, sig, sigma_digits
+from validate.format import decimals_for, fmt_quantity, pct, pct_fixed, pm, round_sigma, sig, sigma_digits
 
 
 @pytest.mark.parametrize(("x", "n", "text"), [
@@ -22,6 +22,7 @@ def test_pct_is_a_drop_in_for_the_experiments_pct():
     assert pct(None) == "—" and pct(float("nan")) == "—"
     # where f"{100x:.3g}" wrote "3.99e+21 %", the exponent is written plainly
     assert pct(3.99e19) == "3.99e21 %"
+    assert pct_fixed(0.0086) == "0.86 %" and pct_fixed(0.5, 0) == "50 %" and pct_fixed(None) == "n/a"
 
 
 @pytest.mark.parametrize(("sigma", "digits", "rounded"), [

@@ -90,3 +90,32 @@ def loaders_files(directory: Path) -> list[Path]:
     from validate.scenes.probes import probe_files
 
     return probe_files(directory)
+
+
+def test_clamp_is_recorded_in_results_json(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                           capsys: pytest.CaptureFixture[str]) -> None:
+    """``meta.environments[<name>].clamped_negative`` = {"texels", "min"}, and the CLI prints the note."""
+    import json
+
+    from validate import cli
+    from validate.experiments.base import EXPERIMENTS
+    from validate.scenes import procedural
+
+    probes = tmp_path / "probes"
+    probes.mkdir()
+    arr = np.ones((H, W, 3), np.float32)
+    arr[3, 4, 2] = -0.04
+    _write(probes / "noisy.exr", arr)
+    monkeypatch.setattr(procedural, "builtin_environments", lambda quick=False: [procedural.constant(16)])
+    plugin = Path(__file__).with_name("plugin_tiny.py")
+    try:
+        code = cli.main(["run", "tiny_io", "--no-progress", "--plugin", str(plugin), "--probes", str(probes),
+                         "--out", str(tmp_path / "out")])
+    finally:
+        EXPERIMENTS.pop("tiny_io", None)
+    assert code == 0, capsys.readouterr().err
+    assert "noisy: clamped negative texels to 0 (float noise)" in capsys.readouterr().out
+    meta = json.loads((tmp_path / "out" / "results.json").read_text())["meta"]
+    clamp = meta["environments"]["noisy"]["clamped_negative"]
+    assert clamp["texels"] == 1 and clamp["min"] == pytest.approx(-0.04, rel=1e-6)
+    assert meta["skipped_inputs"] == []
