@@ -71,6 +71,7 @@ def _interrupt(tmp_path: Path, phase: str, sig: int, after_s: float = 0.0) -> No
         if proc.poll() is None:
             proc.kill()
             proc.wait()
+    print(f"{phase} {signal.Signals(sig).name}: exit {took:.2f} s after the signal")
     assert took < EXIT_WITHIN_S, f"exit {took:.1f} s after {signal.Signals(sig).name}"
     assert proc.returncode == 128 + sig, err
     lines = err.strip().splitlines()
