@@ -283,7 +283,8 @@ def test_write_report(tmp_path):
     assert "validate — real-time lighting vs physics" in page
     for claim_id in ("sh9-smooth", "sh9-sun", "energy-flux"):
         assert claim_id in page
-    assert "0.860 ± 0.010 %" in page and "&lt; 1 %" in page and "(2.3 ± 1.1)e-6" in page
+    # the claims table keeps a unit on its number's line (no-break space before "%")
+    assert "0.860 ± 0.010\u00a0%" in page and "&lt; 1 %" in page and "(2.3 ± 1.1)e-6" in page
     # overview: every claim once; each experiment page: its own claims
     by_id = _claim_rows(page)
     assert {k: len(v) for k, v in by_id.items()} == {"sh9-smooth": 1, "sh9-sun": 1, "energy-flux": 1}
