@@ -109,3 +109,22 @@ def test_truth_technique_error_sets(tmp_path):
     assert [f["src"] for f in s["rest"]] == ["env.png", "a_small.png"]
     assert find_set([row[1], row[2], row[4]], tmp_path) is None  # no technique image of the truth's size
     assert find_set([row[1], row[3]], tmp_path) is None  # no error map
+
+
+def test_changes_rows_regressions_first_in_their_units():
+    from validate.report.html import _changes
+
+    exps = [{"claims": [{"id": "c.pct", "unit": "%"}]}]
+    rows = [{"kind": "metric", "key": "m.better", "old": 0.2, "new": 0.1, "old_uncertainty": 0.01,
+             "new_uncertainty": 0.01, "change": -0.1, "exceeds_uncertainty": True, "status": "improved"},
+            {"kind": "metric", "key": "m.same", "old": 0.2, "new": 0.2, "change": 0.0, "status": "unchanged"},
+            {"kind": "claim", "key": "c.new", "old": None, "new": 0.5, "change": None, "status": "new"},
+            {"kind": "claim", "key": "c.pct", "old": 0.0100, "new": 0.0123, "old_uncertainty": 0.0004,
+             "new_uncertainty": 0.0004, "change": 0.0023, "exceeds_uncertainty": True, "status": "newly_failing"},
+            {"kind": "metric", "key": "m.worse", "old": 1.0, "new": 2.0, "change": 1.0, "status": "regressed"}]
+    out = _changes({"baseline": "b.json", "regressions": 2, "rows": rows}, exps)
+    assert [r["key"] for r in out["rows"]] == ["m.worse", "c.pct", "c.new", "m.better"]
+    pct = out["rows"][1]
+    assert (pct["old_text"], pct["new_text"], pct["change_text"]) == ("1.00 ± 0.04 %", "1.23 ± 0.04 %", "0.23 %")
+    assert out["rows"][2]["old_text"] == "—" and out["baseline"] == "b.json"
+    assert _changes(None, exps) is None
