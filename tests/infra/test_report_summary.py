@@ -128,3 +128,13 @@ def test_changes_rows_regressions_first_in_their_units():
     assert (pct["old_text"], pct["new_text"], pct["change_text"]) == ("1.00 ± 0.04 %", "1.23 ± 0.04 %", "0.23 %")
     assert out["rows"][2]["old_text"] == "—" and out["baseline"] == "b.json"
     assert _changes(None, exps) is None
+
+
+def test_ibl_bars_rank_each_technique_by_its_worst_material():
+    comps = [{"group": "Lambertian", "parameter": "ρ = 0.8", "approximation": "sh9", "mean": 0.04,
+              "mean_uncertainty": 0.02},
+             {"group": "Phong", "parameter": "s = 10", "approximation": "pre", "mean": 0.7, "mean_uncertainty": 0.02},
+             {"group": "Phong", "parameter": "s = 100", "approximation": "pre", "mean": 0.9, "mean_uncertainty": 0.01}]
+    s = summary.summary_for("ibl", {"comparisons": comps})
+    assert isinstance(s, summary.Bars) and s.groups == ["Lambertian ρ = 0.8", "Phong s = 10", "Phong s = 100"]
+    assert s.ranking() == [("sh9", 0.04, 0.02), ("pre", 0.9, 0.01)]

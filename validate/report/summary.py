@@ -99,9 +99,12 @@ class Bars:
     over: str = "materials"
 
     def ranking(self) -> list[tuple[str, float, float]]:
-        """(label, value, σ), best first."""
-        rows = zip(self.labels, self.values, self.sigmas, strict=True)
-        return sorted([r for r in rows if math.isfinite(r[1])], key=lambda r: r[1])
+        """(technique, worst value over the inputs it was measured on, its σ), best first."""
+        worst: dict[str, tuple[float, float]] = {}
+        for lab, v, s in zip(self.labels, self.values, self.sigmas, strict=True):
+            if math.isfinite(v) and (lab not in worst or v > worst[lab][0]):
+                worst[lab] = (v, s)
+        return sorted(((lab, v, s) for lab, (v, s) in worst.items()), key=lambda r: r[1])
 
 
 Summary = Matrix | Curves | Bars
