@@ -5,9 +5,17 @@ Dask workers) are ended and slow exit handlers skipped."""
 import os
 import sys
 
-from .interrupt import Interrupted, announce, end_children, install
+try:  # the handlers first, before the heavy imports: a signal while they run is one line too
+    from .interrupt import Interrupted, announce, end_children, install
 
-undo = install()  # before the heavy imports: a signal while they run is one line too
+    undo = install()
+except BaseException as exc:  # SIGINT in the milliseconds before the handlers were in place
+    if not isinstance(exc, KeyboardInterrupt) and type(exc).__name__ != "Interrupted":
+        raise
+    signum = getattr(exc, "signum", 2)
+    print(f"validate: interrupted by {'SIGTERM' if signum == 15 else 'SIGINT'}; nothing was written",
+          file=sys.stderr, flush=True)
+    os._exit(128 + signum)
 try:
     from .cli import main
 

@@ -14,11 +14,17 @@ Where a run can block when a signal arrives, and what happens there:
   watchdog abandons the call: it runs the registered cleanups (staging folder, a fresh output
   folder), ends every child process (Node workers, Chromium, Dask workers: SIGTERM, then SIGKILL
   after :data:`CHILD_GRACE_S`), prints the one-line message and leaves with ``os._exit(128 + signum)``.
+* An import in progress (Mitsuba and drjit import native extensions whose initialisation calls back
+  into Python): an exception raised there can abort the process (measured: ``std::terminate`` on a
+  ``nanobind::python_error``, SIGABRT). The handler raises nothing while a module is being imported;
+  the watchdog ends the run at once instead.
 * While the finished report is renamed into place (:func:`deferred`), signals are held: the report is
   the previous one or the new one, never a mix; the watchdog waits for that step to end.
 
-A second signal while unwinding is ignored (the watchdog already guarantees the exit). Exit status
-128 + signum: 130 for SIGINT, 143 for SIGTERM.
+A second signal while unwinding is ignored (the watchdog already guarantees the exit). Where Python
+must ignore an exception (a weakref or import-lock callback, ``__del__``), the signal's exception is
+dropped without the "Exception ignored" traceback, the run goes on, and the watchdog ends it after
+GRACE_S with the one line. Exit status 128 + signum: 130 for SIGINT, 143 for SIGTERM.
 """
 
 from __future__ import annotations
@@ -30,6 +36,7 @@ import sys
 import threading
 import time
 from collections.abc import Callable, Iterator
+from typing import Any
 
 GRACE_S = 2.0  # the main thread's time to unwind by itself before the watchdog abandons it
 CHILD_GRACE_S = 0.5  # SIGTERM → SIGKILL for child processes
@@ -50,6 +57,7 @@ class Interrupted(BaseException):
 class _State:
     signum: int | None = None
     armed = False
+    abandon_now = False  # the handler left the exit to the watchdog (a signal during an import)
     deferring: list[int] | None = None
     message_printed = False
     cleanups: list[Callable[[], None]] = []
@@ -63,7 +71,22 @@ def _on_signal(signum: int, frame: object) -> None:
     if _State.signum is not None:
         return  # already unwinding: the watchdog guarantees the exit
     _State.signum = signum
+    if _importing(frame):
+        _State.abandon_now = True  # an exception here can abort a native extension's initialisation
+        return
     raise Interrupted(signum)
+
+
+def _importing(frame: Any) -> bool:
+    """Is a module being imported somewhere up the stack? (Then an exception raised by the handler
+    may pass through an extension's initialisation: measured, Mitsuba's import then ends in
+    ``std::terminate`` (SIGABRT) or a fatal "GIL released" error instead of unwinding.)"""
+    depth = 0
+    while frame is not None and depth < 500:
+        if frame.f_code.co_filename.startswith("<frozen importlib"):
+            return True
+        frame, depth = frame.f_back, depth + 1
+    return False
 
 
 @contextlib.contextmanager
@@ -170,7 +193,7 @@ def _watch(read_fd: int) -> None:
         if not got:
             continue
         t0 = time.monotonic()
-        while time.monotonic() - t0 < GRACE_S or _State.deferring is not None:
+        while not _State.abandon_now and (time.monotonic() - t0 < GRACE_S or _State.deferring is not None):
             time.sleep(0.05)
         if _State.armed and _State.deferring is None:
             _abandon(_State.signum or got[0])
@@ -187,8 +210,15 @@ def install() -> Callable[[], None]:
         old_fd = signal.set_wakeup_fd(write_fd, warn_on_full_buffer=False)
     except ValueError:
         old_fd = None
+    previous_hook = sys.unraisablehook
+
+    def quiet(unraisable: Any) -> None:  # Interrupted raised where Python must ignore exceptions
+        if not isinstance(unraisable.exc_value, Interrupted):
+            previous_hook(unraisable)
+
+    sys.unraisablehook = quiet
     threading.Thread(target=_watch, args=(read_fd,), name="validate-signal-watchdog", daemon=True).start()
-    _State.signum, _State.armed, _State.message_printed = None, True, False
+    _State.signum, _State.armed, _State.message_printed, _State.abandon_now = None, True, False, False
 
     def undo() -> None:
         _State.armed = False  # a library caller's process is never ended by the watchdog after return
@@ -196,6 +226,7 @@ def install() -> Callable[[], None]:
             signal.signal(sig, handler)  # type: ignore[arg-type]
         if old_fd is not None:
             signal.set_wakeup_fd(old_fd)
+        sys.unraisablehook = previous_hook
         os.close(write_fd)  # the watchdog's read returns b"" and it ends
 
     return undo

@@ -4,7 +4,9 @@ A ``run tiny_io --quick`` subprocess (tests/infra/plugin_tiny.py) over a previou
 at several points: during start-up, in Python code, inside one long native Mitsuba render (which
 does not return to the interpreter for minutes), in a blocking read from a child process that
 ignores both signals (how the Node engine workers are read), and in ``subprocess.run`` of such a
-child. Each must exit within :data:`EXIT_WITHIN_S` of the signal with status 128 + signum, one line
+child. The start-up cases hit the imports of Mitsuba's and drjit's native extensions, where a raised
+exception used to abort the process (SIGABRT from ``std::terminate``). Each must exit within
+:data:`EXIT_WITHIN_S` of the signal with status 128 + signum, one line
 on stderr, the previous report byte for byte, no staging folder, and no child process left.
 
 Each case starts a Python process that imports Mitsuba (≈ 5–15 s on a loaded machine), so only the
@@ -93,8 +95,10 @@ def test_sigint_inside_native_render(tmp_path: Path) -> None:
 
 @pytest.mark.slow
 @pytest.mark.parametrize(("phase", "sig", "after_s"), [
-    ("startup", signal.SIGINT, 0.3),
+    ("startup", signal.SIGINT, 0.3),  # start-up: imports of Mitsuba/drjit native extensions, the backend probe
+    ("startup", signal.SIGTERM, 1.0),
     ("startup", signal.SIGTERM, 2.0),
+    ("startup", signal.SIGINT, 3.0),
     ("python", signal.SIGINT, 0.5),
     ("python", signal.SIGTERM, 1.5),
     ("render", signal.SIGTERM, 2.0),
