@@ -1,13 +1,22 @@
-"""Command line: ``python -m validate {list, run NAME, all, bench, docs}``.
+"""Command line: ``python -m validate {list, run NAME, all, compare OLD NEW, bench, docs}``.
 
 Outputs go to ``--out`` (default ``reports/``): ``index.html``, ``results.json``, ``figures/``.
-Work is staged in a temporary folder inside ``--out`` and moved into place only when every
-experiment succeeded, so a failure leaves the previous report untouched. ``run NAME`` updates that
-experiment's entry in an existing ``results.json`` and re-renders the page; other entries are kept.
+Work is staged in a temporary folder inside ``--out``; when every experiment succeeded, the new
+results.json and pages are written there too, and only then is everything renamed into place as one
+:class:`~validate.atomic.Transaction` (rolled back if any step fails). So a failure — bad input, a
+failed task, a full disk at any point, a signal — leaves the previous report byte for byte, and a
+fresh ``--out`` folder is removed again. ``run NAME`` updates that experiment's entry in an existing
+``results.json`` and re-renders the page; other entries are kept.
 
-Exit status: 0 success; 1 a claim failed and ``--strict`` was given; 2 bad input or a failed task
-(one-line error, nothing written); 130 / 143 interrupted by SIGINT / SIGTERM (one line; the previous
-report is untouched, and every reference finished before the signal is in the cache for the rerun).
+``--baseline OLD.json`` (``all``/``run``) compares the new results with an earlier run
+(:mod:`validate.compare`) and stores the rows as the top-level ``changes`` entry of results.json;
+``compare OLD NEW`` prints the same comparison.
+
+Exit status: 0 success; 1 a claim failed and ``--strict`` was given (``compare --strict``: a
+regression); 2 bad input, a failed task or an output that cannot be written (one line
+``validate: error: <path>: <problem>``, nothing written); 130 / 143 interrupted by SIGINT / SIGTERM
+(one line within seconds in every phase, :mod:`validate.interrupt`; the previous report is
+untouched, and every reference finished before the signal is in the cache for the rerun).
 
 Scale-out: ``--workers N`` (N > 1) runs the per-environment tasks of every experiment on an embedded
 ``dask.distributed.LocalCluster`` of N processes; ``--scheduler ADDRESS`` on an existing Dask cluster
@@ -32,51 +41,11 @@ import time
 from collections.abc import Iterator
 from pathlib import Path
 
+from . import interrupt
+from .atomic import OutputError, output_error
 from .errors import ValidateError
+from .interrupt import Interrupted  # re-exported: callers catch it here
 from .report.docs import update_docs
-
-
-class Interrupted(BaseException):
-    """Raised in the main thread by SIGINT or SIGTERM (a BaseException, like KeyboardInterrupt, so that
-    no `except Exception` on the way swallows it)."""
-
-    def __init__(self, signum: int) -> None:
-        super().__init__(signal.Signals(signum).name)
-        self.signum = signum
-
-
-_DEFERRED: list[int] | None = None  # while the finished report is being moved into place
-
-
-def _on_signal(signum: int, frame: object) -> None:
-    if _DEFERRED is not None:
-        _DEFERRED.append(signum)
-        return
-    raise Interrupted(signum)
-
-
-def _install_signal_handlers() -> dict[int, object]:
-    """SIGTERM behaves like SIGINT: unwind (the staging folder is removed), exit with one line.
-    Returns the previous handlers (``main`` restores them: it may be called as a library function)."""
-    import threading
-
-    previous: dict[int, object] = {}
-    if threading.current_thread() is threading.main_thread():
-        for sig in (signal.SIGINT, signal.SIGTERM):
-            previous[sig] = signal.signal(sig, _on_signal)
-    return previous
-
-
-@contextlib.contextmanager
-def _signals_deferred() -> Iterator[list[int]]:
-    """Hold SIGINT/SIGTERM while the finished outputs are renamed into place, so that the report is
-    either the previous one or the new one, never a mix."""
-    global _DEFERRED
-    _DEFERRED = []
-    try:
-        yield _DEFERRED
-    finally:
-        _DEFERRED = None
 
 EPILOG = """examples:
   python -m validate list
@@ -87,6 +56,8 @@ EPILOG = """examples:
   python -m validate all --plugin my_technique.py      # your technique in every experiment of its family
   python -m validate list --plugin my_technique.py     # families, their contracts, registered techniques
   python -m validate bench                             # speed and memory, side by side -> bench.json
+  python -m validate all --quick --baseline old/results.json   # ... and what changed since then
+  python -m validate compare old/results.json reports/results.json --strict   # CI: exit 1 on a regression
   python -m validate docs --results reports/results.json   # docs/ figures from that run (--check: exit 1 if stale)
 
 environment variables:
@@ -109,10 +80,15 @@ def _parser() -> argparse.ArgumentParser:
     common.add_argument("--layout", choices=["auto", "latlong", "angular", "cross"], default="auto",
                         help="layout of --probe files (default: detect from aspect 2:1, 1:1, 3:4)")
     common.add_argument("--clamp-negative", action="store_true",
-                        help="clamp negative texels to 0 instead of rejecting the file")
+                        help="clamp every negative texel to 0 (without it only float noise is clamped: "
+                             "|min| <= 0.05 x mean luminance on <= 0.5 %% of the texels; larger negatives "
+                             "reject the file)")
     common.add_argument("--quick", action="store_true",
                         help="coarser settings: fewer environments, smaller images, fewer samples")
     common.add_argument("--strict", action="store_true", help="exit with status 1 when any claim fails")
+    common.add_argument("--baseline", type=Path, default=None, metavar="OLD.json",
+                        help="compare with an earlier results.json (or its folder): a 'changes' entry in "
+                             "results.json and a summary line (see `compare`)")
     common.add_argument("--plugin", action="append", default=[], metavar="FILE|MODULE",
                         help="import a Python file or module that registers techniques (repeatable)")
     common.add_argument("--no-progress", action="store_true", help="no progress bars")
@@ -133,6 +109,16 @@ def _parser() -> argparse.ArgumentParser:
     r = sub.add_parser("run", parents=[common], help="run one experiment and update the report")
     r.add_argument("name", help="experiment name (see `list`)")
     sub.add_parser("all", parents=[common], help="run every experiment and write the report")
+    c = sub.add_parser("compare", help="what changed between two runs (claims and technique metrics)",
+                       description="For every claim and technique metric in either results.json: the change "
+                                   "and whether it exceeds the combined uncertainty sqrt(s_old^2 + s_new^2) "
+                                   "(a value without one counts as 0). Prints the changed rows, then a "
+                                   "summary line.")
+    c.add_argument("old", type=Path, metavar="OLD.json", help="the earlier results.json (or its folder)")
+    c.add_argument("new", type=Path, metavar="NEW.json", help="the later results.json (or its folder)")
+    c.add_argument("--strict", action="store_true",
+                   help="exit with status 1 on a regression: a claim that passed and now fails, or a technique "
+                        "metric worse beyond its uncertainty (errors: larger is worse)")
     b = sub.add_parser("bench", help="benchmarks: drjit local models vs numpy, reference cost")
     b.add_argument("--out", type=Path, default=Path("reports"), metavar="DIR")
     b.add_argument("--sizes", default="1024,2048,4096,8192", metavar="H,H,...",
@@ -240,10 +226,91 @@ def _print_claims(results: dict) -> int:
     return failed
 
 
+def _cmd_compare(old: Path, new: Path, strict: bool) -> int:
+    from .compare import compare
+
+    comparison = compare(old, new)
+    table = comparison.table()
+    if table:
+        print(table)
+    print(comparison.summary())
+    return 1 if strict and comparison.regressions else 0
+
+
+def _first_missing(path: Path) -> Path | None:
+    """The topmost folder of ``path`` that does not exist yet (what a failed run must remove again)."""
+    missing = None
+    for p in [path, *path.parents]:
+        if os.path.lexists(p):
+            break
+        missing = p
+    return missing
+
+
+def _check_output_folder(out: Path) -> None:
+    """Refuse at once an ``--out`` that is, or lies under, something other than a folder."""
+    for p in [out, *out.parents]:
+        if os.path.lexists(p):
+            if not p.is_dir():
+                where = "" if p == out else f" ({p})"
+                raise OutputError(f"{out}: cannot create the output folder: a file is in the way{where}")
+            return
+
+
+@contextlib.contextmanager
+def _output_folder(out: Path) -> Iterator[tuple[Path, dict[str, bool]]]:
+    """Create ``out`` and a staging folder in it; yield (staging, state). On the way out the staging
+    folder is removed, and on failure a freshly created ``out`` too (unless ``state["committed"]``).
+    OSErrors become one-line :class:`OutputError`; paths inside the staging folder are named as the
+    outputs they were going to be."""
+    _check_output_folder(out)
+    fresh = _first_missing(out)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=".staging-", dir=out))
+    except OSError as exc:
+        if fresh is not None:
+            shutil.rmtree(fresh, ignore_errors=True)
+        raise output_error(out, exc, "cannot create the output folder") from None
+    state = {"committed": False}
+
+    def clean() -> None:
+        shutil.rmtree(staging, ignore_errors=True)
+        if fresh is not None and not state["committed"]:
+            shutil.rmtree(fresh, ignore_errors=True)
+
+    try:
+        with interrupt.cleanup(clean):
+            yield staging, state
+    except OSError as exc:
+        where = exc.filename if exc.filename is not None else out
+        raise OutputError(str(output_error(where, exc)).replace(str(staging), str(out))) from None
+    except ValidateError as exc:
+        raise type(exc)(str(exc).replace(str(staging), str(out))) from None
+    finally:
+        if state["committed"]:
+            shutil.rmtree(staging, ignore_errors=True)
+        else:
+            clean()
+
+
+def _environments_meta(envs: list) -> dict[str, dict]:
+    """``meta.environments``: every probe's source, layout, loader notes and negative-texel clamp."""
+    out: dict[str, dict] = {}
+    for e in envs:
+        if getattr(e, "kind", "") != "probe":
+            continue
+        entry: dict = {"source": e.source.name if e.source else None, "layout": e.layout, "notes": list(e.notes)}
+        if e.clamped_negative is not None:
+            entry["clamped_negative"] = {"texels": int(e.clamped_negative[0]), "min": float(e.clamped_negative[1])}
+        out[e.name] = entry
+    return out
+
+
 def _run(args: argparse.Namespace, names: list[str] | None) -> int:
     from . import backend
     from .atomic import refuse_input_overwrite
-    from .experiments import Context, discover
+    from .experiments import discover
     from .report.html import load_results
     from .scenes.probes import default_probes_dir
 
@@ -261,11 +328,39 @@ def _run(args: argparse.Namespace, names: list[str] | None) -> int:
     out: Path = args.out
     inputs = list(args.probe) + ([probes_dir] if probes_dir else [])
     refuse_input_overwrite(out, inputs)
-    previous = load_results(out) if names is not None else {}
+    baseline = None
+    if args.baseline is not None:
+        from .compare import load
 
-    out.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=".staging-", dir=out))
-    ctx = Context(out_dir=staging, quick=args.quick, probes_dir=probes_dir, probe_files=list(args.probe),
+        baseline = load(args.baseline)[1]  # read now: it may be the results.json this run replaces
+    _check_output_folder(out)
+    previous = load_results(out) if names is not None else {}
+    with _output_folder(out) as (staging, state):
+        results, held = _run_in(args, exps, todo, staging, out, previous, baseline, be, t0, state)
+    failed = _print_claims(results)
+    if "changes" in results:
+        from .compare import Comparison, Row
+
+        comparison = Comparison(str(args.baseline), [Row(**r) for r in results["changes"]["rows"]])
+        print(f"\nchanges: {comparison.summary()}")
+    print(f"\nwrote {out / 'index.html'} and {out / 'results.json'} in {time.perf_counter() - t0:.1f} s")
+    if held:
+        name = signal.Signals(held[0]).name
+        print(f"validate: {name} arrived while the report was being written; it is complete", file=sys.stderr)
+        return 128 + held[0]
+    if failed:
+        print(f"{failed} claim(s) failed" + ("" if args.strict else " (use --strict to exit non-zero)"))
+    return 1 if failed and args.strict else 0
+
+
+def _run_in(args: argparse.Namespace, exps: dict, todo: list[str], staging: Path, out: Path, previous: dict,
+            baseline: dict | None, be: object, t0: float, state: dict[str, bool]) -> tuple[dict, list[int]]:
+    """The experiments, in the staging folder, then the commit: (results, signals held meanwhile)."""
+    from .experiments import Context
+    from .scenes.probes import default_probes_dir
+
+    ctx = Context(out_dir=staging, quick=args.quick, probes_dir=args.probes or default_probes_dir(),
+                  probe_files=list(args.probe),
                   layout=args.layout, clamp_negative=args.clamp_negative,
                   show_progress=not args.no_progress and sys.stderr.isatty(),
                   workers=args.workers, scheduler=args.scheduler,
@@ -273,6 +368,9 @@ def _run(args: argparse.Namespace, names: list[str] | None) -> int:
     try:
         envs, skipped = ctx.environments()  # validate every input before any work
         print(f"environments: {len(envs)} ({len(skipped)} skipped)")
+        for e in envs:
+            if e.clamped_negative is not None:
+                print(f"  {e.name}: {e.notes[0]}")
         if ctx.distributed:
             client = ctx.client()
             where = args.scheduler or f"local Dask cluster, {args.workers} processes"
@@ -288,58 +386,115 @@ def _run(args: argparse.Namespace, names: list[str] | None) -> int:
         experiments.update(done)
         experiments = {k: experiments[k] for k in list(exps) + [k for k in experiments if k not in exps]
                        if k in experiments}
-        results = {"meta": {"backend": be.describe(), "variant": be.variant, "versions": _versions(),
+        results = {"meta": {"backend": be.describe(), "variant": be.variant, "versions": _versions(),  # type: ignore[attr-defined]
                             "generated": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
                             "command": "python -m validate " + " ".join(sys.argv[1:]), "quick": args.quick,
                             "wall_time_s": round(time.perf_counter() - t0, 2),
-                            "skipped_inputs": [list(s) for s in skipped]},
+                            "skipped_inputs": [list(s) for s in skipped],
+                            "environments": _environments_meta(envs)},
                    "experiments": experiments}
-        # move figures into place, then the JSON and the page (each atomically); signals wait
-        with _signals_deferred() as held:
-            page = _commit(out, staging, done, results)
+        if baseline is not None:
+            from .compare import compare
+
+            results["changes"] = {**compare(baseline, results).to_json(), "baseline": str(args.baseline)}
+        # figures, then the pages and results.json: one transaction; signals wait until it is done
+        with interrupt.deferred() as held:
+            _commit(out, staging, done, results)
+            state["committed"] = True
     finally:
         ctx.close()
-        shutil.rmtree(staging, ignore_errors=True)
-    failed = _print_claims(results)
-    print(f"\nwrote {page} and {out / 'results.json'} in {time.perf_counter() - t0:.1f} s")
-    if held:
-        name = signal.Signals(held[0]).name
-        print(f"validate: {name} arrived while the report was being written; it is complete", file=sys.stderr)
-        return 128 + held[0]
-    if failed:
-        print(f"{failed} claim(s) failed" + ("" if args.strict else " (use --strict to exit non-zero)"))
-    return 1 if failed and args.strict else 0
+    return results, held
 
 
 def _commit(out: Path, staging: Path, done: dict, results: dict) -> Path:
-    """Rename each experiment's figures into ``out``, then write results.json and the page."""
-    from .report.html import write_report, write_results_json
+    """Move each experiment's figures into ``out``, draw the summary figures and write results.json and
+    every page into the staging folder, then rename them into place: one
+    :class:`~validate.atomic.Transaction`, so a full disk or any other failure leaves the previous
+    report exactly as it was."""
+    from .atomic import Transaction, write_text
+    from .report import html
 
-    for n in done:
-        src, dst = staging / "figures" / n, out / "figures" / n
-        if src.exists():
-            old = None
-            if dst.exists():
-                old = dst.with_name(f".old-{n}-{os.getpid()}")
-                dst.rename(old)
-            dst.parent.mkdir(parents=True, exist_ok=True)
-            src.rename(dst)
-            if old is not None:
-                shutil.rmtree(old, ignore_errors=True)
-    write_results_json(out, results)
-    return write_report(out, results)
+    new = staging / "commit"
+    with Transaction(staging / "replaced") as tx:
+        summaries = _stage_summaries(out, staging, results)
+        for n in done:
+            src = staging / "figures" / n
+            if src.exists():
+                tx.move(src, out / "figures" / n)
+        if summaries is not None:
+            tx.move(summaries, out / html.SUMMARY_DIR)
+        pages = html.render_pages(out, results)  # figure paths are checked against their final place
+        html.write_results_json(new, results)
+        for name, text in pages.items():
+            write_text(new / name, text)
+        for name in pages:
+            if name != html.REPORT_FILE:
+                tx.move(new / name, out / name)
+        for stale in sorted(out.glob("exp-*.html")):
+            if stale.name not in pages:
+                tx.remove(stale)
+        tx.move(new / html.RESULTS_FILE, out / html.RESULTS_FILE)
+        tx.move(new / html.REPORT_FILE, out / html.REPORT_FILE)
+    return out / html.REPORT_FILE
+
+
+def _stage_summaries(out: Path, staging: Path, results: dict) -> Path | None:
+    """The report's summary figures (``report.html.draw_summaries``) drawn in the staging folder: the
+    current ones are hard-linked in first (no copy, no disk space), so only changed figures are drawn.
+    Returns the staged folder (None where this version of the report draws none)."""
+    from .report import html
+
+    draw = getattr(html, "draw_summaries", None)
+    if draw is None:
+        return None
+    staged, current = staging / html.SUMMARY_DIR, out / html.SUMMARY_DIR
+    try:
+        staged.mkdir(parents=True, exist_ok=True)
+        for f in current.glob("*.png") if current.is_dir() else ():
+            try:
+                os.link(f, staged / f.name)
+            except OSError:
+                shutil.copy2(f, staged / f.name)  # another file system or no hard links: a copy
+    except OSError as exc:
+        raise output_error(getattr(exc, "filename", None) or staged, exc) from None
+    draw(staging, results)
+    return staged
+
+
+def _failure(exc: BaseException) -> int:
+    """The one line and exit status for what ended a command. Once a signal arrived, whatever it
+    raised on its way out counts as the interruption: a native extension (Mitsuba's initialisation,
+    a drjit callback) may wrap the signal's exception in its own (ImportError, RuntimeError)."""
+    signum = interrupt.interrupted()
+    if isinstance(exc, Interrupted) or signum is not None:
+        signum = exc.signum if isinstance(exc, Interrupted) else signum
+        assert signum is not None
+        interrupt.announce(signum)
+        return 128 + signum
+    if isinstance(exc, KeyboardInterrupt):  # SIGINT before the handlers were installed
+        print("validate: interrupted; the previous report is untouched", file=sys.stderr)
+        return 130
+    if isinstance(exc, ValidateError):
+        print(f"validate: error: {exc}", file=sys.stderr)
+        return 2
+    if isinstance(exc, OSError):  # an output fault outside the run's folder (e.g. bench.json): still one line
+        print(f"validate: error: {output_error(exc.filename or '(output)', exc)}", file=sys.stderr)
+        return 2
+    raise exc
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = _parser()
     args = parser.parse_args(argv)
-    previous_handlers = _install_signal_handlers()
+    undo = interrupt.install()
     try:
         if args.command is None:
             parser.print_help()
             return 0
         if args.command == "list":
             return _cmd_list(args.plugin)
+        if args.command == "compare":
+            return _cmd_compare(args.old, args.new, args.strict)
         if args.command == "run":
             return _run(args, [args.name])
         if args.command == "all":
@@ -354,17 +509,8 @@ def main(argv: list[str] | None = None) -> int:
             return run_bench(args.out, sizes)
         if args.command == "docs":
             return _cmd_docs(args.results, args.docs, args.check)
-    except ValidateError as exc:
-        print(f"validate: error: {exc}", file=sys.stderr)
-        return 2
-    except Interrupted as exc:
-        print(f"validate: interrupted by {exc}; the previous report is untouched (finished references are "
-              "cached: rerun to resume)", file=sys.stderr)
-        return 128 + exc.signum
-    except KeyboardInterrupt:  # SIGINT before the handlers were installed
-        print("validate: interrupted; the previous report is untouched", file=sys.stderr)
-        return 130
+    except (Exception, Interrupted, KeyboardInterrupt) as exc:
+        return _failure(exc)
     finally:
-        for sig, handler in previous_handlers.items():
-            signal.signal(sig, handler)  # type: ignore[arg-type]
+        undo()
     return 0

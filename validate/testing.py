@@ -55,6 +55,12 @@ examples/``).
     ``r[env].<metric>`` one environment; ``r.environments[env][metric]`` the same as a dict;
     ``repr(r)`` lists every value ± uncertainty (pytest shows it when an assert fails).
 
+``compare(old, new) -> Comparison``
+    Two runs' ``results.json`` (paths, their folders, or loaded dicts) compared claim by claim and
+    technique metric by metric (:mod:`validate.compare`): ``c.regressions`` lists the claims that passed
+    and now fail and the metrics worse beyond √(σ_old² + σ_new²); ``c.table()`` the changed rows. A CI
+    gate: ``assert not compare("baseline/results.json", "reports/results.json").regressions``.
+
 ``check_specular``, ``check_arealight``, ``check_shadow``, ``check_brdf``, ``check_uberlight``
     The same for the ``specular``, ``arealight``, ``shadow``, ``brdf`` and ``uberlight`` families; they are
     implemented by their experiments' ``check`` modules (:mod:`validate.experiments.ibl.check`,
@@ -63,13 +69,16 @@ examples/``).
 
 from __future__ import annotations
 
+import os
 import sys
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
 import numpy as np
 
 from .backend import init
+from .compare import Comparison
+from .compare import compare as compare_runs
 from .errors import ValidateError
 from .experiments.arealights import check as arealights_check
 from .experiments.brdfs import check as brdfs_check
@@ -141,6 +150,12 @@ check_shadow = shadows_check.check_shadow
 check_brdf = brdfs_check.check_brdf
 check_uberlight = uberlight_check.check_uberlight
 
+
+def compare(old: str | os.PathLike[str] | Mapping[str, Any], new: str | os.PathLike[str] | Mapping[str, Any]
+            ) -> Comparison:
+    """Compare two runs (module docstring; the rules are :mod:`validate.compare`'s)."""
+    return compare_runs(old, new)  # type: ignore[arg-type]
+
 __all__ = ["CheckResult", "MissingProbe", "Stat", "check_arealight", "check_brdf", "check_irradiance", "check_shadow",
            "check_uberlight",
-           "check_specular", "find_probe", "load_named_environment", "probe_dirs"]
+           "check_specular", "compare", "find_probe", "load_named_environment", "probe_dirs"]

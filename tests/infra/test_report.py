@@ -186,7 +186,8 @@ def test_number_formats():
     assert fmt_num(float("nan")) == "NaN"
     assert fmt_num(None) == "—"
     pct_claim = {"measured": 0.0086, "uncertainty": 0.0001, "threshold": 0.01, "comparison": "<", "unit": "%"}
-    assert fmt_measured(pct_claim) == "0.86 % ± 0.01 %"
+    # σ = 0.010 % keeps two digits (PDG rule, validate.format) and the value is rounded to σ's decimal
+    assert fmt_measured(pct_claim) == "0.860 ± 0.010 %"
     assert fmt_threshold(pct_claim) == "< 1 %"
     plain = {"measured": 0.5, "uncertainty": 0.0, "threshold": 0.0, "comparison": ">", "unit": ""}
     assert fmt_measured(plain) == "0.5"
@@ -282,7 +283,8 @@ def test_write_report(tmp_path):
     assert "validate — real-time lighting vs physics" in page
     for claim_id in ("sh9-smooth", "sh9-sun", "energy-flux"):
         assert claim_id in page
-    assert "0.86 % ± 0.01 %" in page and "&lt; 1 %" in page and "2.3e-6 ± 1.1e-6" in page
+    # the claims table keeps a unit on its number's line (no-break space before "%")
+    assert "0.860 ± 0.010\u00a0%" in page and "&lt; 1 %" in page and "(2.3 ± 1.1)e-6" in page
     # overview: every claim once; each experiment page: its own claims
     by_id = _claim_rows(page)
     assert {k: len(v) for k, v in by_id.items()} == {"sh9-smooth": 1, "sh9-sun": 1, "energy-flux": 1}

@@ -54,6 +54,22 @@ main().catch(e => { document.getElementById('out').textContent = 'error: ' + e; 
 </script></body></html>"""
 
 
+def _run_harness(folder: Path, html: str, window: str = "1400,900") -> dict:
+    """Load ``html`` (written beside the report) in headless Chromium; return the JSON it leaves in
+    ``<pre id="out">``."""
+    harness = folder / "_harness.html"
+    harness.write_text(html, encoding="utf-8")
+    cmd = [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--allow-file-access-from-files",
+           "--hide-scrollbars", f"--window-size={window}", "--virtual-time-budget=20000", "--dump-dom",
+           harness.as_uri()]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    text = proc.stdout
+    start, end = text.find('<pre id="out">') + len('<pre id="out">'), text.find("</pre>")
+    payload = text[start:end].replace("&amp;", "&").replace("&lt;", "<").replace("&gt;", ">").replace("&quot;", '"')
+    assert payload.startswith("{"), f"harness did not finish: {payload[:300]!r} / {proc.stderr[-500:]}"
+    return json.loads(payload)
+
+
 def _results(out: Path) -> dict:
     fig = out / "figures" / "demo"
     plots.save_line_plot(fig / "sweep.png", np.arange(1.0, 4.0), {"a": np.array([3.0, 2.0, 1.0])}, "x", "y", "t")
@@ -77,19 +93,110 @@ def test_every_image_loads_and_every_internal_link_resolves(tmp_path):
     write_report(tmp_path, results)
     pages = sorted(p.name for p in tmp_path.glob("*.html"))
     assert pages == ["exp-demo.html", "exp-other.html", "index.html"]
-    harness = tmp_path / "_harness.html"
-    harness.write_text(HARNESS % json.dumps(pages), encoding="utf-8")
-    cmd = [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--allow-file-access-from-files",
-           "--virtual-time-budget=20000", "--dump-dom", harness.as_uri()]
-    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
-    text = proc.stdout
-    start, end = text.find('<pre id="out">') + len('<pre id="out">'), text.find("</pre>")
-    payload = text[start:end].replace("&amp;", "&").replace("&lt;", "<").replace("&gt;", ">").replace("&quot;", '"')
-    assert payload.startswith("{"), f"harness did not finish: {payload[:300]!r} / {proc.stderr[-500:]}"
-    out = json.loads(payload)
+    out = _run_harness(tmp_path, HARNESS % json.dumps(pages))
     assert len(out["images"]) >= 2 and all(ok for _, _, ok in out["images"]), out["images"]
     broken = [link for link in out["links"] if not link[2]]
     assert not broken, broken
     hrefs = {h for _, h, _ in out["links"]}
     assert {"exp-demo.html", "exp-other.html", "index.html"} <= hrefs  # navigation in both directions
     assert any(h.startswith("#") for h in hrefs)  # tables of contents
+
+
+# A harness that loads each page in a 1280 × 800 iframe (the issue's window), opens every <details>,
+# waits for the images, then measures: the summary figure's box, every table wrapper's scroll and
+# client widths (and whether it scrolls by design), the page's own scroll width, and — on pages with a
+# comparison widget — which image is visible at a point of the widget before and after each control.
+LAYOUT_HARNESS = """<!DOCTYPE html><html><body style="margin:0"><pre id="out">pending</pre><script>
+const pages = %s;
+const loadFrame = src => new Promise(res => { const f = document.createElement('iframe');
+  f.style.width = '1280px'; f.style.height = '800px'; f.style.border = '0'; f.onload = () => res(f); f.src = src;
+  document.body.insertBefore(f, document.body.firstChild); });
+const settle = im => im.complete ? Promise.resolve() : new Promise(r => { im.onload = im.onerror = r; });
+async function measure(p) {
+  const f = await loadFrame(p), d = f.contentDocument, w = f.contentWindow;
+  for (const im of Array.from(d.images)) { im.loading = 'eager'; await settle(im); }
+  const res = {page: p};
+  const fig = d.querySelector('.at-a-glance img');
+  if (fig) { const r = fig.getBoundingClientRect(); res.summary = [r.top, r.bottom, fig.naturalWidth]; }
+  for (const det of Array.from(d.querySelectorAll('details'))) det.open = true;
+  res.tables = Array.from(d.querySelectorAll('.table-wrap')).map(wr => [wr.querySelector('table').className,
+    wr.scrollWidth, wr.clientWidth, w.getComputedStyle(wr).overflowX]);
+  res.width = [d.documentElement.scrollWidth, d.documentElement.clientWidth];
+  const set = d.querySelector('[data-compare]');
+  if (set) {
+    set.scrollIntoView();
+    const v = set.querySelector('.cmp-view').getBoundingClientRect();
+    const at = fx => { const e = d.elementFromPoint(v.left + v.width * fx, v.top + v.height / 2);
+      return e ? e.className : null; };
+    const cmp = {start: [at(0.25), at(0.75)]};
+    set.querySelector('button[data-show=technique]').click(); cmp.technique = [at(0.25), at(0.75)];
+    set.querySelector('button[data-show=truth]').click(); cmp.truth = [at(0.25), at(0.75)];
+    const range = set.querySelector('input.cmp-range'); range.value = '80';
+    range.dispatchEvent(new Event('input')); cmp.wipe80 = [at(0.5), at(0.9)];
+    cmp.state = set.getAttribute('data-state');
+    res.compare = cmp;
+  }
+  f.remove();
+  return res;
+}
+async function main() { const out = []; for (const p of pages) out.push(await measure(p));
+  document.getElementById('out').textContent = JSON.stringify({pages: out}); }
+main().catch(e => { document.getElementById('out').textContent = 'error: ' + e; });
+</script></body></html>"""
+
+LONG = ("a claim description long enough to need several lines in its cell, with a source that names the "
+        "paper, the equation and the table it comes from ")
+
+
+def _layout_results(out: Path) -> dict:
+    """A page with everything that can overflow: long claims, a 16-column table, long unbroken ids, a
+    truth / technique / error set, technique metrics (the generic summary figure) and a changes entry."""
+    d = out / "figures" / "cmp"
+    truth, tech = np.full((16, 16, 3), 0.2), np.full((16, 16, 3), 0.2)
+    tech[..., 0] = 0.9
+    plots.save_image(d / "sphere_reference.png", truth, exposure=1.0)
+    plots.save_image(d / "sphere_technique.png", tech, exposure=1.0)
+    plots.save_heatmap(d / "error map.png", np.abs(tech - truth)[..., 0], "error", "|ΔL|/L", percent=True)
+    claims = [Claim(f"cmp.technique.some_long_technique_name_{i}.relative_error_over_every_environment",
+                    LONG * 2, "max relative error over every environment and every normal", 0.05, 0.0123,
+                    0.0004, unit="%", source=LONG).with_power(LONG, 0.2) for i in range(3)]
+    table = Table([f"column {i} (%)" for i in range(16)], [[0.123456 * i for i in range(16)]] * 3 + [[LONG * 3] * 16])
+    gallery = [[Figure("figures/cmp/sphere_reference.png", "reference sphere (Mitsuba)"),
+                Figure("figures/cmp/sphere_technique.png", "technique sphere"),
+                Figure("figures/cmp/error map.png", "error heat map, % of L")]]
+    e = ExperimentResult("cmp", "Comparison", "summary", claims=claims, findings=[f"technique t{i}: finding {i}"
+                                                                                 for i in range(6)],
+                         sections=[Section("Images", ["text"], tables=[table], gallery=gallery)],
+                         techniques={f"t{i}": {"family": "f", "metrics": {"err.env_a": {"value": 0.01 * (i + 1),
+                                                                                        "uncertainty": 0.001}}}
+                                     for i in range(3)})
+    changes = {"baseline": "old/results.json", "regressions": 1, "rows": [
+        {"kind": "claim", "key": claims[0].id, "old": 0.0100, "new": 0.0123, "old_uncertainty": 0.0004,
+         "new_uncertainty": 0.0004, "change": 0.0023, "exceeds_uncertainty": True, "status": "regressed"},
+        {"kind": "metric", "key": "cmp.t0.err.env_a", "old": 0.01, "new": 0.01, "old_uncertainty": 0.001,
+         "new_uncertainty": 0.001, "change": 0.0, "exceeds_uncertainty": False, "status": "unchanged"}]}
+    return {"meta": {"backend": "llvm_ad_rgb"}, "experiments": {"cmp": e.to_json()}, "changes": changes}
+
+
+def test_layout_at_1280_and_the_comparison_widget(tmp_path):
+    results = _layout_results(tmp_path)
+    write_report(tmp_path, results)
+    index = (tmp_path / "index.html").read_text(encoding="utf-8")
+    assert "Changes since old/results.json" in index and "regressed" in index and "cmp.t0.err.env_a" not in index
+    out = _run_harness(tmp_path, LAYOUT_HARNESS % json.dumps(["index.html", "exp-cmp.html"]), "1280,800")
+    by_page = {p["page"]: p for p in out["pages"]}
+    for p in by_page.values():
+        assert p["width"][0] <= p["width"][1], f"{p['page']} scrolls sideways: {p['width']}"
+        for cls, scroll, client, overflow in p["tables"]:
+            # a table fits its box, or its box scrolls by design; the claims table (power column) must fit
+            assert scroll <= client or (overflow in ("auto", "scroll") and "claims" not in cls), (p["page"], cls,
+                                                                                                   scroll, client)
+        assert any("claims" in t[0] for t in p["tables"])
+    exp = by_page["exp-cmp.html"]
+    top, bottom, natural = exp["summary"]
+    assert natural > 0 and 0 <= top and bottom <= 800, exp["summary"]  # the summary figure, above the fold
+    cmp = exp["compare"]
+    assert cmp["start"] == ["cmp-truth", "cmp-technique"]  # wipe at 50 %: truth left, technique right
+    assert cmp["technique"] == ["cmp-technique", "cmp-technique"]
+    assert cmp["truth"] == ["cmp-truth", "cmp-truth"]
+    assert cmp["wipe80"] == ["cmp-truth", "cmp-technique"] and cmp["state"] == "wipe"

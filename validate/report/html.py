@@ -11,31 +11,43 @@ so re-running one experiment and re-rendering never loses the others. Layout of 
 table of contents; every claim grouped by experiment in collapsible blocks; ``bench.json`` when
 present); ``exp-<name>.html`` holds one experiment (contents, findings, claims with their power
 checks, techniques, sections). Pages are self-contained files (CSS inlined from
-``templates/style.css``, no scripts, no external resources) whose images are paths relative to the
+``templates/style.css``, the comparison script inlined, no external resources) whose images are paths relative to the
 report folder, so the folder can be moved or zipped and opened from disk. Templates are rendered
 by Jinja2 with autoescaping on: every string
 from the results (paragraphs, captions, findings) is text, never markup.
 
-Number formatting (Jinja filters ``num``, ``pct``, ``measured``, ``threshold``, ``cell``):
-``unit == "%"`` marks fractions shown as per cent (0.0086 → "0.86 %"); other values use 3
-significant digits, scientific below 10⁻³ and from 10⁶ (1.2e-5).
+Number formatting (Jinja filters ``num``, ``pct``, ``measured``, ``threshold``, ``cell``) goes through
+:mod:`validate.format`: ``unit == "%"`` marks fractions shown as per cent (0.0086 → "0.86 %"); a
+value with an uncertainty shows the digits the uncertainty supports ("0.860 ± 0.010 %"); other values
+use 3 significant digits, scientific below 10⁻³ and from 10⁶ (1.2e-5).
+
+Each experiment page opens with its summary figure (:mod:`.summary`, drawn by :func:`write_report`
+into ``figures/summary/``) and a three-line verdict; findings are grouped (:mod:`.findings`); gallery
+rows holding a truth / technique / error set (:mod:`.imagesets`) get a wipe slider and a linked error
+map, driven by a small script inlined in the page (``templates/compare.js``, no external resources).
+A top-level ``changes`` entry (written by ``--baseline``, :mod:`validate.compare`) becomes the
+overview's "Changes since <baseline>" section.
 """
 
 from __future__ import annotations
 
 import functools
+import hashlib
 import json
 import math
 import re
 from collections.abc import Mapping
-from numbers import Integral, Real
+from numbers import Real
 from pathlib import Path, PurePosixPath
 from typing import Any
 
 import jinja2
 
+from .. import format as fmt
 from ..atomic import write_text
 from ..errors import ValidateError
+from . import findings as findings_mod
+from . import imagesets, summary
 
 RESULTS_FILE = "results.json"
 REPORT_FILE = "index.html"
@@ -46,6 +58,7 @@ TEMPLATE = "index.html.j2"
 MEASURED_DIGITS = 3  # significant digits of measured values and thresholds
 UNCERTAINTY_DIGITS = 2  # significant digits of uncertainties
 THRESHOLD_DIGITS = 4  # thresholds are exact figures (3/32 = 9.375 %), shown without rounding them up
+SUMMARY_DIR = "figures/summary"  # summary figures, drawn by write_report from results.json
 _TEMPLATES = Path(__file__).parent / "templates"
 
 
@@ -54,45 +67,24 @@ _TEMPLATES = Path(__file__).parent / "templates"
 # ---------------------------------------------------------------------------------------------------
 
 def fmt_num(value: Any, digits: int = MEASURED_DIGITS) -> str:
-    """Compact number: ``digits`` significant digits; scientific (1.23e-5) for |v| < 10⁻³ or ≥ 10⁶;
-    integers as written; None → "—"; NaN → "NaN"; ±inf → "∞"/"−∞". Non-numbers are returned as text."""
-    if value is None:
-        return "—"
+    """Compact number (:func:`validate.format.sig`): ``digits`` significant digits; scientific (1.23e-5)
+    for |v| < 10⁻³ or ≥ 10⁶; integers as written; None → "—"; NaN → "NaN"; ±inf → "∞"/"−∞";
+    booleans → "yes"/"no". Non-numbers are returned as text."""
     if isinstance(value, bool):
         return "yes" if value else "no"
-    if isinstance(value, Integral):
-        return str(int(value))
-    if not isinstance(value, Real):
-        return str(value)
-    v = float(value)
-    if math.isnan(v):
-        return "NaN"
-    if math.isinf(v):
-        return "∞" if v > 0 else "−∞"
-    if v == 0.0:
-        return "0"
-    a = abs(v)
-    if 1e-3 <= a < 1e3:
-        s = f"{v:.{digits}g}"
-        if "e" not in s:
-            return s
-    if 1e3 <= a < 1e6:
-        return f"{v:.0f}"
-    mantissa, exponent = f"{v:.{max(digits - 1, 0)}e}".split("e")
-    if "." in mantissa:
-        mantissa = mantissa.rstrip("0").rstrip(".")
-    return f"{mantissa}e{int(exponent)}"
+    return fmt.sig(value, digits)
 
 
 def fmt_pct(value: Any, digits: int = MEASURED_DIGITS) -> str:
-    """A fraction as per cent: 0.0086 → "0.86 %" (``digits`` significant digits of the per cent value)."""
+    """A fraction as per cent: 0.0086 → "0.86 %" (:func:`validate.format.pct`); non-numbers as text."""
     if isinstance(value, Real) and not isinstance(value, bool) and math.isfinite(float(value)):
-        return f"{fmt_num(float(value) * 100.0, digits)} %"
+        return fmt.pct(value, digits)
     return fmt_num(value, digits)
 
 
 def fmt_value(value: Any, unit: str = "", digits: int = MEASURED_DIGITS) -> str:
-    """Value with its unit: "%" → :func:`fmt_pct`; another unit is appended ("0.5 sr")."""
+    """Value with its unit (:func:`validate.format.fmt_quantity`): "%" → per cent of a fraction;
+    another unit is appended ("0.5 sr")."""
     if unit == "%":
         return fmt_pct(value, digits)
     s = fmt_num(value, digits)
@@ -100,14 +92,16 @@ def fmt_value(value: Any, unit: str = "", digits: int = MEASURED_DIGITS) -> str:
 
 
 def fmt_measured(claim: Mapping[str, Any]) -> str:
-    """"measured ± uncertainty" in the claim's unit ("0.86 % ± 0.012 %"); no "±" when the uncertainty is
-    0 or absent (deterministic figures)."""
+    """"measured ± uncertainty unit" with the digits the uncertainty supports
+    (:func:`validate.format.pm`: "0.860 ± 0.010 %"); the value alone, with MEASURED_DIGITS, when the
+    uncertainty is 0 or absent (deterministic figures)."""
     unit = claim.get("unit") or ""
-    s = fmt_value(claim.get("measured"), unit)
-    u = claim.get("uncertainty")
-    if u is None or (isinstance(u, Real) and float(u) == 0.0):
-        return s
-    return f"{s} ± {fmt_value(u, unit, UNCERTAINTY_DIGITS)}"
+    m, u = claim.get("measured"), claim.get("uncertainty")
+    if not (isinstance(u, Real) and not isinstance(u, bool) and math.isfinite(float(u)) and float(u) > 0.0):
+        return fmt_value(m, unit)
+    if not (isinstance(m, Real) and not isinstance(m, bool)):
+        return fmt_value(m, unit)
+    return fmt.pm(m, u, unit)
 
 
 def fmt_threshold(claim: Mapping[str, Any]) -> str:
@@ -251,15 +245,94 @@ def _table(t: Mapping[str, Any]) -> dict[str, Any]:
     return {"headers": headers, "rows": rows, "caption": t.get("caption") or "", "numeric": numeric}
 
 
+def _gallery_row(row: list[Any], out_dir: Path) -> dict[str, Any]:
+    """A gallery row: its figures, and the truth / technique / error set in it (None when there is none)."""
+    figs = [_figure(f, out_dir) for f in row]
+    return {"figures": figs, "compare": imagesets.find_set(figs, out_dir)}
+
+
 def _section(s: Mapping[str, Any], out_dir: Path, experiment: str, index: int) -> dict[str, Any]:
     return {
         "title": s.get("title") or "",
         "anchor": f"{anchor(experiment)}-s{index + 1}",
         "paragraphs": list(s.get("paragraphs") or []),
         "tables": [_table(t) for t in s.get("tables") or []],
-        "gallery": [[_figure(f, out_dir) for f in row] for row in s.get("gallery") or []],
+        "gallery": [_gallery_row(list(row), out_dir) for row in s.get("gallery") or []],
         "figures": [_figure(f, out_dir) for f in s.get("figures") or []],
     }
+
+
+def summary_path(experiment: str, spec: summary.Summary) -> str:
+    """Report-relative path of an experiment's summary figure, named by what it shows:
+    ``figures/summary/exp-<name>-<hash of the plotted numbers>.png`` (an unchanged figure is not redrawn)."""
+    digest = hashlib.sha1(repr((summary.FIGURE_VERSION, spec)).encode("utf-8")).hexdigest()[:12]
+    return f"{SUMMARY_DIR}/{anchor(experiment)}-{digest}.png"
+
+
+def _summary(name: str, e: Mapping[str, Any], claims: list[dict[str, Any]], out_dir: Path) -> dict[str, Any]:
+    """The summary figure (path, caption, whether drawn) and the verdict lines of one experiment."""
+    spec = summary.summary_for(name, e)
+    fig = None
+    if spec is not None:
+        fig = _figure({"path": summary_path(name, spec), "caption": f"{spec.title} — {spec.metric}"}, out_dir)
+    return {"figure": fig, "verdict": summary.verdict(spec, claims)}
+
+
+def _experiment(name: str, e: Mapping[str, Any], out_dir: Path) -> dict[str, Any]:
+    claims = [_claim(c, name) for c in e.get("claims") or []]
+    techniques = _techniques(e.get("techniques"))
+    findings = list(e.get("findings") or [])
+    return {
+        "name": name,
+        "anchor": anchor(name),
+        "title": e.get("title") or name,
+        "summary": e.get("summary") or "",
+        "findings": findings,
+        "finding_groups": findings_mod.group_findings(findings, [t["name"] for t in techniques],
+                                                      findings_mod.input_names(e)),
+        "wall_time_s": e.get("wall_time_s"),
+        "settings": dict(e.get("settings") or {}),
+        "claims": claims,
+        "n_passed": sum(c["passed"] for c in claims),
+        "n_power_fails": sum(bool((c.get("power") or {}).get("fails")) for c in claims),
+        "page": page_name(name),
+        "techniques": techniques,
+        "overview": _summary(name, e, claims, out_dir),
+        "sections": [_section(s, out_dir, name, i)
+                     for i, s in enumerate((e.get("report") or {}).get("sections") or [])],
+    }
+
+
+_STATUS_ORDER = ("regressed", "newly_failing", "removed", "new", "changed", "improved")
+
+
+def _changes(changes: Any, exps: list[dict[str, Any]]) -> dict[str, Any] | None:
+    """The ``changes`` entry (validate.compare) for the overview: rows other than "unchanged",
+    regressions first; claim values in their claim's unit."""
+    if not isinstance(changes, Mapping):
+        return None
+    units = {c["id"]: c.get("unit") or "" for e in exps for c in e["claims"]}
+    rows = [dict(r) for r in changes.get("rows") or [] if isinstance(r, Mapping) and r.get("status") != "unchanged"]
+    rank = {s: i for i, s in enumerate(_STATUS_ORDER)}
+    rows.sort(key=lambda r: rank.get(str(r.get("status")), len(rank)))
+    for r in rows:
+        unit = units.get(str(r.get("key")), "") if r.get("kind") == "claim" else ""
+        r["old_text"] = fmt_quantity(r.get("old"), r.get("old_uncertainty"), unit)
+        r["new_text"] = fmt_quantity(r.get("new"), r.get("new_uncertainty"), unit)
+        r["change_text"] = fmt_quantity(r.get("change"), None, unit)
+    return {"baseline": str(changes.get("baseline") or "the baseline"), "rows": rows,
+            "regressions": changes.get("regressions", 0)}
+
+
+def fmt_quantity(value: Any, sigma: Any = None, unit: str = "") -> str:
+    """A value from results.json with its σ and unit (:func:`validate.format.fmt_quantity`); booleans as
+    "pass" / "fail", None as "—", text as it is."""
+    if isinstance(value, bool):
+        return "pass" if value else "fail"
+    if not isinstance(value, Real):
+        return fmt_num(value)
+    s = sigma if isinstance(sigma, Real) and not isinstance(sigma, bool) and math.isfinite(float(sigma)) else None
+    return fmt.fmt_quantity(value, unit, s if s and s > 0 else None)
 
 
 def _page(out_dir: Path, results: Mapping[str, Any]) -> dict[str, Any]:
@@ -271,23 +344,7 @@ def _page(out_dir: Path, results: Mapping[str, Any]) -> dict[str, Any]:
     for name, e in experiments.items():
         if not isinstance(e, Mapping):
             raise ValidateError(f"{out_dir / RESULTS_FILE}: experiment {name!r} is not an object")
-        claims = [_claim(c, name) for c in e.get("claims") or []]
-        exps.append({
-            "name": name,
-            "anchor": anchor(name),
-            "title": e.get("title") or name,
-            "summary": e.get("summary") or "",
-            "findings": list(e.get("findings") or []),
-            "wall_time_s": e.get("wall_time_s"),
-            "settings": dict(e.get("settings") or {}),
-            "claims": claims,
-            "n_passed": sum(c["passed"] for c in claims),
-            "n_power_fails": sum(bool((c.get("power") or {}).get("fails")) for c in claims),
-            "page": page_name(name),
-            "techniques": _techniques(e.get("techniques")),
-            "sections": [_section(s, out_dir, name, i)
-                         for i, s in enumerate((e.get("report") or {}).get("sections") or [])],
-        })
+        exps.append(_experiment(name, e, out_dir))
     claims = [c for e in exps for c in e["claims"]]
     wall = meta.get("wall_time_s")
     if wall is None and exps:
@@ -309,6 +366,7 @@ def _page(out_dir: Path, results: Mapping[str, Any]) -> dict[str, Any]:
         "n_failed": sum(not c["passed"] for c in claims),
         "results_file": RESULTS_FILE,
         "bench": _bench(out_dir),
+        "changes": _changes(results.get("changes"), exps),
     }
 
 
@@ -354,6 +412,27 @@ def render_pages(out_dir: Path, results: Mapping[str, Any]) -> dict[str, str]:
     return pages
 
 
+def draw_summaries(out_dir: Path, results: Mapping[str, Any]) -> list[Path]:
+    """Draw every experiment's summary figure (:mod:`.summary`) into ``out_dir/figures/summary/``, unless
+    the file for the same numbers is already there; other files in that folder are removed."""
+    from . import summary_plots  # matplotlib: loaded only when pages are written
+
+    out_dir = Path(out_dir)
+    experiments = results.get("experiments") or {}
+    written = []
+    for name, e in experiments.items() if isinstance(experiments, Mapping) else ():
+        spec = summary.summary_for(name, e) if isinstance(e, Mapping) else None
+        if spec is not None:
+            path = out_dir / summary_path(name, spec)
+            if not path.is_file():
+                summary_plots.draw(spec, path)
+            written.append(path)
+    for stale in (out_dir / SUMMARY_DIR).glob("*.png"):
+        if stale not in written:
+            stale.unlink(missing_ok=True)
+    return written
+
+
 def render_report(out_dir: Path, results: Mapping[str, Any]) -> str:
     """The overview page (``index.html``) for ``results``."""
     return render_pages(out_dir, results)[REPORT_FILE]
@@ -363,6 +442,7 @@ def write_report(out_dir: Path, results: Mapping[str, Any]) -> Path:
     """Render every page from ``results`` and write them atomically (experiment pages first, the overview
     last); pages of experiments no longer in the results are removed. Returns the overview's path."""
     out_dir = Path(out_dir)
+    draw_summaries(out_dir, results)
     pages = render_pages(out_dir, results)
     for name, text in pages.items():
         if name != REPORT_FILE:

@@ -29,6 +29,8 @@ class Environment:
     layout: str = "latlong"  # how the source file was laid out: latlong | angular | cross | procedural
     angular: np.ndarray | None = None  # the original angular map (for the R&H rh2001 convention)
     notes: tuple[str, ...] = ()
+    # (texels clamped to 0, the lowest value before) when the loader clamped negative texels, else None
+    clamped_negative: tuple[int, float] | None = None
     tags: tuple[str, ...] = field(default_factory=tuple)
 
     @property

@@ -1,0 +1,140 @@
+"""The report's at-a-glance parts: summary specs read from results.json, the verdict, the generic
+fallback for plug-in experiments, finding groups and truth / technique / error sets."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from validate.report import plots, summary
+from validate.report.findings import group_findings, input_names
+from validate.report.imagesets import find_set, png_size
+
+
+def _stat(mx: float, sigma: float) -> dict:
+    return {"mean": mx / 3, "max": mx, "mean_uncertainty": sigma, "max_uncertainty": sigma}
+
+
+def _sh9_entry() -> dict:
+    # techniques.<t>.metrics.<env>.flux_luminance as the sh9 experiment writes it
+    errors = {"sh9": {"sky": 0.012, "probe": 0.032}, "sh1": {"sky": 0.05, "probe": 0.25}}
+    return {"techniques": {t: {"metrics": {env: {"flux_luminance": _stat(v, 0.0004)} for env, v in envs.items()}}
+                           for t, envs in errors.items()},
+            "claims": []}
+
+
+def test_sh9_matrix_and_verdict():
+    s = summary.summary_for("sh9", _sh9_entry())
+    assert isinstance(s, summary.Matrix)
+    assert s.rows == ["sh9", "sh1"] and s.cols == ["sky", "probe"]
+    assert s.values == [[0.012, 0.032], [0.05, 0.25]]
+    claims = [{"passed": True, "power": {"fails": True}}, {"passed": False, "power": {"fails": False}},
+              {"passed": True, "power": None}]
+    best, worst, tally = summary.verdict(s, claims)
+    # worst over the environments ranks them: sh9 3.2 % < sh1 25 %; σ = 0.04 % → two decimals
+    assert best.startswith("Best: sh9 — 3.20 ± 0.04 %") and "worst over environments" in best
+    assert worst.startswith("Worst: sh1 — 25.00 ± 0.04 %")
+    assert tally == ("Claims: 2/3 pass; power checks: 1/3 fail under their perturbation, as they must; "
+                     "1 still pass under their perturbation; 1 without a power check.")
+
+
+def test_generic_summary_for_a_plug_in_experiment():
+    e = {"techniques": {"mine": {"metrics": {"rel.env_a": {"value": 0.1, "uncertainty": 0.01},
+                                             "rel.env_b": {"value": 0.3, "uncertainty": 0.01},
+                                             "other": {"value": 9.0, "uncertainty": 0.0}}},
+                        "theirs": {"metrics": {"rel.env_a": {"value": 0.2, "uncertainty": 0.02}}}}}
+    s = summary.summary_for("not_a_built_in", e)
+    assert isinstance(s, summary.Matrix) and s.metric == "rel"
+    assert s.rows == ["mine", "theirs"] and s.cols == ["env_a", "env_b"]
+    assert math.isnan(s.values[1][1])  # not measured
+    assert [r[0] for r in s.ranking()] == ["theirs", "mine"]  # worst over inputs: 0.2 < 0.3
+
+
+@pytest.mark.parametrize("bad", [{"techniques": "junk"}, {"techniques": {"t": {"metrics": {"e": 3}}}},
+                                 {"alpha_sweep": {"alpha_deg": "x", "errors": 5}}, {}])
+def test_malformed_entries_give_no_summary_and_never_raise(bad):
+    for name in [*summary.SUMMARIES, "plug_in"]:
+        assert summary.summary_for(name, bad) is None
+    assert summary.verdict(None, []) == ["Claims: none recorded."]
+
+
+def test_shadows_curves_carry_their_uncertainty_bands():
+    sweep = {str(n): {"0.02": {"hard": {"total": {"mean": 1.0 / n, "uncertainty": 0.1 / n}}}} for n in (1024, 256)}
+    s = summary.summary_for("shadows", {"resolution_sweep": sweep})
+    assert isinstance(s, summary.Curves)
+    assert s.x == [256.0, 1024.0] and s.series["hard"] == [1 / 256, 1 / 1024]  # sorted by map size
+    assert s.bands["hard"] == [0.1 / 256, 0.1 / 1024]
+
+
+def test_summary_figures_are_drawn(tmp_path):
+    from validate.report import summary_plots
+
+    for name, spec in (("m", summary.summary_for("sh9", _sh9_entry())),
+                       ("c", summary.Curves("t", "err, %", "x", [1.0, 2.0], {"a": [0.1, 0.0]}, {"a": [0.01, 0.01]}))):
+        path = tmp_path / f"{name}.png"
+        summary_plots.draw(spec, path)
+        w, h = png_size(path)
+        assert 300 < w <= summary_plots.MAX_WIDTH_IN * plots.FIG_DPI and h > 100
+
+
+def test_findings_are_grouped():
+    findings = ["technique a: 1 %", "b (the sky): 2 %", "sky: 3 %", "White-furnace albedo of a: 1",
+                "White-furnace albedo of b: 2", "Something else entirely."]
+    groups = group_findings(findings, techniques=["a", "b"], inputs=["sky"])
+    assert [(g["title"], g["findings"]) for g in groups] == [
+        ("By technique", findings[:2]), ("By input", [findings[2]]), ("White-furnace albedo", findings[3:5]),
+        ("Other findings", [findings[5]])]
+    many = group_findings([f"technique a: {i}" for i in range(5)], techniques=["a"])
+    assert len(many[0]["visible"]) == 3 and len(many[0]["folded"]) == 2
+    assert input_names({"environments": {"sky": {}}, "materials": ["m"]}) == {"sky", "m"}
+
+
+def test_truth_technique_error_sets(tmp_path):
+    plots.save_image(tmp_path / "a_reference.png", np.ones((6, 8, 3)))
+    plots.save_image(tmp_path / "a_sh9.png", np.ones((6, 8, 3)))
+    plots.save_image(tmp_path / "a_small.png", np.ones((3, 4, 3)))
+    plots.save_heatmap(tmp_path / "a_error.png", np.ones((6, 8)), "e", "e")
+
+    def fig(name: str, caption: str = "") -> dict:
+        return {"src": name, "caption": caption, "exists": (tmp_path / name).is_file()}
+
+    row = [fig("env.png", "environment"), fig("a_reference.png", "reference"), fig("a_small.png", "tiny"),
+           fig("a_sh9.png", "SH9 sphere"), fig("a_error.png", "error heat map")]
+    s = find_set(row, tmp_path)
+    assert s is not None and (s["truth"]["src"], s["technique"]["src"], s["error"]["src"]) == (
+        "a_reference.png", "a_sh9.png", "a_error.png")
+    assert (s["width"], s["height"]) == (8, 6) and not s["linked"]  # the heat map has axes: no crosshair
+    assert [f["src"] for f in s["rest"]] == ["env.png", "a_small.png"]
+    assert find_set([row[1], row[2], row[4]], tmp_path) is None  # no technique image of the truth's size
+    assert find_set([row[1], row[3]], tmp_path) is None  # no error map
+
+
+def test_changes_rows_regressions_first_in_their_units():
+    from validate.report.html import _changes
+
+    exps = [{"claims": [{"id": "c.pct", "unit": "%"}]}]
+    rows = [{"kind": "metric", "key": "m.better", "old": 0.2, "new": 0.1, "old_uncertainty": 0.01,
+             "new_uncertainty": 0.01, "change": -0.1, "exceeds_uncertainty": True, "status": "improved"},
+            {"kind": "metric", "key": "m.same", "old": 0.2, "new": 0.2, "change": 0.0, "status": "unchanged"},
+            {"kind": "claim", "key": "c.new", "old": None, "new": 0.5, "change": None, "status": "new"},
+            {"kind": "claim", "key": "c.pct", "old": 0.0100, "new": 0.0123, "old_uncertainty": 0.0004,
+             "new_uncertainty": 0.0004, "change": 0.0023, "exceeds_uncertainty": True, "status": "newly_failing"},
+            {"kind": "metric", "key": "m.worse", "old": 1.0, "new": 2.0, "change": 1.0, "status": "regressed"}]
+    out = _changes({"baseline": "b.json", "regressions": 2, "rows": rows}, exps)
+    assert [r["key"] for r in out["rows"]] == ["m.worse", "c.pct", "c.new", "m.better"]
+    pct = out["rows"][1]
+    assert (pct["old_text"], pct["new_text"], pct["change_text"]) == ("1.00 ± 0.04 %", "1.23 ± 0.04 %", "0.23 %")
+    assert out["rows"][2]["old_text"] == "—" and out["baseline"] == "b.json"
+    assert _changes(None, exps) is None
+
+
+def test_ibl_bars_rank_each_technique_by_its_worst_material():
+    comps = [{"group": "Lambertian", "parameter": "ρ = 0.8", "approximation": "sh9", "mean": 0.04,
+              "mean_uncertainty": 0.02},
+             {"group": "Phong", "parameter": "s = 10", "approximation": "pre", "mean": 0.7, "mean_uncertainty": 0.02},
+             {"group": "Phong", "parameter": "s = 100", "approximation": "pre", "mean": 0.9, "mean_uncertainty": 0.01}]
+    s = summary.summary_for("ibl", {"comparisons": comps})
+    assert isinstance(s, summary.Bars) and s.groups == ["Lambertian ρ = 0.8", "Phong s = 10", "Phong s = 100"]
+    assert s.ranking() == [("sh9", 0.04, 0.02), ("pre", 0.9, 0.01)]
