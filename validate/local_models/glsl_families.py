@@ -1,0 +1,177 @@
+"""Per-family GLSL glue: the declarations a ``.glsl`` technique sees, the harness's ``main()``, and the
+host side that turns a family's Python call into per-receiver float textures and uniforms and the
+read-back colour into the family's output. The contracts are documented in
+:mod:`validate.local_models.glsl_technique` and ``docs/glsl.md``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import ValidateError
+from . import classic_brdfs, classic_lights  # noqa: F401 — defines the brdf and light families
+
+Run = Callable[..., np.ndarray]  # run(inputs: list[(N, k)], uniforms: {name: value}, textures=None) -> (N, 4)
+
+
+def uniform_bytes(value: Any) -> bytes:
+    """A uniform's bytes: Python/NumPy ints → int32, everything else → float32 (arrays flattened)."""
+    arr = np.asarray(value)
+    if arr.dtype.kind in "iub":
+        return np.ascontiguousarray(arr, dtype=np.int32).tobytes()
+    return np.ascontiguousarray(arr, dtype=np.float32).tobytes()
+
+
+def _unit(x: np.ndarray) -> np.ndarray:
+    x = np.asarray(x, dtype=np.float64).reshape(-1, 3)
+    return x / np.maximum(np.linalg.norm(x, axis=-1, keepdims=True), 1e-300)
+
+
+def _fetch(names: str) -> str:
+    return "\n".join(f"uniform sampler2D u_in{k};" for k in range(len(names.split())))
+
+
+@dataclass(frozen=True)
+class GLSLFamily:
+    """How a family's call maps onto its GLSL entry point."""
+
+    name: str
+    entry: str
+    declarations: str
+    main: str
+    call: Callable[..., np.ndarray]
+
+
+# -- brdf ---------------------------------------------------------------------------------------------------
+BRDF_DECL = _fetch("n l v") + """
+uniform vec3 u_albedo; uniform vec3 u_ks; uniform vec3 u_eta; uniform vec3 u_k;
+uniform float u_exponent; uniform float u_phong_exponent; uniform float u_alpha;
+uniform float u_sigma; uniform float u_minnaert_k;
+uniform int u_distribution;
+out vec4 o_color;
+vec3 brdf(vec3 n, vec3 l, vec3 v);
+"""
+BRDF_MAIN = """void main() {
+    ivec2 t = ivec2(gl_FragCoord.xy);
+    o_color = vec4(brdf(texelFetch(u_in0, t, 0).xyz, texelFetch(u_in1, t, 0).xyz, texelFetch(u_in2, t, 0).xyz), 1.0);
+}"""
+
+
+def brdf_uniforms(params: Mapping[str, Any], who: str) -> dict[str, Any]:
+    """The ``params`` mapping as uniforms (scalars broadcast to RGB for the vec3 ones)."""
+    rgb = {k: np.broadcast_to(classic_brdfs.param(params, k, who), (3,)) for k in ("albedo", "ks", "eta", "k")}
+    scal = {k: float(np.mean(classic_brdfs.param(params, k, who)))
+            for k in ("exponent", "phong_exponent", "alpha", "sigma", "minnaert_k")}
+    dist = str(params.get("distribution", classic_brdfs.DEFAULTS["distribution"])).lower()
+    return {**{f"u_{k}": v for k, v in rgb.items()}, **{f"u_{k}": v for k, v in scal.items()},
+            "u_distribution": 1 if dist == "ggx" else 0}
+
+
+def brdf_call(run: Run, params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray, views: np.ndarray,
+              **_: Any) -> np.ndarray:
+    out = run([_unit(normals), _unit(lights), _unit(views)], brdf_uniforms(params, "glsl"))
+    return out[:, :3].astype(np.float64)
+
+
+# -- irradiance ---------------------------------------------------------------------------------------------
+IRRADIANCE_DECL = _fetch("n") + """
+uniform vec3 u_sh[9];
+uniform sampler2D u_radiance;
+uniform ivec2 u_radiance_size;
+out vec4 o_color;
+// Radiance of the lat-long map toward unit d, bilinear as Mitsuba's envmap (row i at theta = i pi/(H-1)).
+vec3 env_radiance(vec3 d) {
+    float theta = acos(clamp(d.y, -1.0, 1.0));
+    float phi = atan(d.x, -d.z);
+    if (phi < 0.0) phi += 6.28318530717958648;
+    float H = float(u_radiance_size.y);
+    vec2 uv = vec2(phi / 6.28318530717958648, (theta / 3.14159265358979324 * (H - 1.0) + 0.5) / H);
+    return texture(u_radiance, uv).rgb;
+}
+vec3 irradiance(vec3 n);
+"""
+IRRADIANCE_MAIN = """void main() {
+    o_color = vec4(irradiance(texelFetch(u_in0, ivec2(gl_FragCoord.xy), 0).xyz), 1.0);
+}"""
+
+
+def irradiance_call(run: Run, radiance: np.ndarray, normals: np.ndarray, **_: Any) -> np.ndarray:
+    from .sh import project_environment  # noqa: PLC0415
+
+    rad = np.asarray(radiance, dtype=np.float64)
+    tex = np.concatenate([rad[..., :3], np.ones(rad.shape[:2] + (1,))], axis=-1)
+    uniforms = {"u_sh": project_environment(rad, 2), "u_radiance_size": np.array(rad.shape[1::-1], dtype=np.int32)}
+    out = run([_unit(normals)], uniforms, {"u_radiance": tex})
+    return out[:, :3].astype(np.float64)
+
+
+# -- light --------------------------------------------------------------------------------------------------
+LIGHT_DECL = _fetch("p n") + """
+uniform int u_light_type;
+uniform vec3 u_light_position; uniform vec3 u_light_direction;
+uniform float u_light_intensity; uniform float u_light_irradiance;
+uniform float u_light_cutoff_angle; uniform float u_light_beam_width;
+uniform float u_light_exponent; uniform float u_light_range;
+out vec4 o_color;
+vec3 shade(vec3 p, vec3 n, vec3 v);
+"""
+LIGHT_MAIN = """void main() {
+    ivec2 t = ivec2(gl_FragCoord.xy);
+    vec3 n = texelFetch(u_in1, t, 0).xyz;
+    o_color = vec4(shade(texelFetch(u_in0, t, 0).xyz, n, n), 1.0);
+}"""
+LIGHT_TYPES = {"point": 0, "spot": 1, "directional": 2}
+
+
+def light_uniforms(light: Mapping[str, Any]) -> dict[str, Any]:
+    """The light mapping as uniforms (absent keys → 0; direction normalised)."""
+    kind = light.get("type")
+    if kind not in LIGHT_TYPES:
+        raise ValidateError(f"light of type {kind!r}: GLSL light techniques model "
+                                           f"{', '.join(LIGHT_TYPES)} only")
+    d = np.asarray(light.get("direction", (0.0, 0.0, -1.0)), dtype=np.float64)
+    u = {"u_light_type": LIGHT_TYPES[kind], "u_light_direction": d / np.linalg.norm(d),
+         "u_light_position": np.asarray(light.get("position", (0.0, 0.0, 0.0)), dtype=np.float64)}
+    for key in ("intensity", "irradiance", "cutoff_angle", "beam_width", "exponent", "range"):
+        u[f"u_light_{key}"] = float(light.get(key, 1.0 if key == "exponent" else 0.0))
+    return u
+
+
+def host_shadow(light: Mapping[str, Any], p: np.ndarray, n: np.ndarray, e: np.ndarray, visible: Any) -> np.ndarray:
+    """E·V with V the scene's shadow-ray test, exactly as :func:`classic_lights.point_irradiance` and
+    :func:`classic_lights.directional` apply it (lit receivers only, lifted along the lit side's normal)."""
+    lit = e > 0
+    if visible is None or not lit.any():
+        return e
+    if light["type"] == "directional":
+        to_light = -np.asarray(light["direction"], dtype=np.float64)
+        to_light /= np.linalg.norm(to_light)
+        targets = p[lit] + classic_lights.DIRECTIONAL_REACH * to_light
+        facing = n[lit]
+    else:
+        pos = np.asarray(light["position"], dtype=np.float64)
+        sign = np.sign(np.sum((pos - p[lit]) * n[lit], axis=-1))
+        facing, targets = n[lit] * sign[:, None], np.broadcast_to(pos, p[lit].shape)
+    out = e.copy()
+    out[lit] *= classic_lights.shadow(visible, p[lit], facing, targets)
+    return out
+
+
+def light_call(run: Run, light: Mapping[str, Any], points: np.ndarray, normals: np.ndarray,
+               visible: Any = None, **_: Any) -> np.ndarray:
+    p, n = classic_lights.as_points(points, normals)
+    n = _unit(n)
+    e = run([p, n], light_uniforms(light))[:, 0].astype(np.float64)
+    return host_shadow(light, p, n, e, visible)
+
+
+SPECS: dict[str, GLSLFamily] = {
+    "brdf": GLSLFamily("brdf", "vec3 brdf(vec3 n, vec3 l, vec3 v)", BRDF_DECL, BRDF_MAIN, brdf_call),
+    "irradiance": GLSLFamily("irradiance", "vec3 irradiance(vec3 n)", IRRADIANCE_DECL, IRRADIANCE_MAIN,
+                             irradiance_call),
+    "light": GLSLFamily("light", "vec3 shade(vec3 p, vec3 n, vec3 v)", LIGHT_DECL, LIGHT_MAIN, light_call),
+}
