@@ -85,6 +85,7 @@ EPILOG = """examples:
   python -m validate run sh9 --probe my_probe.exr      # one experiment, one extra probe
   python -m validate all --plugin my_technique.py      # your technique in every experiment of its family
   python -m validate list --plugin my_technique.py     # families, their contracts, registered techniques
+  python -m validate run brdfs --plugin my_brdf.glsl   # a GLSL technique (see docs/glsl.md)
   python -m validate bench                             # speed and memory, side by side -> bench.json
 
 environment variables:
@@ -112,7 +113,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="coarser settings: fewer environments, smaller images, fewer samples")
     common.add_argument("--strict", action="store_true", help="exit with status 1 when any claim fails")
     common.add_argument("--plugin", action="append", default=[], metavar="FILE|MODULE",
-                        help="import a Python file or module that registers techniques (repeatable)")
+                        help="a Python file or module that registers techniques, or a .glsl technique file "
+                             "(repeatable)")
     common.add_argument("--no-progress", action="store_true", help="no progress bars")
     common.add_argument("--workers", type=_positive_int, default=1, metavar="N",
                         help="run per-environment tasks on a local Dask cluster of N processes (default 1: "
@@ -156,6 +158,13 @@ def load_plugins(specs: tuple[str, ...]) -> None:
 
 def load_plugin(spec: str) -> None:
     path = Path(spec)
+    if path.suffix == ".glsl":
+        if not path.is_file():
+            raise ValidateError(f"{spec}: plugin file not found")
+        from .local_models.glsl_technique import load_glsl
+
+        load_glsl(spec)  # compile/link errors: "<file>:<line>: <driver message>"
+        return
     try:
         if path.suffix == ".py":
             if not path.is_file():
@@ -189,10 +198,34 @@ def _cmd_list(plugins: list[str]) -> int:
     for fam in FAMILIES.values():
         print(f"technique family {fam.name}: {fam.contract}")
         for t in fam:
-            tag = "" if t.builtin else " [plug-in]"
+            tag = _glsl_tag(t) + ("" if t.builtin else " [plug-in]")
             thr = "; thresholds " + ", ".join(f"{k} < {v:g}" for k, v in t.thresholds.items()) if t.thresholds else ""
             print(f"  {t.name:24s} {t.description}{tag}{thr}")
+    from .local_models.glsl_technique import STATUS
+
+    for kind, why in STATUS.items():
+        print(f"GLSL techniques ({kind}): " + (f"not registered: {why}" if why else "registered"))
     return 0
+
+
+def _glsl_tag(t: object) -> str:
+    """`` [GLSL llvmpipe; seed …]`` for a GLSL technique, else empty."""
+    meta = getattr(t, "meta", {})
+    if "glsl" not in meta:
+        return ""
+    seed = f"; seed {meta['seed']}" if meta.get("seed") else ""
+    return f" [GLSL {meta.get('runtime', 'llvmpipe')}{seed}]"
+
+
+def _gl_meta() -> dict:
+    """``meta.gl``: GL_RENDERER/GL_VERSION of each runtime started in this run, and why GLSL techniques
+    of a runtime are not registered when they are not."""
+    from .gl import runtime
+    from .local_models.glsl_technique import STATUS
+
+    out: dict = {"runtimes": runtime.meta()}
+    out["glsl_techniques"] = {k: ("registered" if not why else f"not registered: {why}") for k, why in STATUS.items()}
+    return out
 
 
 def _versions() -> dict:
@@ -271,7 +304,7 @@ def _run(args: argparse.Namespace, names: list[str] | None) -> int:
                             "generated": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
                             "command": "python -m validate " + " ".join(sys.argv[1:]), "quick": args.quick,
                             "wall_time_s": round(time.perf_counter() - t0, 2),
-                            "skipped_inputs": [list(s) for s in skipped]},
+                            "skipped_inputs": [list(s) for s in skipped], "gl": _gl_meta()},
                    "experiments": experiments}
         # move figures into place, then the JSON and the page (each atomically); signals wait
         with _signals_deferred() as held:
@@ -279,6 +312,9 @@ def _run(args: argparse.Namespace, names: list[str] | None) -> int:
     finally:
         ctx.close()
         shutil.rmtree(staging, ignore_errors=True)
+        from .gl import runtime
+
+        runtime.close_all()
     failed = _print_claims(results)
     print(f"\nwrote {page} and {out / 'results.json'} in {time.perf_counter() - t0:.1f} s")
     if held:

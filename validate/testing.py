@@ -60,6 +60,10 @@ examples/``).
     implemented by their experiments (:mod:`validate.experiments.ibl`, ``.arealights``, ``.shadows``,
     ``.brdfs``, ``.uberlight``) and documented there.
     Where this version has none, calling one raises ``NotImplementedError``.
+
+Every check also accepts the path of a ``.glsl`` technique file (``check_brdf("my_brdf.glsl")``): the file
+is parsed, compiled on its runtime (an error is ``<file>:<line>: <driver message>``) and checked through
+the family's contract like a Python function, without being registered (docs/glsl.md).
 """
 
 from __future__ import annotations
@@ -123,6 +127,10 @@ def load_named_environment(name: str) -> Any:
 def _technique(fn: Callable[..., Any] | Technique | str, name: str | None) -> Technique:
     from .local_models import irradiance
 
+    if is_glsl(fn):
+        from .local_models.glsl_technique import technique_from_file
+
+        fn = technique_from_file(fn, "irradiance")  # type: ignore[arg-type]
     if isinstance(fn, str):
         fn = irradiance[fn]
     if isinstance(fn, Technique):
@@ -176,8 +184,17 @@ def check_irradiance(fn: Callable[[np.ndarray, np.ndarray], np.ndarray] | Techni
     return CheckResult(tech.name, "irradiance", out)
 
 
+def is_glsl(fn: object) -> bool:
+    """A path (str or Path) to a ``.glsl`` technique file."""
+    return isinstance(fn, (str, Path)) and str(fn).endswith(".glsl")
+
+
 def _lazy(family: str, module: str, function: str) -> Callable[..., Any]:
     def check(*args: Any, **kwargs: Any) -> Any:
+        if args and is_glsl(args[0]):  # a GLSL file: compiled on its runtime, checked like a Python function
+            from .local_models.glsl_technique import technique_from_file
+
+            args = (technique_from_file(args[0], family), *args[1:])
         try:
             impl = getattr(__import__(f"validate.experiments.{module}", fromlist=[function]), function)
         except (ImportError, AttributeError) as exc:

@@ -266,6 +266,19 @@ def make_fn(src: GLSLSource) -> Callable[..., np.ndarray]:
     return fn
 
 
+def technique_from_file(path: str | Path, family_name: str | None = None) -> Technique:
+    """A compiled, *unregistered* :class:`Technique` from a ``.glsl`` file (``validate.testing``'s checks);
+    ``family_name`` given: the file's header must name that family."""
+    if not Path(path).is_file():
+        raise ValidateError(f"{path}: GLSL file not found")
+    src = parse_glsl(path)
+    if family_name is not None and src.family != family_name:
+        raise ValidateError(f"{path}: a {src.family} technique, not {family_name}")
+    compile_check(src)
+    meta = dict(src.meta, glsl=str(path), runtime=src.runtime)
+    return Technique(src.name, src.family, make_fn(src), src.description, src.thresholds, src.source, meta)
+
+
 def load_glsl(path: str | Path, *, builtin: bool = False) -> Technique:
     """Parse, compile (errors: ``<file>:<line>: <message>``) and register a ``.glsl`` technique."""
     src = parse_glsl(path)
