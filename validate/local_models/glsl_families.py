@@ -83,14 +83,30 @@ uniform vec3 u_sh[9];
 uniform sampler2D u_radiance;
 uniform ivec2 u_radiance_size;
 out vec4 o_color;
-// Radiance of the lat-long map toward unit d, bilinear as Mitsuba's envmap (row i at theta = i pi/(H-1)).
+// Radiance of the lat-long map toward unit d, bilinear in (phi, theta) as Mitsuba's envmap: row i at
+// theta = i pi/(H-1), column j at phi = 2 pi (j + 1/2)/W, wrapping in phi. Done with texelFetch and the
+// weights in float32 (texture()'s hardware weights are quantised: llvmpipe errs ~2e-5 of a texel step).
+// Angles through atan2_precise: Mesa's acos errs 1.6e-4 rad and its atan 3.3e-6 (measured), one Newton
+// step on r sin(t - theta) with the precise sin/cos (<= 7.4e-8) brings atan to float32 rounding.
+float atan2_precise(float y, float x) {
+    float t = atan(y, x);
+    return t + (y * cos(t) - x * sin(t)) / max(length(vec2(x, y)), 1e-30);
+}
 vec3 env_radiance(vec3 d) {
-    float theta = acos(clamp(d.y, -1.0, 1.0));
-    float phi = atan(d.x, -d.z);
+    float theta = atan2_precise(length(d.xz), d.y);
+    float phi = atan2_precise(d.x, -d.z);
     if (phi < 0.0) phi += 6.28318530717958648;
-    float H = float(u_radiance_size.y);
-    vec2 uv = vec2(phi / 6.28318530717958648, (theta / 3.14159265358979324 * (H - 1.0) + 0.5) / H);
-    return texture(u_radiance, uv).rgb;
+    int W = u_radiance_size.x, H = u_radiance_size.y;
+    float x = phi / 6.28318530717958648 * float(W) - 0.5;
+    float y = theta / 3.14159265358979324 * float(H - 1);
+    float x0 = floor(x), y0 = min(floor(y), float(H - 2));
+    float fx = x - x0, fy = y - y0;
+    int i0 = int(y0), j0 = (int(x0) % W + W) % W, j1 = (j0 + 1) % W;
+    vec3 a = mix(texelFetch(u_radiance, ivec2(j0, i0), 0).rgb,
+                 texelFetch(u_radiance, ivec2(j1, i0), 0).rgb, fx);
+    vec3 b = mix(texelFetch(u_radiance, ivec2(j0, i0 + 1), 0).rgb,
+                 texelFetch(u_radiance, ivec2(j1, i0 + 1), 0).rgb, fx);
+    return mix(a, b, fy);
 }
 vec3 irradiance(vec3 n);
 """

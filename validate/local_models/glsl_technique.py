@@ -22,9 +22,11 @@ Entry points and the uniforms the harness declares (do not redeclare them; see d
   ``vec3 u_sh[9]``: the environment's radiance SH coefficients L_lm from
   :func:`validate.local_models.sh.project_environment` (real SH without Condon–Shortley phase, world
   (x, y, z) polynomial, order L00, L1m1, L10, L11, L2m2, L2m1, L20, L21, L22, orthonormal:
-  ∫ Y_k Y_k' dω = δ_kk'); ``sampler2D u_radiance``: the lat-long map (RGB in .rgb, bilinear, repeat in
-  u), in Mitsuba's ``envmap`` convention (:mod:`validate.scenes.latlong`): texture v = 0 is the
-  zenith row (+y), v = 1 the nadir, u = φ/2π with φ = atan2(x, −z); ``ivec2 u_radiance_size`` (W, H).
+  ∫ Y_k Y_k' dω = δ_kk'); ``sampler2D u_radiance``: the lat-long map (RGB in .rgb, array row i = texel
+  row i, NEAREST: read it with ``texelFetch``), in Mitsuba's ``envmap`` convention
+  (:mod:`validate.scenes.latlong`): row 0 is the zenith (+y), row H−1 the nadir, column j at
+  φ = 2π(j + ½)/W, φ = atan2(x, −z); ``ivec2 u_radiance_size`` (W, H); and the helper
+  ``vec3 env_radiance(vec3 d)``, Mitsuba's bilinear lookup in float32.
 * light:      ``vec3 shade(vec3 p, vec3 n, vec3 v)`` → the *unshadowed* irradiance E (W/m², not E/π) in
   every channel (the harness reads .r); v = n (the family has no viewer). Uniforms ``int u_light_type``
   (0 point, 1 spot, 2 directional); ``vec3 u_light_position, u_light_direction`` (direction: the way the
@@ -144,7 +146,7 @@ def vertex_source(runtime: str) -> str:
 
 
 # -- evaluation -----------------------------------------------------------------------------------------------
-_programs: dict[tuple[int, str, str], Any] = {}
+_programs: dict[tuple[int, str, str], tuple[Any, Any]] = {}  # key → (runtime, program)
 _programs_lock = threading.Lock()
 
 
@@ -164,16 +166,16 @@ def compile_check(src: GLSLSource) -> None:
 
 
 def _program(src: GLSLSource) -> Any:
-    import os  # noqa: PLC0415
-
+    """The file's program on the current runtime object (a restarted runtime recompiles)."""
     rt = _runtime(src.runtime)
-    key = (os.getpid(), src.runtime, src.path + "\0" + src.text)
+    key = (id(rt), src.runtime, src.path + "\0" + src.text)
     with _programs_lock:
-        if key in _programs:
-            return _programs[key]
+        hit = _programs.get(key)
+        if hit is not None and hit[0] is rt:
+            return hit[1]
         prog = rt.compile(vertex_source(src.runtime), fragment_source(src)) if src.runtime == "webgl2" \
             else _compile_egl(rt, src)
-        _programs[key] = prog
+        _programs[key] = (rt, prog)
         return prog
 
 
@@ -226,17 +228,12 @@ def evaluate(src: GLSLSource, inputs: list[np.ndarray], uniforms: Mapping[str, A
 
 def _run_egl(rt: Any, prog: Any, size: tuple[int, int], packed: dict[str, np.ndarray],
              textures: dict[str, np.ndarray], uniforms: Mapping[str, Any]) -> np.ndarray:
-    import moderngl  # noqa: PLC0415
-
     from ..gl import egl  # noqa: PLC0415
 
     with rt:
         made = []
         for unit, (name, arr) in enumerate(list(packed.items()) + list(textures.items())):
-            tex = rt.float_texture(arr)
-            if name in textures:
-                tex.filter = (moderngl.LINEAR, moderngl.LINEAR)
-                tex.repeat_x, tex.repeat_y = True, False
+            tex = rt.float_texture(arr)  # NEAREST; read with texelFetch (bilinear: env_radiance, in float32)
             tex.use(location=unit)
             made.append(tex)
             if name in prog:
