@@ -119,7 +119,10 @@ def _gl() -> Any:
 def set_uniform(prog: Any, name: str, value: Any) -> None:
     """Write a uniform through moderngl by its GLSL type: scalars, vectors, matrices given row-major
     (numpy (3, 3)/(4, 4); transposed to GL's column order here), bools and ints. A uniform the
-    compiler removed (unused) is skipped."""
+    compiler removed (unused) is skipped. ``name[0]`` also finds an array of one element (moderngl names it
+    without the index)."""
+    if name not in prog and name.endswith("[0]") and name[:-3] in prog:
+        name = name[:-3]
     if name not in prog:
         return
     u = prog[name]
@@ -173,8 +176,24 @@ def _unbind(gl: Any, keep: list[Any]) -> None:
             gl.glDisableVertexAttribArray(loc)
 
 
-def _draw(gl: Any, prog: Any, positions: np.ndarray, placement: Placement) -> None:
-    """One GL_POINTS draw per receiver with its placement matrix (module docstring)."""
+def _per_point_setters(gl: Any, prog: Any, per_point: Mapping[str, np.ndarray]) -> list[tuple[Callable, np.ndarray]]:
+    """(glUniform*fv of the right width bound to its location, (N, k) float32 values) per active uniform."""
+    fns = {1: gl.glUniform1fv, 2: gl.glUniform2fv, 3: gl.glUniform3fv, 4: gl.glUniform4fv}
+    out = []
+    for name, values in per_point.items():
+        loc = gl.glGetUniformLocation(prog.glo, name)
+        if loc < 0:
+            continue
+        a = np.ascontiguousarray(np.asarray(values, dtype=np.float32).reshape(len(values), -1))
+        out.append((lambda v, f=fns[a.shape[1]], lc=loc: f(lc, 1, v), a))
+    return out
+
+
+def _draw(gl: Any, prog: Any, positions: np.ndarray, placement: Placement,
+          per_point: Mapping[str, np.ndarray] | None = None) -> None:
+    """One GL_POINTS draw per receiver with its placement matrix (module docstring) and its ``per_point``
+    uniform values (host-side glue for quantities the listing takes as uniforms, e.g. a light direction)."""
+    setters = _per_point_setters(gl, prog, per_point or {})
     pre = placement.pre_matrix()
     q = (np.c_[positions[:, :3], np.ones(len(positions))] @ pre.T)[:, :3]
     ndc = pixel_ndc(len(positions))
@@ -191,6 +210,8 @@ def _draw(gl: Any, prog: Any, positions: np.ndarray, placement: Placement) -> No
             gl.glLoadMatrixf(u.T.copy())
         else:
             gl.glUniformMatrix4fv(loc, 1, gl.GL_TRUE, u)
+        for fn, values in setters:
+            fn(values[i])
         gl.glDrawArrays(gl.GL_POINTS, i, 1)
     if loc is None:
         gl.glLoadIdentity()
@@ -201,7 +222,8 @@ def _draw(gl: Any, prog: Any, positions: np.ndarray, placement: Placement) -> No
 def render_points(vertex_shader: str, fragment_shader: str, positions: np.ndarray, *, placement: Placement,
                   attributes: Mapping[str, np.ndarray] | None = None, legacy_vertex: np.ndarray | None = None,
                   legacy_normal: np.ndarray | None = None, uniforms: Mapping[str, Any] | None = None,
-                  setup: Callable[[Any], None] | None = None, who: str = "listing") -> np.ndarray:
+                  setup: Callable[[Any], None] | None = None, per_point: Mapping[str, np.ndarray] | None = None,
+                  who: str = "listing") -> np.ndarray:
     """(N, 4) float32 fragment colour of each receiver (module docstring). ``positions`` (N, 3) or (N, 4)
     place the receivers; pass the same array (w = 1) as the listing's position attribute. A compile or link
     error raises :class:`validate.gl.egl.ShaderError`; a receiver whose pixel stayed NaN raises ValidateError."""
@@ -227,7 +249,7 @@ def render_points(vertex_shader: str, fragment_shader: str, positions: np.ndarra
                 setup(gl)
             keep = _bind_attributes(gl, prog, attributes or {}, legacy_vertex, legacy_normal)
             try:
-                _draw(gl, prog, pos, placement)
+                _draw(gl, prog, pos, placement, per_point)
             finally:
                 _unbind(gl, keep)
                 gl.glUseProgram(0)
@@ -238,7 +260,8 @@ def render_points(vertex_shader: str, fragment_shader: str, positions: np.ndarra
             prog.release()
     missed = np.isnan(out).all(axis=1)
     if missed.any():
-        raise ValidateError(f"{who}: {int(missed.sum())} of {n} receivers wrote no fragment (first: {int(np.argmax(missed))})")
+        raise ValidateError(f"{who}: {int(missed.sum())} of {n} receivers wrote no fragment "
+                            f"(first: {int(np.argmax(missed))})")
     return out
 
 
