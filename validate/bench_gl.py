@@ -95,9 +95,31 @@ def per_receiver_rows(n: int = N_RECEIVERS) -> list[dict[str, Any]]:
         args = _inputs(fam_name, n)
         tg, tp = _best_pair(lambda a=args, f=fam, g=glsl: f.call(g, *a), lambda a=args, f=fam, p=py: f.call(p, *a),
                             repeats=5)
-        rows.append({"family": fam_name, "glsl": glsl, "python": py, "receivers": n, "glsl_s": tg, "python_s": tp,
-                     "glsl_ns_per_receiver": tg / n * 1e9, "python_ns_per_receiver": tp / n * 1e9, "ratio": tg / tp})
+        rows.append(_row(fam_name, glsl, py, n, tg, tp))
+    rows.append(_webgl_row(n))
     return rows
+
+
+def _row(fam: str, glsl: str, py: str, n: int, tg: float, tp: float) -> dict[str, Any]:
+    return {"family": fam, "glsl": glsl, "python": py, "receivers": n, "glsl_s": tg, "python_s": tp,
+            "glsl_ns_per_receiver": tg / n * 1e9, "python_ns_per_receiver": tp / n * 1e9, "ratio": tg / tp}
+
+
+def _webgl_row(n: int) -> dict[str, Any]:
+    """The built-in sh9.glsl on Chromium WebGL2 vs the Python sh9 (skipped with the reason without chromium)."""
+    from .bench import _best_pair  # noqa: PLC0415
+    from .errors import ValidateError  # noqa: PLC0415
+    from .local_models import family  # noqa: PLC0415
+    from .local_models import glsl_technique as gt  # noqa: PLC0415
+
+    try:
+        tech = gt.technique_from_file(gt.BUILTIN_DIR / "sh9.glsl", "irradiance", runtime="webgl2",
+                                      name="glsl_sh9@webgl2")
+    except ValidateError as exc:
+        return {"family": "irradiance", "glsl": "glsl_sh9@webgl2", "python": "sh9", "skipped": str(exc)}
+    fam, args = family("irradiance"), _inputs("irradiance", n)
+    tg, tp = _best_pair(lambda: fam.call(tech, *args), lambda: fam.call("sh9", *args), repeats=5)
+    return _row("irradiance", "glsl_sh9@webgl2", "sh9", n, tg, tp)
 
 
 def tables(starts: list[dict[str, Any]], rows: list[dict[str, Any]]) -> list[dict[str, Any]]:

@@ -139,3 +139,34 @@ def test_no_gl_says_why(monkeypatch: pytest.MonkeyPatch) -> None:
         assert runtime.meta()["llvmpipe-compat"] == {"unavailable": why}
     finally:
         runtime.reset_failures()
+
+
+# SwiftShader's sin/cos on [-pi, pi] (the issue's measurement, 1.9e-4 absolute); the bound is the measurement
+# rounded up to 2.5e-4, so a change to a coarser approximation (≥ 1e-3) fails.
+SWIFTSHADER_SIN_ABS = 2.5e-4
+
+
+@pytest.mark.slow
+def test_webgl2_round_trip_rows_and_precision() -> None:
+    """Chromium WebGL2: RGBA32F in → out bit-exact, rows bottom-up, sin within SwiftShader's bound, and a
+    syntax error on line 2 reported at line 2."""
+    ok, why = runtime.available("webgl2")
+    if not ok:
+        pytest.skip(f"no WebGL2: {why}")
+    rt = runtime.get("webgl2")
+    vs = "#version 300 es\nin vec2 a_pos;\nvoid main() { gl_Position = vec4(a_pos, 0.0, 1.0); }\n"
+    prog = rt.compile(vs, "#version 300 es\nprecision highp float;\nuniform highp sampler2D u_in0; out vec4 o;\n"
+                      "void main() { vec4 a = texelFetch(u_in0, ivec2(gl_FragCoord.xy), 0);"
+                      " o = vec4(a.x, sin(a.y), gl_FragCoord.y, 1.0); }\n")
+    a = np.zeros((64, 1024, 4), dtype=np.float32)
+    a[..., 0] = (np.random.default_rng(5).standard_normal((64, 1024)) * 1e6).astype(np.float32)
+    a[..., 1] = np.linspace(-np.pi, np.pi, 64 * 1024, dtype=np.float32).reshape(64, 1024)
+    out = rt.run(prog, (1024, 64), {"u_in0": a}, {}, {})
+    assert np.array_equal(out[..., 0].view(np.uint32), a[..., 0].view(np.uint32))
+    assert np.array_equal(out[:, 0, 2], np.arange(64, dtype=np.float32) + 0.5)
+    assert np.abs(out[..., 1] - np.sin(a[..., 1].astype(np.float64))).max() <= SWIFTSHADER_SIN_ABS
+    with pytest.raises(egl.ShaderError) as err:
+        rt.compile(vs, "#version 300 es\nprecision highp float; out vec4 o;\n"
+                   "#line 1\n//\nvoid main() { o = vec4(1) }\n")
+    assert err.value.line == 2
+    assert "SwiftShader" in rt.info["GL_RENDERER"] and "WebGL 2.0" in rt.info["GL_VERSION"]

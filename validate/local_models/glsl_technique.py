@@ -173,10 +173,18 @@ def _program(src: GLSLSource) -> Any:
         hit = _programs.get(key)
         if hit is not None and hit[0] is rt:
             return hit[1]
-        prog = rt.compile(vertex_source(src.runtime), fragment_source(src)) if src.runtime == "webgl2" \
-            else _compile_egl(rt, src)
+        prog = _compile_webgl(rt, src) if src.runtime == "webgl2" else _compile_egl(rt, src)
         _programs[key] = (rt, prog)
         return prog
+
+
+def _compile_webgl(rt: Any, src: GLSLSource) -> Any:
+    from ..gl.egl import ShaderError  # noqa: PLC0415
+
+    try:
+        return rt.compile(vertex_source(src.runtime), fragment_source(src))
+    except ShaderError as err:
+        raise shader_error(src, err) from None
 
 
 def _compile_egl(rt: Any, src: GLSLSource) -> Any:
@@ -263,12 +271,19 @@ def make_fn(src: GLSLSource) -> Callable[..., np.ndarray]:
     return fn
 
 
-def technique_from_file(path: str | Path, family_name: str | None = None) -> Technique:
+def technique_from_file(path: str | Path, family_name: str | None = None, *, runtime: str | None = None,
+                        name: str | None = None) -> Technique:
     """A compiled, *unregistered* :class:`Technique` from a ``.glsl`` file (``validate.testing``'s checks);
-    ``family_name`` given: the file's header must name that family."""
+    ``family_name`` given: the file's header must name that family; ``runtime``/``name`` override the header's
+    (the same file on the other runtime: ``bench``, the cross-runtime tests)."""
     if not Path(path).is_file():
         raise ValidateError(f"{path}: GLSL file not found")
     src = parse_glsl(path)
+    if runtime is not None:
+        if runtime not in RUNTIMES:
+            raise ValidateError(f"{path}: runtime={runtime!r}; expected one of {', '.join(RUNTIMES)}")
+        src.runtime = runtime
+    src.name = name or src.name
     if family_name is not None and src.family != family_name:
         raise ValidateError(f"{path}: a {src.family} technique, not {family_name}")
     compile_check(src)
