@@ -221,7 +221,8 @@ def _projector_ref(scene: us.UberScene, mask: np.ndarray, s: Settings) -> ur.Ube
 
 def _errors(model: np.ndarray, ref: np.ndarray, unc: np.ndarray, peak: float) -> dict[str, float]:
     k = float(model @ ref / (model @ model)) if model @ model > 0 else 1.0
-    return {"max_rel": float(np.max(np.abs(model - ref)) / peak), "mean_rel": float(np.mean(np.abs(model - ref)) / peak),
+    return {"max_rel": float(np.max(np.abs(model - ref)) / peak),
+            "mean_rel": float(np.mean(np.abs(model - ref)) / peak),
             "scaled_max_rel": float(np.max(np.abs(k * model - ref)) / peak),
             "scaled_mean_rel": float(np.mean(np.abs(k * model - ref)) / peak), "scale": k,
             "uncertainty": float(unc.max() / peak)}

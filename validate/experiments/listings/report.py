@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from collections import Counter
 from typing import Any
 
 from ...local_models.listings.catalog import LISTINGS, SEED_FILES

@@ -41,6 +41,11 @@ DOT_AS_SPACE = "the extraction printed the space after a type as '.' (`mat4.mvpM
 GL_POSITION = "`gl_Position` extracted as `gl Position` (the underscore lost)"
 OPEN_BRACE = "the `{` after `void main()` is lost in the extraction"
 CLOSE_BRACE = "the closing `}` of main is lost in the extraction"
+MAIN_VERT = (Edit("vert", "void main()\n", "void main()\n{\n", OPEN_BRACE),
+             Edit("vert", "gl Position", "gl_Position", GL_POSITION))
+FRAG_OPEN = Edit("frag", "void main()\n", "void main()\n{\n", OPEN_BRACE)
+FRAG_CLOSE = Edit("frag", "FragColor = vec4(rgb, Color.a);\n", "FragColor = vec4(rgb, Color.a);\n}\n", CLOSE_BRACE)
+PASS_THROUGH = "#version 330 core\nin vec3 Color;\nout vec4 FragColor;\nvoid main() { FragColor = vec4(Color, 1.0); }\n"
 
 
 @dataclass(frozen=True)
@@ -89,9 +94,11 @@ LISTINGS: tuple[Listing, ...] = (
             "forejune_20_1_sphereh.vert", "forejune_20_1_sphereh.frag", "edited",
             edits=(Edit("vert", "mat4.mvpMatrix", "mat4 mvpMatrix", DOT_AS_SPACE),
                    Edit("vert", "vec4.vPosition", "vec4 vPosition", DOT_AS_SPACE),
-                   Edit("vert", "vec3.N", "vec3 N", DOT_AS_SPACE), Edit("vert", "int.objType", "int objType", DOT_AS_SPACE),
+                   Edit("vert", "vec3.N", "vec3 N", DOT_AS_SPACE),
+                   Edit("vert", "int.objType", "int objType", DOT_AS_SPACE),
                    Edit("vert", "=.mvpMatrix", "= mvpMatrix", DOT_AS_SPACE),
-                   Edit("frag", "vec3.N", "vec3 N", DOT_AS_SPACE), Edit("frag", "vec4.skyColor", "vec4 skyColor", DOT_AS_SPACE),
+                   Edit("frag", "vec3.N", "vec3 N", DOT_AS_SPACE),
+                   Edit("frag", "vec4.skyColor", "vec4 skyColor", DOT_AS_SPACE),
                    Edit("frag", "vec4.groundColor", "vec4 groundColor", DOT_AS_SPACE),
                    Edit("frag", "vec3.skyDirection", "vec3 skyDirection", DOT_AS_SPACE)),
             technique="listings.fore_june.hemisphere (GLSL vs Python transcription)",
@@ -108,8 +115,9 @@ LISTINGS: tuple[Listing, ...] = (
             reason="a stray second `}` after main (delete it) and `.` for spaces in the declarations; needs the "
                    "diffuse and specular cube maps (HDRShop convolutions) the book does not give",
             computes="c_d·diffuseMap(N) mixed 50/50 with c_s·specularMap(r_v), eq. 20.10–20.11"),
-    Listing("forejune_20_4_disc", "forejune", "§20.4.3 Analytical Light Source", "SH disc-source vertex/fragment shader",
-            "forejune_20_4_sh_disc.vert", "forejune_20_4_sh_disc.frag", "printed", headers=("#version 120", "#version 120"),
+    Listing("forejune_20_4_disc", "forejune", "§20.4.3 Analytical Light Source",
+            "SH disc-source vertex/fragment shader", "forejune_20_4_sh_disc.vert", "forejune_20_4_sh_disc.frag",
+            "printed", headers=("#version 120", "#version 120"),
             technique="listings.fore_june.sh_disc (GLSL vs Python transcription)",
             reason="`radians ( 20 )` passes an int: GLSL 1.10 has no implicit int → float conversion, 1.20 does, "
                    "so the glue is `#version 120`",
@@ -185,32 +193,26 @@ LISTINGS: tuple[Listing, ...] = (
             computes="Phong: ambient + diffuse max(0, N·L) + specular max(0, R·V)^n"),
     Listing("redbook_7_4", "redbook", "Point Lights", "Example 7.4", "redbook_7_4_point.vert", "redbook_7_4_point.frag",
             "edited",
-            edits=(Edit("vert", "void main()\n", "void main()\n{\n", OPEN_BRACE), Edit("vert", "gl Position", "gl_Position",
-                                                                                       GL_POSITION),
-                   Edit("frag", "void main()\n", "void main()\n{\n", OPEN_BRACE),
-                   Edit("frag", "FragColor = vec4(rgb, Color.a);\n", "FragColor = vec4(rgb, Color.a);\n}\n", CLOSE_BRACE)),
+            edits=(*MAIN_VERT, FRAG_OPEN, FRAG_CLOSE),
             technique="light/point_redbook_7_4_glsl",
             computes="(Ambient + LightColor·max(0, N·L)·att)·Color + LightColor·Strength·(N·H)^Shininess·att, "
                      "att = 1/(k_c + k_l d + k_q d²), saturated at 1"),
     Listing("redbook_7_5", "redbook", "Spotlights", "Example 7.5", "redbook_7_5_spot.vert", "redbook_7_5_spot.frag",
             "edited",
-            edits=(Edit("vert", "void main()\n", "void main()\n{\n", OPEN_BRACE), Edit("vert", "gl Position", "gl_Position",
-                                                                                       GL_POSITION),
-                   Edit("frag", "void main()\n", "void main()\n{\n", OPEN_BRACE),
+            edits=(*MAIN_VERT, FRAG_OPEN,
                    Edit("frag", "(spotCos < SpotCosCutoff)</pre>", "(spotCos < SpotCosCutoff)",
                         "an HTML `</pre>` tag left in the code by the extraction")),
             technique="light/spot_redbook_7_5_glsl",
             computes="Example 7.4 × (spotCos < SpotCosCutoff ? 0 : spotCos^SpotExponent)"),
     Listing("redbook_7_6", "redbook", "Moving Calculations to the Vertex Shader", "Example 7.6",
             "redbook_7_6_point_vertex.vert", "redbook_7_6_point_vertex.frag", "edited",
-            edits=(Edit("vert", "void main()\n", "void main()\n{\n", OPEN_BRACE), Edit("vert", "gl Position", "gl_Position",
-                                                                                       GL_POSITION),
+            edits=(*MAIN_VERT,
                    Edit("vert", "uniform float Linear Attenuation;", "uniform float LinearAttenuation;",
                         "a space inside the identifier `LinearAttenuation` (extraction)"),
-                   Edit("frag", "void main()\n", "void main()\n{\n", OPEN_BRACE),
+                   FRAG_OPEN,
                    Edit("frag", "in vec3 HalfVector;", "in vec3 LightDirection;\nin vec3 HalfVector;",
                         "the book's bug: the fragment shader reads LightDirection but declares no `in` for it"),
-                   Edit("frag", "FragColor = vec4(rgb, Color.a);\n", "FragColor = vec4(rgb, Color.a);\n}\n", CLOSE_BRACE)),
+                   FRAG_CLOSE),
             technique="light/point_redbook_7_6_glsl",
             reason="the vertex shader takes the light direction from the untransformed VertexPosition: lighting is "
                    "in model space (MV = identity here, so the same as Example 7.4)",
@@ -224,7 +226,7 @@ LISTINGS: tuple[Listing, ...] = (
             "redbook_7_12_hemisphere.vert", None, "edited",
             edits=(Edit("vert", "uniform mat4 MVPMatrix;", "uniform mat4 MVMatrix;\nuniform mat4 MVPMatrix;",
                         "the book's bug: main reads MVMatrix, which the listing never declares"),),
-            glue_frag="#version 330 core\nin vec3 Color;\nout vec4 FragColor;\nvoid main() { FragColor = vec4(Color, 1.0); }\n",
+            glue_frag=PASS_THROUGH,
             technique="listings.redbook.hemisphere (GLSL vs Python transcription)",
             reason="the book prints no fragment shader: a pass-through one is glued on",
             computes="a = ½ + ½ cos θ, Color = mix(Ground, Sky, a) (θ to the 'light position' north pole)"),

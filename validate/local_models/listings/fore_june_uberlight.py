@@ -64,7 +64,8 @@ def distance_attenuation(pos: np.ndarray, u: Mapping[str, Any], max_intensity: f
                          d0: float = D0, alpha: float = ALPHA) -> np.ndarray:
     """The listing's distanceAttenuation: zones × falloff on the depth z = |pos.z| (module docstring)."""
     z = np.abs(pos[:, 2])
-    a = smoothstep(u["zNear"] - u["nearEdge"], u["zNear"], z) * (1.0 - smoothstep(u["zFar"], u["zFar"] + u["farEdge"], z))
+    a = smoothstep(u["zNear"] - u["nearEdge"], u["zNear"], z) * (
+        1.0 - smoothstep(u["zFar"], u["zFar"] + u["farEdge"], z))
     s = np.log(1.0 / max_intensity)
     beta = -alpha / s
     return a * np.where(z > d0, (d0 / z) ** alpha, max_intensity * np.exp(s * (z / d0) ** beta))

@@ -54,9 +54,9 @@ def python_lamp(position: np.ndarray, intensity: float, points: np.ndarray, norm
 
 def glsl_directional(direction: np.ndarray, e_perp: float, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
     d = np.asarray(direction, dtype=np.float64)
-    out = run("ganovelli_6_3_6_4", points, uniforms={"uLightDirection": (*d, 0.0), "uLightColor": (e_perp,) * 3,
-                                                      "uModelViewMatrix": np.eye(4), "uViewSpaceNormalMatrix": np.eye(3)},
-              **_host(points, normals))
+    u = {"uLightDirection": (*d, 0.0), "uLightColor": (e_perp,) * 3, "uModelViewMatrix": np.eye(4),
+         "uViewSpaceNormalMatrix": np.eye(3)}
+    out = run("ganovelli_6_3_6_4", points, uniforms=u, **_host(points, normals))
     return out[:, 0].astype(np.float64)
 
 
