@@ -122,7 +122,8 @@ def _uberlight(m: Measurements) -> list[Claim]:
                o["× 1/d² (corrected)"]["scaled_max_rel"], o["× 1/d² (corrected)"]["uncertainty"],
                source="bilinear texture interpolation (uberlight_render): error ≤ Δt²/8 · max|∂²A/∂t²|, "
                       "Δt = 2 tan 35°/n (2.7·10⁻³ at n = 512), |∂²A/∂t²| ≲ 6/(edge)² ≈ 600 for the smoothstep "
-                      "over an edge of 0.1 → ≤ 5.5·10⁻⁴ of I₀; 2·10⁻³ of the peak leaves margin for the cos³θ weighting")
+                      "over an edge of 0.1 → ≤ 5.5·10⁻⁴ of I₀; 2·10⁻³ of the peak leaves margin for the cos³θ "
+                      "weighting")
     c2.with_power("the listing as printed (no distance falloff)", o["as printed (no falloff)"]["scaled_max_rel"])
     return [c1, c2]
 
