@@ -197,6 +197,8 @@ def _cmd_list(plugins: list[str]) -> int:
         print(f"  {name}")
     for fam in FAMILIES.values():
         print(f"technique family {fam.name}: {fam.contract}")
+        if fam.glsl_contract:
+            print(f"  GLSL entry point (docs/glsl.md): {fam.glsl_contract}")
         for t in fam:
             tag = _glsl_tag(t) + ("" if t.builtin else " [plug-in]")
             thr = "; thresholds " + ", ".join(f"{k} < {v:g}" for k, v in t.thresholds.items()) if t.thresholds else ""

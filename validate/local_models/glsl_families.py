@@ -14,6 +14,7 @@ import numpy as np
 
 from ..errors import ValidateError
 from . import classic_brdfs, classic_lights  # noqa: F401 — defines the brdf and light families
+from .registry import FAMILIES
 
 Run = Callable[..., np.ndarray]  # run(inputs: list[(N, k)], uniforms: {name: value}, textures=None) -> (N, 4)
 
@@ -185,9 +186,27 @@ def light_call(run: Run, light: Mapping[str, Any], points: np.ndarray, normals: 
     return host_shadow(light, p, n, e, visible)
 
 
+GLSL_CONTRACTS = {
+    "brdf": "vec3 brdf(vec3 n, vec3 l, vec3 v) -> f_r(l, v)·max(0, n·l), zero below either horizon; uniforms "
+            "vec3 u_albedo, u_ks, u_eta, u_k; float u_exponent, u_phong_exponent, u_alpha, u_sigma, u_minnaert_k; "
+            "int u_distribution (0 beckmann, 1 ggx)",
+    "irradiance": "vec3 irradiance(vec3 n) -> E(n) (not E/π); uniforms vec3 u_sh[9] (radiance SH L00, L1m1, L10, "
+                  "L11, L2m2, L2m1, L20, L21, L22: orthonormal, no Condon–Shortley phase, world xyz, z polar), "
+                  "sampler2D u_radiance (lat-long, row 0 = zenith, texelFetch), ivec2 u_radiance_size; "
+                  "helper vec3 env_radiance(vec3 d)",
+    "light": "vec3 shade(vec3 p, vec3 n, vec3 v) -> unshadowed E in W/m² (.r read; v = n; V applied by the host); "
+             "uniforms int u_light_type (0 point, 1 spot, 2 directional), vec3 u_light_position, u_light_direction, "
+             "float u_light_intensity, u_light_irradiance, u_light_cutoff_angle, u_light_beam_width (degrees), "
+             "u_light_exponent, u_light_range",
+}
+
 SPECS: dict[str, GLSLFamily] = {
     "brdf": GLSLFamily("brdf", "vec3 brdf(vec3 n, vec3 l, vec3 v)", BRDF_DECL, BRDF_MAIN, brdf_call),
     "irradiance": GLSLFamily("irradiance", "vec3 irradiance(vec3 n)", IRRADIANCE_DECL, IRRADIANCE_MAIN,
                              irradiance_call),
     "light": GLSLFamily("light", "vec3 shade(vec3 p, vec3 n, vec3 v)", LIGHT_DECL, LIGHT_MAIN, light_call),
 }
+
+
+for _name, _text in GLSL_CONTRACTS.items():
+    FAMILIES[_name].glsl_contract = _text  # shown by `validate list`, documented in docs/glsl.md
