@@ -147,7 +147,7 @@ def test_ganovelli_g2_as_printed_lacks_the_factor_two() -> None:
 
 
 def test_ganovelli_lamp_factor_is_closed_form() -> None:
-    """Listing 6.9's r = 0.03·3.14·3.14·d: E / (I cos θ/d²) = 1/(0.03·3.14²)² = 11.44 exactly (float64)."""
+    """Listing 6.9's r = 0.03·3.14·3.14·d: E / (I cos θ/d²) = 1/(0.03·3.14²)² = 11.43 exactly (float64)."""
     pts = np.array([[0.5, 0.0, -0.2], [1.5, 0.0, 0.7]])
     nrm = np.tile([0.0, 1.0, 0.0], (2, 1))
     pos = np.array([0.0, 2.0, 0.0])

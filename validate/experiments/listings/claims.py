@@ -88,7 +88,7 @@ def _point(m: Measurements) -> list[Claim]:
     c1 = Claim("listings.point.ganovelli_6_9.ratio_min", "Ganovelli Listing 6.9's lamps deliver more than 10× "
                "Mitsuba's irradiance (the printed r = 0.03·3.14²·d)", "min over receivers of E/E_Mitsuba", 10.0,
                lamp["ratio_min"], 1e-6, comparison=">",
-               source="closed form: 1/(0.03·3.14²)² = 11.44 on every receiver; 10 is 12 % below it; ± float32 (10⁻⁶)")
+               source="closed form: 1/(0.03·3.14²)² = 11.43 on every receiver; 10 is 12 % below it; ± float32 (10⁻⁶)")
     c1.with_power("r = |p − x| (the 0.03·3.14² factor removed)", fixed["ratio_min"])
     c2 = Claim("listings.point.redbook_7_4.max_rel", "Red Book Example 7.4 with (k_c, k_l, k_q) = (0, 0, 1) run on "
                "llvmpipe equals Mitsuba's point emitter", "max over receivers of |E/E_Mitsuba − 1|", POINT_FLOAT32,

@@ -63,7 +63,7 @@ def _point_findings(m: Measurements) -> list[str]:
     usc = p["point_usc420_a1b1c0 (printed)"]
     red = next(v for k, v in p.items() if k.startswith("redbook_7_4 (") and isinstance(v, dict))
     return [f"Ganovelli Listing 6.9 (street lamps) delivers {lamp['ratio_min']:.3f}× Mitsuba's point-light irradiance "
-            "on every receiver: its r = 0.03·3.14·3.14·|p − x| divides the inverse square by (0.03·3.14²)² = 0.0874 "
+            "on every receiver: its r = 0.03·3.14·3.14·|p − x| divides the inverse square by (0.03·3.14²)² = 0.0875 "
             "(Listing 6.12's area lights likewise by 0.01·3.14² = 0.0986, ×10.1).",
             f"USC lecture 11's a = b = 1, c = 0 ('a reasonable starting point') gives E/E_Mitsuba from "
             f"{usc['ratio_min']:.2f} to {usc['ratio_max']:.2f} over the plane (rel. L1 error {usc['rel_l1']:.2f}); "

@@ -101,7 +101,7 @@ LISTINGS: tuple[Listing, ...] = (
                    Edit("frag", "vec4.skyColor", "vec4 skyColor", DOT_AS_SPACE),
                    Edit("frag", "vec4.groundColor", "vec4 groundColor", DOT_AS_SPACE),
                    Edit("frag", "vec3.skyDirection", "vec3 skyDirection", DOT_AS_SPACE)),
-            technique="listings.fore_june.hemisphere (GLSL vs Python transcription)",
+            technique="listings.diffuse_listings (GLSL vs Python transcription)",
             computes="hemisphere lighting C = mix(ground, sky, ½ + ½ n·u), eq. 20.7"),
     Listing("forejune_20_3", "forejune", "§20.3.2 Cubemaps", "sphereibl.vert/.frag (first version)",
             "forejune_20_3_sphereibl.vert", "forejune_20_3_sphereibl.frag", "edited",
@@ -118,19 +118,20 @@ LISTINGS: tuple[Listing, ...] = (
     Listing("forejune_20_4_disc", "forejune", "§20.4.3 Analytical Light Source",
             "SH disc-source vertex/fragment shader", "forejune_20_4_sh_disc.vert", "forejune_20_4_sh_disc.frag",
             "printed", headers=("#version 120", "#version 120"),
-            technique="listings.fore_june.sh_disc (GLSL vs Python transcription)",
+            technique="listings.diffuse_listings (GLSL vs Python transcription)",
             reason="`radians ( 20 )` passes an int: GLSL 1.10 has no implicit int → float conversion, 1.20 does, "
                    "so the glue is `#version 120`",
             computes="E = 1.57079(1 − cos α) + 1.57080 sin²α z + 0.490874(cos α − cos³α)(3z² − 1), eq. 20.30, α = 20°"),
     Listing("forejune_20_4_grace", "forejune", "§20.4.4 Environment Map Light Source", "SH Grace Cathedral "
             "vertex/fragment shader", "forejune_20_4_sh_grace.vert", "forejune_20_4_sh_grace.frag", "printed",
-            technique="listings.fore_june.sh_grace (GLSL vs Python transcription)",
+            technique="listings.diffuse_listings (GLSL vs Python transcription)",
             computes="irradiance from 9 SH coefficients, eq. 20.33 (Table 20-1 Grace Cathedral)"),
     Listing("forejune_20_5", "forejune", "§20.5 Lighting of Cinematography", "uberlight-like vertex + fragment "
             "shader (Figure 20-17)", "forejune_20_5_uberlight.vert", "forejune_20_5_uberlight.frag", "printed",
-            technique="uberlight/uberlight_fore_june_glsl; listings.uberlight_book (book parameters vs the projector)",
+            technique="listings.fore_june_uberlight (not a family technique: its normals assume a sphere at the "
+                      "origin); experiment listings, uberlight_book: Figure 20-17's values vs the projector",
             computes="superellipse clip (eq. 20.41–20.42) × cuton/cutoff zones × the falloff (eq. 20.47 as coded: "
-                     "pow(z/d0, beta)), Blinn diffuse + (n·h)⁴ + ambient (0.5, 0.2, 0.2)"),
+                     "pow(z/d0, beta)), diffuse max(N·L, 0) + (N·H)⁴ + ambient (0.5, 0.2, 0.2)"),
     Listing("usc420_l11", "usc420", "Phong Shader: Vertex/Fragment Program", "slides 'Phong Shader' (#version 150)",
             "usc420_l11_phong.vert", "usc420_l11_phong.frag", "printed", headers=(None, "#version 150"),
             technique="brdf/phong_usc420_glsl",
@@ -139,7 +140,7 @@ LISTINGS: tuple[Listing, ...] = (
             computes="c = k_a L_a + max(l·n, 0) k_d L_d + max(r·v, 0)^α k_s L_s, directional light in view space"),
     Listing("orange_12_6_12_7", "orange", "§12.4 The ÜberLight Shader", "Listings 12.6 (vertex) and 12.7 (fragment)",
             "orange_12_6_uberlight.vert", "orange_12_7_uberlight.frag", "printed",
-            technique="uberlight/uberlight_orange_glsl; listings.uberlight_book (projector)",
+            technique="uberlight/uberlight_orange_glsl; experiment listings: vs the projector",
             computes="superellipse barn shaping × distance shaping, 'plastic' ambient + diffuse + "
                      "(n·l)(n·h)·SurfaceRoughness specular (no exponent)"),
     Listing("ganovelli_6_3_6_4", "ganovelli", "§6.7.2 Upgrade Your Client: Add the Sun", "Listings 6.3 (vertex) and "
@@ -227,7 +228,7 @@ LISTINGS: tuple[Listing, ...] = (
             edits=(Edit("vert", "uniform mat4 MVPMatrix;", "uniform mat4 MVMatrix;\nuniform mat4 MVPMatrix;",
                         "the book's bug: main reads MVMatrix, which the listing never declares"),),
             glue_frag=PASS_THROUGH,
-            technique="listings.redbook.hemisphere (GLSL vs Python transcription)",
+            technique="listings.diffuse_listings (GLSL vs Python transcription)",
             reason="the book prints no fragment shader: a pass-through one is glued on",
             computes="a = ½ + ½ cos θ, Color = mix(Ground, Sky, a) (θ to the 'light position' north pole)"),
     Listing("redbook_7_14", "redbook", "Lighting with Spherical Harmonics", "Example 7.14", "redbook_7_14_sh.vert",
@@ -237,7 +238,7 @@ LISTINGS: tuple[Listing, ...] = (
                    Edit("frag", "void main()\n", "void main()\n{\n", OPEN_BRACE),
                    Edit("frag", "FragColor = vec4 (DiffuseColor, 1.0);\n", "FragColor = vec4 (DiffuseColor, 1.0);\n}\n",
                         CLOSE_BRACE)),
-            technique="listings.redbook.sh (GLSL vs Python transcription)",
+            technique="listings.diffuse_listings (GLSL vs Python transcription)",
             computes="eq. 7.1 with the Old Town Square coefficients × ScaleFactor"),
     Listing("redbook_7_3", "redbook", "Directional Light", "Example 7.3", None, None, "unrunnable", technique="not run",
             reason="the fragment shader is cut after `specular = pow(specular, Shininess);` (the text after it is the "

@@ -10,7 +10,7 @@ view space), uProjectionMatrix = the harness's per-receiver placement, aDiffuse 
   E = E⊥ max(0, N·L).
 * ``point_ganovelli_6_9_glsl`` (6.3 + 6.9, one lamp): uLightsGeometry[0] = (position, 1), uLightsColor[0] =
   (I, I, I, 1): E = I max(0, N·L)/r² with the printed r = 0.03·3.14·3.14·|p − x| — the inverse square
-  divided by (0.03·3.14²)² = 0.08738, i.e. ×11.44 (:data:`LAMP_FACTOR`).
+  divided by (0.03·3.14²)² = 0.08749, i.e. ×11.43 (:data:`LAMP_FACTOR`).
 
 :func:`python_directional` and :func:`python_lamp` are the float64 transcriptions.
 
