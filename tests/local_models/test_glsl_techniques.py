@@ -221,3 +221,30 @@ def test_same_file_on_webgl2(rng: np.random.Generator, fname: str) -> None:
     scale = np.abs(llvm).max()
     rel = brdf_rel(40.0) if src.family == "brdf" else 0.0
     assert np.all(np.abs(web - llvm) <= rel * np.abs(llvm) + 64 * EPS * scale)  # chromium stays up (atexit)
+
+
+@needs_gl
+def test_check_irradiance_accepts_a_glsl_file() -> None:
+    """validate.testing: a .glsl path is compiled and measured like its Python original — the same metric
+    to the transcription's float32 bound (E agrees to 16ε·Σ|terms| ≲ 1e-6 of Φ/π; 1e-5 of the flux leaves
+    10× margin while a wrong SH order or a missing 2 in eq. 12 moves it by > 1e-2)."""
+    from validate.testing import check_irradiance
+
+    path = gt.BUILTIN_DIR / "sh9.glsl"
+    g = check_irradiance(str(path), environments=("two_tone",), normals=200)
+    p = check_irradiance("sh9", environments=("two_tone",), normals=200)
+    assert g.technique == "glsl_sh9"
+    assert abs(g.flux_luminance.max - p.flux_luminance.max) < 1e-5
+    with pytest.raises(ValidateError, match=r"a irradiance technique \(header family=\), not brdf"):
+        gt.technique_from_file(path, "brdf")
+
+
+@needs_gl
+@pytest.mark.slow
+def test_check_brdf_accepts_the_example() -> None:
+    """The example's declared bound (max_rel.modphong_s20 < 1e-4, Mitsuba's modphong in float32) holds
+    through validate.testing, the bound clearing with its uncertainty."""
+    from validate.testing import check_brdf
+
+    r = check_brdf(str(EXAMPLE), ["modphong_s20"])
+    assert r.max_rel.max + r.max_rel.max_uncertainty < 1e-4

@@ -285,7 +285,7 @@ def technique_from_file(path: str | Path, family_name: str | None = None, *, run
         src.runtime = runtime
     src.name = name or src.name
     if family_name is not None and src.family != family_name:
-        raise ValidateError(f"{path}: a {src.family} technique, not {family_name}")
+        raise ValidateError(f"{path}: a {src.family} technique (header family=), not {family_name}")
     compile_check(src)
     meta = dict(src.meta, glsl=str(path), runtime=src.runtime)
     return Technique(src.name, src.family, make_fn(src), src.description, src.thresholds, src.source, meta)
