@@ -186,6 +186,17 @@ def test_list_shows_plugin_and_builtins(capsys: pytest.CaptureFixture, unregiste
     out = capsys.readouterr().out
     assert "my_modified_phong" in out and "[GLSL llvmpipe] [plug-in]" in out
     assert "glsl_sh9" in out and "GLSL techniques (llvmpipe): registered" in out
+    assert "GLSL entry point (docs/glsl.md): vec3 brdf(vec3 n, vec3 l, vec3 v)" in out
+
+
+def test_list_tag_names_runtime_and_seed() -> None:
+    from validate.cli import _glsl_tag
+    from validate.local_models.registry import Technique
+
+    t = Technique("x", "brdf", lambda: None, "", meta={"glsl": "x.glsl", "runtime": "webgl2",
+                                                        "seed": "Fore June ch. 20, eq. 20.47"})
+    assert _glsl_tag(t) == " [GLSL webgl2; seed Fore June ch. 20, eq. 20.47]"
+    assert _glsl_tag(Technique("y", "brdf", lambda: None, "")) == ""
 
 
 def test_without_gl_not_registered_and_said_why() -> None:
