@@ -98,7 +98,7 @@ def test_version_glue_is_needed() -> None:
 def test_gl_techniques_not_registered_without_gl(monkeypatch: pytest.MonkeyPatch) -> None:
     fam = FAMILIES.get("test_listings_family") or define_family("test_listings_family", "test", lambda *a: (1,))
     monkeypatch.setattr(runner, "gl_status", lambda: (False, "no GL in this test"))
-    runner.register_gl(fam, "a_glsl_listing", "x")(lambda: None)
+    runner.register_gl(fam, "a_glsl_listing", "x", "redbook_7_4")(lambda: None)
     assert "a_glsl_listing" not in fam
     assert "test_listings_family/a_glsl_listing" in runner.GL_SKIPPED
 

@@ -26,8 +26,9 @@ U_i = translate(ndc_i − M p_i), so that gl_Position = (ndc_i, 1) with ndc_i th
 (:func:`placement_matrix`). Rounding of U_i · (M p) in float32 moves the point by ≲ 10⁻⁶ in NDC,
 far below half a pixel (1/512 at W = 256).
 
-Pixels no receiver reaches keep the clear value NaN; :func:`render_points` checks that every
-receiver wrote its pixel.
+Pixels no receiver reaches keep the clear value −FLT_MAX in all four channels (:data:`UNWRITTEN`), which
+no lighting listing writes; :func:`render_points` checks that every receiver wrote its pixel. A NaN the
+shader itself computes comes back as NaN (the family contract then names it).
 """
 
 from __future__ import annotations
@@ -42,6 +43,7 @@ import numpy as np
 from ..errors import ValidateError
 
 MAX_WIDTH = 256  # pixels per row of the target
+UNWRITTEN = float(-np.finfo(np.float32).max)  # the target's clear value
 KIND = "llvmpipe-compat"  # the runtime kind: OpenGL 4.5 compatibility profile (GLSL 1.10 … 4.50, ES 1.00)
 
 
@@ -176,43 +178,68 @@ def _unbind(gl: Any, keep: list[Any]) -> None:
             gl.glDisableVertexAttribArray(loc)
 
 
-def _per_point_setters(gl: Any, prog: Any, per_point: Mapping[str, np.ndarray]) -> list[tuple[Callable, np.ndarray]]:
-    """(glUniform*fv of the right width bound to its location, (N, k) float32 values) per active uniform."""
-    fns = {1: gl.glUniform1fv, 2: gl.glUniform2fv, 3: gl.glUniform3fv, 4: gl.glUniform4fv}
+def _raw() -> Any:
+    """PyOpenGL's raw (unwrapped, unchecked) entry points: the per-receiver loop calls them N times, where the
+    wrapped ones cost ≈ 30 µs each in argument conversion."""
+    from OpenGL.raw.GL.VERSION import GL_1_0, GL_1_1, GL_2_0  # noqa: PLC0415
+
+    return GL_1_0, GL_1_1, GL_2_0
+
+
+def _per_point_setters(gl: Any, prog: Any, per_point: Mapping[str, np.ndarray]) -> list[tuple[Callable, int, Any, int]]:
+    """(raw glUniform*fv of the right width, location, base pointer, row stride in bytes) per active uniform,
+    over a float32 copy of its (N, k) values (kept alive by the returned tuple)."""
+    _, _, gl20 = _raw()
+    fns = {1: gl20.glUniform1fv, 2: gl20.glUniform2fv, 3: gl20.glUniform3fv, 4: gl20.glUniform4fv}
     out = []
     for name, values in per_point.items():
         loc = gl.glGetUniformLocation(prog.glo, name)
         if loc < 0:
             continue
         a = np.ascontiguousarray(np.asarray(values, dtype=np.float32).reshape(len(values), -1))
-        out.append((lambda v, f=fns[a.shape[1]], lc=loc: f(lc, 1, v), a))
+        out.append((fns[a.shape[1]], loc, a, a.strides[0]))
     return out
+
+
+def placement_matrices(positions: np.ndarray, placement: Placement) -> np.ndarray:
+    """(N, 4, 4) float32 U_i (row-major) for every receiver (module docstring)."""
+    pre = placement.pre_matrix()
+    q = (np.c_[positions[:, :3], np.ones(len(positions))] @ pre.T)[:, :3]
+    ndc = pixel_ndc(len(positions))
+    u = np.tile(np.eye(4), (len(positions), 1, 1))
+    u[:, 0, 3], u[:, 1, 3], u[:, 2, 3] = ndc[:, 0] - q[:, 0], ndc[:, 1] - q[:, 1], -q[:, 2]
+    return np.ascontiguousarray(u, dtype=np.float32)
 
 
 def _draw(gl: Any, prog: Any, positions: np.ndarray, placement: Placement,
           per_point: Mapping[str, np.ndarray] | None = None) -> None:
     """One GL_POINTS draw per receiver with its placement matrix (module docstring) and its ``per_point``
     uniform values (host-side glue for quantities the listing takes as uniforms, e.g. a light direction)."""
+    import ctypes  # noqa: PLC0415
+
+    gl10, gl11, gl20 = _raw()
     setters = _per_point_setters(gl, prog, per_point or {})
-    pre = placement.pre_matrix()
-    q = (np.c_[positions[:, :3], np.ones(len(positions))] @ pre.T)[:, :3]
-    ndc = pixel_ndc(len(positions))
     loc = None if placement.uniform is None else gl.glGetUniformLocation(prog.glo, placement.uniform)
     if loc is not None and loc < 0:
         raise ValidateError(f"listing harness: placement uniform {placement.uniform!r} is not active in the program")
-    if loc is None:
+    u = placement_matrices(positions, placement)
+    if loc is None:  # fixed function: glLoadMatrixf takes column-major
+        u = np.ascontiguousarray(np.transpose(u, (0, 2, 1)))
         gl.glMatrixMode(gl.GL_MODELVIEW)
-        gl.glLoadMatrixf(np.ascontiguousarray(pre.T, dtype=np.float32))
+        gl.glLoadMatrixf(np.ascontiguousarray(placement.pre_matrix().T, dtype=np.float32))
         gl.glMatrixMode(gl.GL_PROJECTION)
+    base = u.ctypes.data
+    ptr = [(fn, lc, a.ctypes.data, st) for fn, lc, a, st in setters]
     for i in range(len(positions)):
-        u = np.ascontiguousarray(placement_matrix(q[i], ndc[i]), dtype=np.float32)
+        m = ctypes.c_void_p(base + 64 * i)
         if loc is None:
-            gl.glLoadMatrixf(u.T.copy())
+            gl10.glLoadMatrixf(m)
         else:
-            gl.glUniformMatrix4fv(loc, 1, gl.GL_TRUE, u)
-        for fn, values in setters:
-            fn(values[i])
-        gl.glDrawArrays(gl.GL_POINTS, i, 1)
+            gl20.glUniformMatrix4fv(loc, 1, 1, m)
+        for fn, lc, b, st in ptr:
+            fn(lc, 1, ctypes.c_void_p(b + st * i))
+        gl11.glDrawArrays(gl.GL_POINTS, i, 1)
+    del setters
     if loc is None:
         gl.glLoadIdentity()
         gl.glMatrixMode(gl.GL_MODELVIEW)
@@ -226,7 +253,8 @@ def render_points(vertex_shader: str, fragment_shader: str, positions: np.ndarra
                   who: str = "listing") -> np.ndarray:
     """(N, 4) float32 fragment colour of each receiver (module docstring). ``positions`` (N, 3) or (N, 4)
     place the receivers; pass the same array (w = 1) as the listing's position attribute. A compile or link
-    error raises :class:`validate.gl.egl.ShaderError`; a receiver whose pixel stayed NaN raises ValidateError."""
+    error raises :class:`validate.gl.egl.ShaderError`; a receiver whose pixel kept the clear value raises
+    ValidateError."""
     from . import egl, runtime
 
     pos = np.asarray(positions, dtype=np.float64)
@@ -238,7 +266,7 @@ def render_points(vertex_shader: str, fragment_shader: str, positions: np.ndarra
         prog = ctx.program(vertex_shader, fragment_shader)
         fbo = ctx.float_target(w, h)
         try:
-            fbo.clear(math.nan, math.nan, math.nan, math.nan)
+            fbo.clear(UNWRITTEN, UNWRITTEN, UNWRITTEN, UNWRITTEN)
             for name, value in (uniforms or {}).items():
                 set_uniform(prog, name, value)
             gl.glUseProgram(prog.glo)
@@ -258,7 +286,7 @@ def render_points(vertex_shader: str, fragment_shader: str, positions: np.ndarra
         finally:
             fbo.release()
             prog.release()
-    missed = np.isnan(out).all(axis=1)
+    missed = (out == np.float32(UNWRITTEN)).all(axis=1)
     if missed.any():
         raise ValidateError(f"{who}: {int(missed.sum())} of {n} receivers wrote no fragment "
                             f"(first: {int(np.argmax(missed))})")

@@ -62,7 +62,8 @@ def slopes_at_d0(k: float, m: float, d0: float, alpha: float, form: str, h: floa
 
 
 @uberlight.register("uberlight_fore_june_printed", "the listing's shaping with Fore June's eq. 20.47 exactly as "
-                    "printed: near field M exp(s (d₀/d)^β) (→ 0 as d → 0)")
+                    "printed: near field M exp(s (d₀/d)^β) (→ 0 as d → 0)",
+                    seed="000 Fore June §20.5.3, eq. 20.46–20.47")
 def uberlight_fore_june_printed(light: Mapping[str, Any], points: np.ndarray, normals: np.ndarray,
                                 views: np.ndarray, material: Mapping[str, Any],
                                 shadow: np.ndarray | None = None) -> np.ndarray:

@@ -72,7 +72,8 @@ def reading(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray, 
 
 
 @brdf.register("cook_torrance_ganovelli", "Cook–Torrance exactly as extracted from Ganovelli eq. 6.60–6.66: "
-               "D G F/((n·l)(n·v)), no n·l factor, G2 without the 2, Schlick F(n·l), D without π")
+               "D G F/((n·l)(n·v)), no n·l factor, G2 without the 2, Schlick F(n·l), D without π",
+               seed="003 Ganovelli §6.10.1, eq. 6.60–6.66")
 def cook_torrance_ganovelli(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray,
                             views: np.ndarray) -> np.ndarray:
     """The ``literal`` reading (module docstring)."""
@@ -80,7 +81,7 @@ def cook_torrance_ganovelli(params: Mapping[str, Any], normals: np.ndarray, ligh
 
 
 @brdf.register("cook_torrance_ganovelli_nl", "Ganovelli eq. 6.60 read with the incident cosine: D G F/((n·l)(n·v)) "
-               "× n·l, G2 as printed (no 2)")
+               "× n·l, G2 as printed (no 2)", seed="003 Ganovelli §6.10.1, eq. 6.60–6.66")
 def cook_torrance_ganovelli_nl(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray,
                                views: np.ndarray) -> np.ndarray:
     """The ``with_nl`` reading (module docstring)."""

@@ -69,7 +69,7 @@ def glsl_lamp(position: np.ndarray, intensity: float, points: np.ndarray, normal
 
 
 @register_gl(light, "directional_ganovelli_glsl", "Ganovelli Listings 6.3 + 6.4 (WebGL Lambert, directional) on "
-             "llvmpipe: E = E⊥ max(0, N·L)", lights=("directional",),
+             "llvmpipe: E = E⊥ max(0, N·L)", "ganovelli_6_3_6_4", lights=("directional",),
              seed="003 Ganovelli §6.7.2, Listings 6.3/6.4")
 def directional_ganovelli_glsl(light_map: Mapping[str, Any], points: Any, normals: Any,
                                visible: Visible | None = None) -> np.ndarray:
@@ -81,7 +81,8 @@ def directional_ganovelli_glsl(light_map: Mapping[str, Any], points: Any, normal
 
 
 @register_gl(light, "point_ganovelli_6_9_glsl", "Ganovelli Listing 6.9 (street lamps) on llvmpipe: "
-             "I max(0, N·L)/r², r = 0.03·3.14²·d as printed (×11.4 the inverse square)", lights=("point",),
+             "I max(0, N·L)/r², r = 0.03·3.14²·d as printed (×11.4 the inverse square)", "ganovelli_6_9",
+             lights=("point",),
              seed="003 Ganovelli §6.7.4, Listing 6.9")
 def point_ganovelli_6_9_glsl(light_map: Mapping[str, Any], points: Any, normals: Any,
                              visible: Visible | None = None) -> np.ndarray:

@@ -106,6 +106,7 @@ def glsl(light: Mapping[str, Any], points: np.ndarray, normals: np.ndarray, view
 
 @register_gl(uberlight, "uberlight_orange_glsl", "Orange Book Listings 12.6/12.7 run unchanged on llvmpipe (GLSL "
              "1.10): superellipse × distance shaping, diffuse + unexponentiated specular, no falloff",
+             "orange_12_6_12_7",
              seed="002 OpenGL Shading Language §12.4, Listings 12.6/12.7")
 def uberlight_orange_glsl(light: Mapping[str, Any], points: np.ndarray, normals: np.ndarray, views: np.ndarray,
                           material: Mapping[str, Any], shadow: np.ndarray | None = None) -> np.ndarray:

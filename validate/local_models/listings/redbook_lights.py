@@ -89,7 +89,7 @@ def _technique(name: str, light_map: Mapping[str, Any], points: Any, normals: An
 
 
 @register_gl(light, "point_redbook_7_4_glsl", "Red Book Example 7.4 (point light, fragment shader) on llvmpipe, "
-             "attenuation (0, 0, 1)", lights=("point",), seed="004 Red Book ch. 7, Example 7.4")
+             "attenuation (0, 0, 1)", "redbook_7_4", lights=("point",), seed="004 Red Book ch. 7, Example 7.4")
 def point_redbook_7_4_glsl(light_map: Mapping[str, Any], points: Any, normals: Any,
                            visible: Visible | None = None) -> np.ndarray:
     require(light_map, "position", "intensity", kinds=("point",))
@@ -97,7 +97,7 @@ def point_redbook_7_4_glsl(light_map: Mapping[str, Any], points: Any, normals: A
 
 
 @register_gl(light, "point_redbook_7_6_glsl", "Red Book Example 7.6 (point light, per vertex) on llvmpipe, "
-             "attenuation (0, 0, 1)", lights=("point",), seed="004 Red Book ch. 7, Example 7.6")
+             "attenuation (0, 0, 1)", "redbook_7_6", lights=("point",), seed="004 Red Book ch. 7, Example 7.6")
 def point_redbook_7_6_glsl(light_map: Mapping[str, Any], points: Any, normals: Any,
                            visible: Visible | None = None) -> np.ndarray:
     require(light_map, "position", "intensity", kinds=("point",))
@@ -105,7 +105,7 @@ def point_redbook_7_6_glsl(light_map: Mapping[str, Any], points: Any, normals: A
 
 
 @register_gl(light, "spot_redbook_7_5_glsl", "Red Book Example 7.5 (spotlight: cutoff cosine, cos^exponent) on "
-             "llvmpipe", lights=("spot",), seed="004 Red Book ch. 7, Example 7.5")
+             "llvmpipe", "redbook_7_5", lights=("spot",), seed="004 Red Book ch. 7, Example 7.5")
 def spot_redbook_7_5_glsl(light_map: Mapping[str, Any], points: Any, normals: Any,
                           visible: Visible | None = None) -> np.ndarray:
     require(light_map, "position", "intensity", "direction", "cutoff_angle", kinds=("spot",))

@@ -24,17 +24,25 @@ GL_SKIPPED: list[str] = []  # GLSL listing techniques not registered (no runtime
 def gl_status() -> tuple[bool, str]:
     """(True, renderer and version) when the OpenGL 4.5 compatibility runtime starts, else (False, why)."""
     from ...gl import runtime  # noqa: PLC0415
+    from ..glsl_technique import STATUS  # noqa: PLC0415 — `validate list` and results.json meta.gl report it
 
-    return runtime.available(KIND)
+    ok, why = runtime.available(KIND)
+    STATUS[KIND] = "" if ok else why
+    return ok, why
 
 
-def register_gl(family: Family, name: str, description: str, **kwargs: Any) -> Callable[[Callable[..., Any]],
-                                                                                       Callable[..., Any]]:
-    """``family.register`` when GL is available; otherwise the function is kept unregistered (named in
+def register_gl(family: Family, name: str, description: str, listing_name: str,
+                **kwargs: Any) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """``family.register`` when GL is available (meta ``glsl`` = the listing's shader files, ``runtime`` = the
+    compatibility kind, so ``validate list`` tags it); otherwise the function is kept unregistered (named in
     :data:`GL_SKIPPED`)."""
+    lst = listing(listing_name)
+    files = " + ".join(f for f in (lst.vert, lst.frag) if f)
+
     def deco(fn: Callable[..., Any]) -> Callable[..., Any]:
         if gl_status()[0]:
-            return family.register(name, description, **kwargs)(fn)
+            return family.register(name, description, glsl=f"listings/shaders/{files}", runtime=KIND,
+                                   **kwargs)(fn)
         GL_SKIPPED.append(f"{family.name}/{name}")
         return fn
     return deco

@@ -14,7 +14,8 @@ Printed forms (slides "Point Source", "Limitations of Point Sources", "Diffuse L
 
 ``phong_usc420_glsl`` runs the lecture's "Phong Shader" vertex + fragment programs (#version 150; the
 fragment program prints no #version, the vertex program's is glued on) in the brdf family: per sample
-the host sets viewLightDirection = l (a per-receiver uniform: the directional light of the shader),
+the host rotates the sample's frame so that l is +z (:func:`to_light_frame`: the shader uses dot products
+only, so a rotation of (n, l, v) leaves c unchanged) and sets the one uniform viewLightDirection = +z,
 places the receiver at viewPosition = −v so that eyedir = normalize(0 − viewPosition) = v, with
 modelViewMatrix = normalMatrix = I, projectionMatrix = the placement; k_d = albedo, k_s = ks,
 α = phong_exponent, L_a = 0, L_d = L_s = 1/π (π folded into the light,
@@ -48,27 +49,46 @@ def point_usc420_a1b1c0(light_map: Mapping[str, Any], points: Any, normals: Any,
     return point_irradiance(light_map, points, normals, visible, attenuation=lambda d: 1.0 / (1.0 + d))
 
 
+def to_light_frame(lights: np.ndarray, *vectors: np.ndarray) -> list[np.ndarray]:
+    """Rotate each sample's vectors by the R_i that takes l_i to +z (Rodrigues: R = I + [w]× + [w]×²/(1 + c),
+    w = l × z, c = l·z; l = −z is turned by π about x)."""
+    lt = np.asarray(lights, dtype=np.float64)
+    z = np.array([0.0, 0.0, 1.0])
+    w = np.cross(lt, z)
+    c = lt @ z
+    anti = c < -1.0 + 1e-12
+    k = np.where(anti, 0.0, 1.0 / np.maximum(1.0 + c, 1e-300))
+    out = []
+    for vec in vectors:
+        x = np.asarray(vec, dtype=np.float64)
+        wx = np.cross(w, x)
+        r = x + wx + k[:, None] * np.cross(w, wx)
+        out.append(np.where(anti[:, None], x * [1.0, -1.0, -1.0], r))
+    return out
+
+
 def glsl_phong(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray, views: np.ndarray) -> np.ndarray:
     """(N, 3) c.rgb of the lecture's Phong shader pair, host state of the module docstring."""
     who = "phong_usc420_glsl"
     kd = np.broadcast_to(param(params, "albedo", who), (3,))
     ks = np.broadcast_to(param(params, "ks", who), (3,))
-    pos = -np.asarray(views, dtype=np.float64)
+    nrm, vw = to_light_frame(lights, normals, views)
+    pos = -vw
     lp = (1.0 / np.pi,) * 4
     u = {"modelViewMatrix": np.eye(4), "normalMatrix": np.eye(4), "La": (0.0,) * 4, "Ld": lp, "Ls": lp,
-         "ka": (0.0,) * 4, "kd": (*kd, 1.0), "ks": (*ks, 1.0),
+         "ka": (0.0,) * 4, "kd": (*kd, 1.0), "ks": (*ks, 1.0), "viewLightDirection": (0.0, 0.0, 1.0),
          "alpha": float(param(params, "phong_exponent", who))}
     out = run("usc420_l11", homogeneous(pos), placement=Placement("projectionMatrix"), uniforms=u,
-              attributes={"position": pos, "normal": np.asarray(normals, dtype=np.float64)},
-              per_point={"viewLightDirection": np.asarray(lights, dtype=np.float64)})
+              attributes={"position": pos, "normal": nrm})
     return out[:, :3].astype(np.float64)
 
 
 @register_gl(brdf, "phong_usc420_glsl", "USC CSCI 420 lecture 11 Phong shader pair (#version 150) on llvmpipe: "
-             "[k_d max(l·n, 0) + k_s max(r·v, 0)^α]/π", seed="001 USC CSCI 420 lecture 11, 'Phong Shader'")
+             "[k_d max(l·n, 0) + k_s max(r·v, 0)^α]/π", "usc420_l11",
+             seed="001 USC CSCI 420 lecture 11, 'Phong Shader'")
 def phong_usc420_glsl(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray,
                       views: np.ndarray) -> np.ndarray:
     return Geometry(normals, lights, views).finish(glsl_phong(params, normals, lights, views))
 
 
-__all__ = ["glsl_phong", "phong_usc420_glsl", "point_usc420_a1b1c0"]
+__all__ = ["glsl_phong", "phong_usc420_glsl", "point_usc420_a1b1c0", "to_light_frame"]
