@@ -69,10 +69,11 @@ def unregister() -> Iterator[list[tuple[str, str]]]:
 @needs_gl
 def test_builtins_registered_with_their_file() -> None:
     for fam, name in (("brdf", "glsl_blinn_phong_normalized"), ("light", "glsl_point_inverse_square"),
-                      ("irradiance", "glsl_sh9")):
+                      ("irradiance", "glsl_sh9"), ("shadow", "glsl_shadow_hard")):
         t = family(fam)[name]
         assert t.builtin and t.meta["runtime"] == "llvmpipe" and t.meta["glsl"].endswith(".glsl")
     assert family("light")["glsl_point_inverse_square"].meta["lights"] == ("point",)
+    assert family("shadow")["glsl_shadow_hard"].meta["memory_bytes_per_texel"] == 4  # header values parse as JSON
 
 
 @needs_gl
@@ -125,6 +126,40 @@ def test_irradiance_transcription(rng: np.random.Generator) -> None:
     terms = (C1 * c[8] * (x * x + y * y) + (C3 + C5) * c[6] * (z * z + 1) + C4 * c[0]
              + 2 * C1 * (c[4] * x * y + c[7] * x * z + c[5] * y * z) + 2 * C2 * (c[3] * x + c[1] * y + c[2] * z))
     assert np.all(np.abs(g - p) <= SUM_ULPS * EPS * terms)
+
+
+@needs_gl
+def test_shadow_transcription(rng: np.random.Generator) -> None:
+    """glsl_shadow_hard equals hard receiver for receiver on a synthetic D24 map: both compare the same
+    float32 z_r with the same float32 D + o; a disagreement is allowed only where |z_r − (D + o)| is within
+    4ε (a fused multiply-add may round the offset differently); measured 0 of 20 000."""
+    from validate.backend import float_type
+    from validate.local_models import shadow_map as smod
+    from validate.scenes.shadow_scenes import DiscLight
+
+    F = float_type()
+    light = DiscLight((0.0, 3.0, 0.0), (0.0, 0.0, 0.0), 0.5, 10.0)
+    pts = np.c_[rng.uniform(-2, 2, 20000), np.zeros(20000), rng.uniform(-2, 2, 20000)]
+    view = smod.fit_light_view(light, pts)
+    view.near, view.far = 0.5, 3.5
+    r = 128
+    depth = rng.uniform(0.3, 1.0, (r, r))
+    depth[depth > 0.9] = 1.0  # empty texels
+    dw = smod.quantise_depth(F(depth.ravel().astype(np.float32)))
+    slope = rng.uniform(0.0, 1e-4, r * r)
+    sm = smod.ShadowMap(view, r, dw, F(slope.astype(np.float32)))
+    n = np.tile([0.0, 1.0, 0.0], (len(pts), 1))
+    g = family("shadow").call("glsl_shadow_hard", sm, light, pts, n)
+    p = family("shadow").call("hard", sm, light, pts, n)
+    assert 0.05 < p.mean() < 0.95  # both lit and shadowed receivers are compared
+    x, y, z_w, _ = sm.window_coords(pts)
+    i, j = np.floor(x).astype(int), np.floor(y).astype(int)
+    inside = (i >= 0) & (j >= 0) & (i < r) & (j < r)
+    occ = np.ones(len(pts)) * 2.0
+    d = np.array(dw, dtype=np.float64).reshape(r, r)
+    occ[inside] = d[j[inside], i[inside]] + 2.0 * slope.reshape(r, r)[j[inside], i[inside]] + 4.0 * 2.0 ** -24
+    near_tie = np.abs(z_w - occ) < 4 * EPS
+    assert np.all((g == p) | near_tie)
 
 
 @needs_gl

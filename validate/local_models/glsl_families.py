@@ -186,6 +186,45 @@ def light_call(run: Run, light: Mapping[str, Any], points: np.ndarray, normals: 
     return host_shadow(light, p, n, e, visible)
 
 
+# -- shadow -------------------------------------------------------------------------------------------------
+SHADOW_DECL = _fetch("w p n") + """
+uniform sampler2D u_shadow_map;
+uniform int u_shadow_resolution;
+uniform float u_texel_tan; uniform float u_near; uniform float u_far; uniform float u_depth_scale;
+uniform float u_offset_factor; uniform float u_offset_units; uniform float u_depth_lsb;
+uniform vec3 u_light_position; uniform vec3 u_light_normal; uniform float u_light_radius;
+out vec4 o_color;
+float visibility(vec3 p, vec3 n, vec4 w);
+"""
+SHADOW_MAIN = """void main() {
+    ivec2 t = ivec2(gl_FragCoord.xy);
+    o_color = vec4(visibility(texelFetch(u_in1, t, 0).xyz, texelFetch(u_in2, t, 0).xyz, texelFetch(u_in0, t, 0)));
+}"""
+
+
+def shadow_call(run: Run, shadow_map: Any, light: Any, points: np.ndarray, normals: np.ndarray,
+                **_: Any) -> np.ndarray:
+    """Window coordinates (x, y, z_w, z) from :meth:`ShadowMap.window_coords` (host, float64 → float32);
+    the map as an R × R texture (.r window depth D, 1 = empty; .g depth slope DZ per texel)."""
+    from .shadow_map import DEPTH_LSB, PolygonOffset  # noqa: PLC0415
+
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    n = _unit(normals)
+    x, y, z_w, z = shadow_map.window_coords(p)
+    r = shadow_map.resolution
+    tex = np.zeros((r, r, 4))
+    tex[..., 0] = shadow_map.depth_image()
+    tex[..., 1] = np.array(shadow_map.slope, dtype=np.float64).reshape(r, r)
+    v, off = shadow_map.view, PolygonOffset()
+    uniforms = {"u_shadow_resolution": np.int32(r), "u_texel_tan": shadow_map.texel_tan, "u_near": v.near,
+                "u_far": v.far, "u_depth_scale": v.depth_scale, "u_offset_factor": off.factor,
+                "u_offset_units": off.units, "u_depth_lsb": DEPTH_LSB,
+                "u_light_position": np.asarray(light.centre, dtype=np.float64),
+                "u_light_normal": np.asarray(light.normal, dtype=np.float64), "u_light_radius": float(light.radius)}
+    out = run([np.stack([x, y, z_w, z], axis=1), p, n], uniforms, {"u_shadow_map": tex})
+    return out[:, 0].astype(np.float64)
+
+
 GLSL_CONTRACTS = {
     "brdf": "vec3 brdf(vec3 n, vec3 l, vec3 v) -> f_r(l, v)·max(0, n·l), zero below either horizon; uniforms "
             "vec3 u_albedo, u_ks, u_eta, u_k; float u_exponent, u_phong_exponent, u_alpha, u_sigma, u_minnaert_k; "
@@ -198,6 +237,12 @@ GLSL_CONTRACTS = {
              "uniforms int u_light_type (0 point, 1 spot, 2 directional), vec3 u_light_position, u_light_direction, "
              "float u_light_intensity, u_light_irradiance, u_light_cutoff_angle, u_light_beam_width (degrees), "
              "u_light_exponent, u_light_range",
+    "shadow": "float visibility(vec3 p, vec3 n, vec4 w) -> V in [0, 1]; w = (x, y, z_w, z): continuous texel "
+              "coordinates, clamped window depth and view depth of p (ShadowMap.window_coords); uniforms "
+              "sampler2D u_shadow_map (R×R, .r window depth D (1 = empty), .g slope DZ, texel (i, j) = "
+              "texelFetch(ivec2(i, j))), int u_shadow_resolution, float u_texel_tan, u_near, u_far, "
+              "u_depth_scale, u_offset_factor, u_offset_units, u_depth_lsb (glPolygonOffset(2, 4), 2^-24), "
+              "vec3 u_light_position, u_light_normal, float u_light_radius",
 }
 
 SPECS: dict[str, GLSLFamily] = {
@@ -205,6 +250,8 @@ SPECS: dict[str, GLSLFamily] = {
     "irradiance": GLSLFamily("irradiance", "vec3 irradiance(vec3 n)", IRRADIANCE_DECL, IRRADIANCE_MAIN,
                              irradiance_call),
     "light": GLSLFamily("light", "vec3 shade(vec3 p, vec3 n, vec3 v)", LIGHT_DECL, LIGHT_MAIN, light_call),
+    "shadow": GLSLFamily("shadow", "float visibility(vec3 p, vec3 n, vec4 w)", SHADOW_DECL, SHADOW_MAIN,
+                         shadow_call),
 }
 
 

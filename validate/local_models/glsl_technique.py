@@ -2,7 +2,7 @@
 
 A file starts with header lines ``// validate: key=value``:
 
-``family``       brdf | irradiance | light (required)
+``family``       brdf | irradiance | light | shadow (required)
 ``name``         the technique's name (default: the file's stem)
 ``description``  one line
 ``thresholds``   JSON object ``{"metric": limit, ...}`` (the family's metric names, as for Python techniques)
@@ -34,6 +34,14 @@ Entry points and the uniforms the harness declares (do not redeclare them; see d
   ``u_light_cutoff_angle``, ``u_light_beam_width`` (degrees), ``u_light_exponent``, ``u_light_range``.
   The shadow term V is the host's, as for the Python techniques: the scene's shadow-ray test toward the
   light's position (point, spot) or against its direction (directional) multiplies the result.
+* shadow:     ``float visibility(vec3 p, vec3 n, vec4 w)`` → V′ ∈ [0, 1]; w = (x, y, z_w, z), the receiver's
+  continuous texel coordinates (texel (i, j) covers [i, i+1) × [j, j+1)), window depth clamped to [0, 1] and
+  view depth (:meth:`~validate.local_models.shadow_map.ShadowMap.window_coords`). Uniforms ``sampler2D
+  u_shadow_map`` (R × R: .r the stored window depth D, 1 = empty; .g the depth slope DZ per texel; texel
+  (i, j) = ``texelFetch(u_shadow_map, ivec2(i, j), 0)``), ``int u_shadow_resolution``; ``float u_texel_tan,
+  u_near, u_far, u_depth_scale, u_offset_factor, u_offset_units, u_depth_lsb`` (glPolygonOffset(2, 4) on a
+  D24 buffer: o = factor·DZ + units·2⁻²⁴); ``vec3 u_light_position, u_light_normal; float u_light_radius``
+  (the disc light).
 
 Evaluation: receiver i is texel (i mod W, i div W) of an RGBA32F framebuffer of width W = min(N, 1024);
 its inputs are float32 textures read with ``texelFetch`` at ``gl_FragCoord``; the output is read back
@@ -106,8 +114,16 @@ def parse_glsl(path: str | Path, text: str | None = None) -> GLSLSource:
     src.thresholds = _thresholds(where, fields.pop("thresholds", ""))
     if "lights" in fields:
         src.meta["lights"] = tuple(s.strip() for s in fields.pop("lights").split(",") if s.strip())
-    src.meta.update(fields)  # seed=…, anything else: informational
+    src.meta.update({k: _meta_value(v) for k, v in fields.items()})  # seed=…, memory_bytes_per_texel=4, …
     return src
+
+
+def _meta_value(raw: str) -> Any:
+    """A header value as JSON where it parses (numbers, true/false), else the string."""
+    try:
+        return json.loads(raw)
+    except json.JSONDecodeError:
+        return raw
 
 
 def _thresholds(where: str, raw: str) -> dict[str, float]:
