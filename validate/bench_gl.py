@@ -24,6 +24,7 @@ PAIRS = (  # (family, GLSL technique, its Python original)
     ("brdf", "glsl_blinn_phong_normalized", "blinn_phong_normalized"),
     ("light", "glsl_point_inverse_square", "point_inverse_square"),
     ("irradiance", "glsl_sh9", "sh9"),
+    ("shadow", "glsl_shadow_hard", "hard"),
 )
 
 
@@ -78,7 +79,25 @@ def _inputs(fam: str, n: int) -> tuple[Any, ...]:
     if fam == "light":
         return ({"type": "point", "position": np.array([0.3, 2.0, 0.1]), "intensity": 5.0},
                 rng.uniform(-1.0, 1.0, (n, 3)), normals)
+    if fam == "shadow":
+        return _shadow_inputs(rng, n)
     return (rng.uniform(0.0, 2.0, (128, 256, 3)).astype(np.float32), normals)
+
+
+def _shadow_inputs(rng: np.random.Generator, n: int) -> tuple[Any, ...]:
+    """A synthetic 512² D24 map over a ground plane under a disc light (no ray casting: the lookup is timed)."""
+    from .backend import float_type  # noqa: PLC0415
+    from .local_models import shadow_map as smod  # noqa: PLC0415
+    from .scenes.shadow_scenes import DiscLight  # noqa: PLC0415
+
+    F, r = float_type(), 512
+    light = DiscLight((0.0, 3.0, 0.0), (0.0, 0.0, 0.0), 0.5, 10.0)
+    pts = np.c_[rng.uniform(-2, 2, n), np.zeros(n), rng.uniform(-2, 2, n)]
+    view = smod.fit_light_view(light, pts)
+    view.near, view.far = 0.5, 3.5
+    depth = smod.quantise_depth(F(rng.uniform(0.3, 1.0, r * r).astype(np.float32)))
+    sm = smod.ShadowMap(view, r, depth, F(np.full(r * r, 1e-5, dtype=np.float32)))
+    return (sm, light, pts, np.tile([0.0, 1.0, 0.0], (n, 1)))
 
 
 def per_receiver_rows(n: int = N_RECEIVERS) -> list[dict[str, Any]]:

@@ -256,7 +256,8 @@ def _run_egl(rt: Any, prog: Any, size: tuple[int, int], packed: dict[str, np.nda
 
     with rt:
         made = []
-        for unit, (name, arr) in enumerate(list(packed.items()) + list(textures.items())):
+        bound = list(packed.items()) + [(k, a) for k, a in textures.items() if k in prog]  # unused: not uploaded
+        for unit, (name, arr) in enumerate(bound):
             tex = rt.float_texture(arr)  # NEAREST; read with texelFetch (bilinear: env_radiance, in float32)
             tex.use(location=unit)
             made.append(tex)
