@@ -244,6 +244,17 @@ def test_without_gl_not_registered_and_said_why() -> None:
     assert "glsl_sh9" not in out.stdout
 
 
+def test_glsl_plugin_without_gl_is_one_line(monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture) -> None:
+    from validate.cli import main
+
+    monkeypatch.setattr(gt, "gl_status", lambda kind="llvmpipe": (False, "no EGL display"))
+    monkeypatch.chdir(REPO)
+    assert main(["list", "--plugin", "examples/my_brdf.glsl"]) == 2
+    assert capsys.readouterr().err.strip() == ("validate: error: examples/my_brdf.glsl: GL runtime llvmpipe "
+                                               "unavailable: no EGL display")
+    assert "my_modified_phong" not in family("brdf")
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("fname", ["sh9.glsl", "blinn_phong_normalized.glsl", "point_inverse_square.glsl"])
 def test_same_file_on_webgl2(rng: np.random.Generator, fname: str) -> None:

@@ -177,7 +177,11 @@ def _runtime(kind: str) -> Any:
 
 
 def compile_check(src: GLSLSource) -> None:
-    """Compile and link on the file's runtime now; an error is ``<file>:<line>: <driver message>``."""
+    """Compile and link on the file's runtime now; an error is ``<file>:<line>: <driver message>``, no GL
+    ``<file>: GL runtime <kind> unavailable: <reason>``."""
+    ok, why = gl_status(src.runtime)
+    if not ok:
+        raise ValidateError(f"{src.path}: GL runtime {src.runtime} unavailable: {why}")
     _program(src)
 
 
