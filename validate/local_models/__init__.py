@@ -41,6 +41,9 @@ def load_builtins() -> None:
     for mod in pkgutil.iter_modules(__path__):
         if mod.name not in _NOT_TECHNIQUES and not mod.name.startswith("_"):
             importlib.import_module(f"{__name__}.{mod.name}")
+    from .glsl_technique import register_builtins  # glsl/*.glsl, after the Python built-ins they transcribe
+
+    register_builtins()
 
 
 load_builtins()

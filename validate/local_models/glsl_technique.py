@@ -332,7 +332,9 @@ def gl_status(runtime: str = "llvmpipe") -> tuple[bool, str]:
 
 
 def register_builtins() -> None:
-    """Register every ``glsl/*.glsl`` shipped with the suite whose runtime starts here; record why not."""
+    """Register every ``glsl/*.glsl`` shipped with the suite whose runtime starts here; record why not.
+    Called by :func:`validate.local_models.load_builtins` after every Python built-in, so GLSL
+    transcriptions follow their originals in each family's order."""
     for path in sorted(BUILTIN_DIR.glob("*.glsl")):
         src = parse_glsl(path)
         ok, why = gl_status(src.runtime)
@@ -340,5 +342,3 @@ def register_builtins() -> None:
         if ok and src.name not in FAMILIES[src.family]:
             load_glsl(path, builtin=True)
 
-
-register_builtins()
