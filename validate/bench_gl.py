@@ -25,6 +25,7 @@ PAIRS = (  # (family, GLSL technique, its Python original)
     ("light", "glsl_point_inverse_square", "point_inverse_square"),
     ("irradiance", "glsl_sh9", "sh9"),
     ("shadow", "glsl_shadow_hard", "hard"),
+    ("arealight", "glsl_inverse_square", "inverse_square"),
 )
 
 
@@ -81,6 +82,10 @@ def _inputs(fam: str, n: int) -> tuple[Any, ...]:
                 rng.uniform(-1.0, 1.0, (n, 3)), normals)
     if fam == "shadow":
         return _shadow_inputs(rng, n)
+    if fam == "arealight":
+        pts = np.c_[rng.uniform(-2, 2, n), rng.uniform(-2, 0.5, n), rng.uniform(-2, 2, n)]
+        return ({"shape": "disc", "center": np.array([0.1, 1.5, 0.2]), "normal": np.array([0.0, -1.0, 0.0]),
+                 "radius": 0.3, "radiance": 4.0}, pts, normals)
     return (rng.uniform(0.0, 2.0, (128, 256, 3)).astype(np.float32), normals)
 
 

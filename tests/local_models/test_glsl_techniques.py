@@ -69,7 +69,7 @@ def unregister() -> Iterator[list[tuple[str, str]]]:
 @needs_gl
 def test_builtins_registered_with_their_file() -> None:
     for fam, name in (("brdf", "glsl_blinn_phong_normalized"), ("light", "glsl_point_inverse_square"),
-                      ("irradiance", "glsl_sh9"), ("shadow", "glsl_shadow_hard")):
+                      ("irradiance", "glsl_sh9"), ("shadow", "glsl_shadow_hard"), ("arealight", "glsl_inverse_square")):
         t = family(fam)[name]
         assert t.builtin and t.meta["runtime"] == "llvmpipe" and t.meta["glsl"].endswith(".glsl")
     assert family("light")["glsl_point_inverse_square"].meta["lights"] == ("point",)
@@ -99,6 +99,22 @@ def test_light_transcription(rng: np.random.Generator) -> None:
     p = fam.call("point_inverse_square", light, pts, n)
     scale = 5.0 / np.sum((pos - pts) ** 2, axis=1)
     assert (p > 0).sum() > 1000
+    assert np.all(np.abs(g - p) <= LIGHT_ULPS * EPS * scale)
+
+
+@needs_gl
+@pytest.mark.parametrize("shape", ["disc", "sphere"])
+def test_arealight_transcription(rng: np.random.Generator, shape: str) -> None:
+    """glsl_inverse_square vs inverse_square: E = πr²L cos ψ cos θ/d², both cosines absolute-error
+    quantities, so |ΔE| ≤ 32ε·πr²L/d² as for the point light (measured 7.2ε)."""
+    n = _unit(rng.standard_normal((5000, 3)))
+    pts = np.c_[rng.uniform(-2, 2, 5000), rng.uniform(-2, 0.5, 5000), rng.uniform(-2, 2, 5000)]
+    light = {"shape": shape, "center": np.array([0.1, 1.5, 0.2]), "normal": np.array([0.0, -1.0, 0.0]),
+             "radius": 0.3, "radiance": 4.0}
+    fam = family("arealight")
+    g, p = fam.call("glsl_inverse_square", light, pts, n), fam.call("inverse_square", light, pts, n)
+    scale = np.pi * 0.3**2 * 4.0 / np.sum((light["center"] - pts) ** 2, axis=1)
+    assert (p > 0).sum() > 1000 and fam["glsl_inverse_square"].meta["shapes"] == ("sphere", "disc")
     assert np.all(np.abs(g - p) <= LIGHT_ULPS * EPS * scale)
 
 

@@ -186,6 +186,40 @@ def light_call(run: Run, light: Mapping[str, Any], points: np.ndarray, normals: 
     return host_shadow(light, p, n, e, visible)
 
 
+# -- arealight ----------------------------------------------------------------------------------------------
+AREA_DECL = _fetch("p n") + """
+uniform int u_area_shape;
+uniform vec3 u_area_center; uniform vec3 u_area_normal; uniform vec3 u_area_tangent;
+uniform float u_area_radius; uniform vec2 u_area_size; uniform float u_area_radiance;
+out vec4 o_color;
+vec3 shade(vec3 p, vec3 n, vec3 v);
+"""
+AREA_SHAPES = {"disc": 0, "sphere": 1, "rectangle": 2}
+
+
+def area_uniforms(light: Mapping[str, Any]) -> dict[str, Any]:
+    """The area-light mapping as uniforms (absent keys → 0; normal and tangent normalised where given)."""
+    shape = light.get("shape")
+    if shape not in AREA_SHAPES:
+        raise ValidateError(f"area light: shape {shape!r}; GLSL arealight techniques take {', '.join(AREA_SHAPES)}")
+
+    def unit(key: str, default: tuple[float, float, float]) -> np.ndarray:
+        v = np.asarray(light.get(key, default), dtype=np.float64)
+        return v / max(float(np.linalg.norm(v)), 1e-300)
+
+    size = np.broadcast_to(np.asarray(light.get("size", 0.0), dtype=np.float64), (2,))
+    return {"u_area_shape": AREA_SHAPES[shape], "u_area_center": np.asarray(light["center"], dtype=np.float64),
+            "u_area_normal": unit("normal", (0.0, -1.0, 0.0)), "u_area_tangent": unit("tangent", (1.0, 0.0, 0.0)),
+            "u_area_radius": float(light.get("radius", 0.0)), "u_area_size": size,
+            "u_area_radiance": float(light.get("radiance", 1.0))}
+
+
+def arealight_call(run: Run, light: Mapping[str, Any], points: np.ndarray, normals: np.ndarray,
+                   **_: Any) -> np.ndarray:
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    return run([p, _unit(normals)], area_uniforms(light))[:, 0].astype(np.float64)
+
+
 # -- shadow -------------------------------------------------------------------------------------------------
 SHADOW_DECL = _fetch("w p n") + """
 uniform sampler2D u_shadow_map;
@@ -237,6 +271,9 @@ GLSL_CONTRACTS = {
              "uniforms int u_light_type (0 point, 1 spot, 2 directional), vec3 u_light_position, u_light_direction, "
              "float u_light_intensity, u_light_irradiance, u_light_cutoff_angle, u_light_beam_width (degrees), "
              "u_light_exponent, u_light_range",
+    "arealight": "vec3 shade(vec3 p, vec3 n, vec3 v) -> E in W/m² (.r read; v = n); uniforms int u_area_shape "
+                 "(0 disc, 1 sphere, 2 rectangle), vec3 u_area_center, u_area_normal (the emitting side), "
+                 "u_area_tangent, float u_area_radius, vec2 u_area_size, float u_area_radiance",
     "shadow": "float visibility(vec3 p, vec3 n, vec4 w) -> V in [0, 1]; w = (x, y, z_w, z): continuous texel "
               "coordinates, clamped window depth and view depth of p (ShadowMap.window_coords); uniforms "
               "sampler2D u_shadow_map (R×R, .r window depth D (1 = empty), .g slope DZ, texel (i, j) = "
@@ -250,6 +287,8 @@ SPECS: dict[str, GLSLFamily] = {
     "irradiance": GLSLFamily("irradiance", "vec3 irradiance(vec3 n)", IRRADIANCE_DECL, IRRADIANCE_MAIN,
                              irradiance_call),
     "light": GLSLFamily("light", "vec3 shade(vec3 p, vec3 n, vec3 v)", LIGHT_DECL, LIGHT_MAIN, light_call),
+    "arealight": GLSLFamily("arealight", "vec3 shade(vec3 p, vec3 n, vec3 v)", AREA_DECL, LIGHT_MAIN,
+                            arealight_call),
     "shadow": GLSLFamily("shadow", "float visibility(vec3 p, vec3 n, vec4 w)", SHADOW_DECL, SHADOW_MAIN,
                          shadow_call),
 }

@@ -2,7 +2,7 @@
 
 A file starts with header lines ``// validate: key=value``:
 
-``family``       brdf | irradiance | light | shadow (required)
+``family``       brdf | irradiance | light | arealight | shadow (required)
 ``name``         the technique's name (default: the file's stem)
 ``description``  one line
 ``thresholds``   JSON object ``{"metric": limit, ...}`` (the family's metric names, as for Python techniques)
@@ -10,6 +10,7 @@ A file starts with header lines ``// validate: key=value``:
 ``runtime``      ``llvmpipe`` (default, desktop GLSL 4.50 core) or ``webgl2`` (GLSL ES 3.00, SwiftShader)
 ``seed``         optional: the seed text and section the shader transcribes (shown by ``validate list``)
 ``lights``       light family only: the light types modelled, comma-separated (point, spot, directional)
+``shapes``       arealight family only: the shapes modelled, comma-separated (disc, sphere, rectangle)
 
 Entry points and the uniforms the harness declares (do not redeclare them; see docs/glsl.md):
 
@@ -34,6 +35,10 @@ Entry points and the uniforms the harness declares (do not redeclare them; see d
   ``u_light_cutoff_angle``, ``u_light_beam_width`` (degrees), ``u_light_exponent``, ``u_light_range``.
   The shadow term V is the host's, as for the Python techniques: the scene's shadow-ray test toward the
   light's position (point, spot) or against its direction (directional) multiplies the result.
+* arealight:  ``vec3 shade(vec3 p, vec3 n, vec3 v)`` → irradiance E (W/m², .r read, v = n) from the area
+  light; uniforms ``int u_area_shape`` (0 disc, 1 sphere, 2 rectangle), ``vec3 u_area_center, u_area_normal``
+  (the emitting side's normal), ``u_area_tangent``, ``float u_area_radius``, ``vec2 u_area_size``,
+  ``float u_area_radiance`` (W/(m² sr)); no shadowing (the family's scenes have no occluders).
 * shadow:     ``float visibility(vec3 p, vec3 n, vec4 w)`` → V′ ∈ [0, 1]; w = (x, y, z_w, z), the receiver's
   continuous texel coordinates (texel (i, j) covers [i, i+1) × [j, j+1)), window depth clamped to [0, 1] and
   view depth (:meth:`~validate.local_models.shadow_map.ShadowMap.window_coords`). Uniforms ``sampler2D
@@ -112,8 +117,9 @@ def parse_glsl(path: str | Path, text: str | None = None) -> GLSLSource:
     src.description = fields.pop("description", "")
     src.source = fields.pop("source", "")
     src.thresholds = _thresholds(where, fields.pop("thresholds", ""))
-    if "lights" in fields:
-        src.meta["lights"] = tuple(s.strip() for s in fields.pop("lights").split(",") if s.strip())
+    for key in ("lights", "shapes"):  # the light types / area shapes a light or arealight technique models
+        if key in fields:
+            src.meta[key] = tuple(s.strip() for s in fields.pop(key).split(",") if s.strip())
     src.meta.update({k: _meta_value(v) for k, v in fields.items()})  # seed=…, memory_bytes_per_texel=4, …
     return src
 
