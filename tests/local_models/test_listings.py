@@ -168,3 +168,19 @@ def test_listings_experiment_claims_hold() -> None:
     for c in claims(m):
         assert c.passed, c.id
         assert c.power is not None and c.power.fails, c.id
+
+
+@pytest.mark.slow
+def test_listings_experiment_without_gl(monkeypatch: pytest.MonkeyPatch) -> None:
+    """No GL: the experiment says why, has no transcription rows, and the Python claims still hold with power."""
+    import sys
+
+    from validate.experiments.base import Context
+    from validate.experiments.listings import QUICK, claims, compute, findings
+
+    module = sys.modules["validate.experiments.listings.compute"]
+    monkeypatch.setattr(module, "gl_status", lambda: (False, "no GL in this test"))
+    m = compute(Context(out_dir=Path("."), quick=True, show_progress=False), QUICK)
+    assert not m.transcription and "no GL in this test" in findings(m)[1]
+    for c in claims(m):
+        assert c.passed and c.power is not None and c.power.fails, c.id

@@ -21,8 +21,9 @@ def index_counts() -> dict[str, dict[str, int]]:
 
 def _gl_findings(m: Measurements) -> list[str]:
     if not m.gl["available"]:
-        return [f"No OpenGL compatibility runtime here ({m.gl['reason']}): the GLSL rows are skipped and the "
-                "Python transcriptions stand in for the listings."]
+        return [f"No OpenGL compatibility runtime here ({m.gl['reason']}): the GLSL rows are skipped, the Python "
+                f"transcriptions stand in for the listings, and {len(m.gl['skipped'])} GLSL listing techniques are "
+                f"not registered ({', '.join(m.gl['skipped'])})."]
     t = m.transcription
     worst = max(t, key=lambda k: t[k]["rel"])
     return [f"All {len(t)} runnable listings ran on {m.gl['renderer']}; each equals its float64 Python "
