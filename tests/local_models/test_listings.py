@@ -184,3 +184,10 @@ def test_listings_experiment_without_gl(monkeypatch: pytest.MonkeyPatch) -> None
     assert not m.transcription and "no GL in this test" in findings(m)[1]
     for c in claims(m):
         assert c.passed and c.power is not None and c.power.fails, c.id
+
+
+def test_index_names_every_catalogued_listing() -> None:
+    """docs/listings.md (the index) names every catalogued listing by its book number."""
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "listings.md").read_text()
+    missing = [x.name for x in LISTINGS if x.number not in doc]
+    assert not missing
