@@ -109,14 +109,30 @@ def findings(m: Measurements) -> list[str]:
             + _closed_form_findings(m))
 
 
+def _mitsuba_errors(m: Measurements) -> dict[str, str]:
+    """Per listing, its error against Mitsuba where this experiment measures one (± its uncertainty)."""
+    p, b, o = m.point, m.uberlight_book["models"], m.orange["models"]
+    lamp = next(v for k, v in p.items() if k.startswith("ganovelli_6_9 (") and isinstance(v, dict))
+    red = next(v for k, v in p.items() if k.startswith("redbook_7_4 (") and isinstance(v, dict))
+    fj = next(v for k, v in b.items() if k.startswith("as printed"))
+    oo = o["as printed (no falloff)"]
+    return {"ganovelli_6_9": f"E/E_ref {lamp['ratio_min']:.3f}–{lamp['ratio_max']:.3f} ± 10⁻⁶ (point emitter)",
+            "redbook_7_4": f"max |E/E_ref − 1| {red['max_rel']:.1e} ± 10⁻⁶ (point emitter)",
+            "forejune_20_5": f"max {fj['max_rel']:.2f}, scaled {fj['scaled_max_rel']:.3f} of the peak ± "
+                             f"{fj['uncertainty']:.0g} (projector, Figure 20-17's values)",
+            "orange_12_6_12_7": f"max {oo['max_rel']:.2f}, scaled {oo['scaled_max_rel']:.3f} of the peak ± "
+                                f"{oo['uncertainty']:.0g} (projector)"}
+
+
 def _index_rows(m: Measurements) -> list[list[Any]]:
     rows = []
+    vs = _mitsuba_errors(m)
     for x in LISTINGS:
         t = m.transcription.get(x.name)
         gl = "skipped (no GL)" if not m.gl["available"] and x.status != "unrunnable" and x.runs else (
             f"{t['rel']:.1e}" if t else "—")
         rows.append([x.seed, x.section, x.number, STATUS_WORDS[x.status] + ("" if x.runs else " (not run)"),
-                     x.technique, gl])
+                     x.technique, gl, vs.get(x.name, "—")])
     return rows
 
 
@@ -135,7 +151,8 @@ def sections(m: Measurements, ctx: Context) -> list[Section]:
     head = ["model", "max |Δ|/peak", "mean |Δ|/peak", "scaled max", "scale", "±"]
     return [
         Section("Listing index", [f"GL: {m.gl.get('renderer') or m.gl.get('reason')}"],
-                tables=[Table(["seed", "section", "listing", "status", "technique", "GLSL vs Python (rel.)"],
+                tables=[Table(["seed", "section", "listing", "status", "technique", "GLSL vs Python (rel.)",
+                               "error vs Mitsuba"],
                               _index_rows(m), "every lighting listing of the seeds; edits in docs/listings.md")]),
         Section("Cook–Torrance as printed (Ganovelli eq. 6.60–6.66)", tables=[
             Table(["α", "reading", "energy vs Mitsuba", "rel. L1 error"], ct_rows,
