@@ -76,6 +76,7 @@ class Measurements:
     point: dict[str, Any] = field(default_factory=dict)
     falloff: dict[str, Any] = field(default_factory=dict)
     uberlight_book: dict[str, Any] = field(default_factory=dict)
+    barndoor_book: dict[str, Any] = field(default_factory=dict)
     orange: dict[str, Any] = field(default_factory=dict)
     hemisphere: dict[str, Any] = field(default_factory=dict)
     redbook_values: dict[str, Any] = field(default_factory=dict)
@@ -274,6 +275,60 @@ def uberlight_book(s: Settings, gl_ok: bool) -> dict[str, Any]:
     return out
 
 
+def axis_rotation(axis: np.ndarray, angle: float) -> np.ndarray:
+    """Rodrigues: the rotation by ``angle`` about the unit ``axis`` (3 × 3)."""
+    u = unit(np.asarray(axis, dtype=np.float64))
+    k = np.array([[0.0, -u[2], u[1]], [u[2], 0.0, -u[0]], [-u[1], u[0], 0.0]])
+    return np.eye(3) + math.sin(angle) * k + (1.0 - math.cos(angle)) * (k @ k)
+
+
+def listing_world(scene: us.UberScene) -> np.ndarray:
+    """Q: scene directions → the listing's world, a rotation about the light axis (which keeps lightPos) that
+    turns the listing's light x axis (row 0 of :func:`fore_june_uberlight.rotation`) onto the luminaire's x
+    (left) axis, so the barn door's hole and the listing's superellipse share their axes."""
+    lp = np.asarray(fj.BOOK["lightPos"][:3])
+    rx, left = fj.rotation(lp)[0], scene.luminaire.frame()[0]
+    u = unit(lp)
+    theta = math.atan2(float(u @ np.cross(left, rx)), float(left @ rx))
+    return axis_rotation(u, -theta)
+
+
+def barndoor_book(s: Settings, gl_ok: bool) -> dict[str, Any]:
+    """Fore June's listing (Figure 20-17's values) against a physical barn door of the same beam: a disc of radius
+    r_d behind a superellipse hole (roundness d = 0.8) at depth h whose edge centres are the book's
+    (a + A)/2, (b + B)/2 in tan space and whose penumbra 2 r_d (1 − h/Z)/h is the book's A − a at the sphere's
+    nearest depth Z (uberlight_scenes)."""
+    c, r = np.asarray(us.SPHERE["center"], dtype=np.float64), float(us.SPHERE["radius"])
+    u0 = fj.BOOK
+    lp = np.asarray(u0["lightPos"][:3])
+    h, z = s.barndoor_depth, r * (float(np.linalg.norm(lp)) - 1.0)
+    rd = h * (u0["A"] - u0["a"]) / 2.0 / (1.0 - h / z)
+    lum = us.Luminaire("barndoor", position=tuple(c + r * lp), target=tuple(c), radius=rd, depth=h,
+                       aperture=(h * (u0["a"] + u0["A"]) / 2.0, h * (u0["b"] + u0["B"]) / 2.0),
+                       radiance=INTENSITY / (math.pi * rd * rd), aperture_roundness=u0["d"])
+    scene = us.UberScene(lum, us.Camera(width=s.projector_size[0], height=s.projector_size[1]), True,
+                         "listings_forejune_barndoor")
+    ref = ur.render(scene, None, s.barndoor_spp, s.barndoor_passes, s.seed)
+    on = ref.valid & (np.abs(np.linalg.norm(ref.position - c, axis=-1) - r) < 1e-3 * r)
+    qm = listing_world(scene)
+    q = (ref.position[on] - c) @ qm.T / r
+    u = dict(u0, eyePos=(*((np.asarray(scene.camera.origin) - c) @ qm.T / r), 1.0))
+    rgb = (fj.glsl(q, u) if gl_ok else fj.python(q, u))[:, :3].astype(np.float64)
+    t = fj.terms(q, u)
+    dist = np.linalg.norm(q - lp, axis=1)
+    cos = np.maximum(np.sum(unit(q) * unit(lp - q), axis=1), 0.0)
+    shape = fj.super_ellipse_shape((q - lp) @ fj.rotation(lp).T, u)
+    unit_map = ref.albedo[on] / math.pi * INTENSITY / r ** 2
+    rad, unc = ref.radiance[on], ref.uncertainty[on]
+    peak = float(rad.max())
+    models = {"as printed (GLSL)" if gl_ok else "as printed (Python transcription)": luminance(rgb),
+              "light term only (diffuse: shape × zones × falloff × n·l)": t["diffuse"],
+              "the listing's shape × n·l / d² (edge shape only)": shape * cos / dist ** 2}
+    return {"pixels": int(on.sum()), "peak": peak, "disc_radius": rd, "depth": h, "aperture": list(lum.aperture),
+            "spp": s.barndoor_spp, "passes": s.barndoor_passes,
+            "models": {k: _errors(unit_map * v, rad, unc, peak) for k, v in models.items()}}
+
+
 def orange_comparison(s: Settings, gl_ok: bool) -> dict[str, Any]:
     scene = us.projector_scene(s.projector_size[0], s.projector_size[1], s.fov_deg)
     x, y = ur.texel_directions(s.texture, s.fov_deg)
@@ -326,6 +381,7 @@ def compute(ctx: Context, s: Settings) -> Measurements:
     m.point = point_comparison(s, ok)
     m.falloff = falloff_comparison(s)
     m.uberlight_book = uberlight_book(s, ok)
+    m.barndoor_book = barndoor_book(s, ok)
     m.orange = orange_comparison(s, ok)
     m.hemisphere = hemisphere_fraction()
     m.redbook_values = redbook_values()

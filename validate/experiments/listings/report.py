@@ -82,11 +82,28 @@ def _uberlight_findings(m: Measurements) -> list[str]:
             f"(with its ambient (0.5, 0.2, 0.2) and (n·h)⁴ term) max error {pr['max_rel']:.2f} of the peak, "
             f"{pr['scaled_max_rel']:.3f} after the best scale; its light term alone {lt['max_rel']:.3f}, "
             f"{lt['scaled_max_rel']:.3f} scaled (the 1/z falloff instead of 1/d²).",
+            _barndoor_finding(m),
             f"Orange Book Listings 12.6/12.7 (no distance falloff; the book prints no parameter values) against the "
             f"projector ({o['pixels']} receivers, {o['runs']}): max error "
             f"{o['models']['as printed (no falloff)']['max_rel']:.2f} of the peak, "
             f"{o['models']['as printed (no falloff)']['scaled_max_rel']:.3f} after the best scale; × 1/d² "
             f"{o['models']['× 1/d² (corrected)']['scaled_max_rel']:.1e}."]
+
+
+def _barndoor_finding(m: Measurements) -> str:
+    b = m.barndoor_book
+    pr = next(v for k, v in b["models"].items() if k.startswith("as printed"))
+    lt = next(v for k, v in b["models"].items() if k.startswith("light term"))
+    sh = next(v for k, v in b["models"].items() if k.startswith("the listing's shape"))
+    ax, ay = (1e3 * a for a in b["aperture"])
+    return (f"The same listing against a path-traced barn door of the book's beam (disc r = "
+            f"{b['disc_radius'] * 1e3:.1f} mm behind a roundness-0.8 hole {ax:.0f} × {ay:.0f} mm at "
+            f"{b['depth'] * 1e3:.0f} mm: edge centres (a + A)/2, (b + B)/2 and penumbra A − a at the sphere's nearest "
+            f"depth; {b['pixels']} sphere pixels, ± {pr['uncertainty']:.3f} of the peak, {b['passes']} passes × "
+            f"{b['spp']} spp): as printed max error {pr['max_rel']:.2f} ({pr['scaled_max_rel']:.2f} scaled), light "
+            f"term {lt['max_rel']:.2f} ({lt['scaled_max_rel']:.2f} scaled); the listing's smoothstep edge alone with "
+            f"the physical 1/d² {sh['max_rel']:.2f} — a physical penumbra is not the smoothstep between two "
+            "superellipses.")
 
 
 def _closed_form_findings(m: Measurements) -> list[str]:
@@ -162,6 +179,8 @@ def sections(m: Measurements, ctx: Context) -> list[Section]:
                   f"{m.point['receivers']} receivers on y = 0; reference: {m.point['reference']}")]),
         Section("Überlight listings against the projector", tables=[
             Table(head, _model_rows(m.uberlight_book), "Fore June's listing, Figure 20-17's values, sphere pixels"),
+            Table(head, _model_rows(m.barndoor_book), "the same against a path-traced barn door of the book's beam "
+                  "(± = largest per-pixel standard error / peak)"),
             Table(head, _model_rows(m.orange), "Orange Book Listings 12.6/12.7, the projector scene")]),
     ]
 
