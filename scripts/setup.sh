@@ -72,3 +72,31 @@ if [ -f package.json ] && command -v node >/dev/null 2>&1 && node --version >/de
         echo "setup: WARNING: npm not found; the engines experiment will be skipped" >&2
     fi
 fi
+
+# GL runtimes for GLSL techniques (validate.gl): Mesa's llvmpipe through EGL (surfaceless, no GPU, no
+# display) and headless Chromium's WebGL2 (the chromium package above; playwright drives it through
+# executable_path, so nothing downloads a browser). Without them the GLSL techniques are not registered,
+# `python -m validate list` says why, and the GL tests skip: every failure here is a warning.
+probe_gl() {
+    .venv/bin/python - <<'PY' 2>&1
+from validate.gl import runtime
+ok, why = runtime.available("llvmpipe")
+print(why)
+raise SystemExit(0 if ok else 1)
+PY
+}
+if gl_msg=$(probe_gl); then
+    echo "setup: GL runtime works: $gl_msg"
+else
+    echo "setup: GL runtime unavailable ($gl_msg); installing Mesa's EGL/llvmpipe through apt"
+    if command -v apt-get >/dev/null 2>&1; then
+        { $SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq \
+            libegl1 libegl-mesa0 libgl1-mesa-dri libgl1 >/dev/null; } \
+            || echo "setup: WARNING: apt could not install the Mesa GL packages" >&2
+    fi
+    if gl_msg=$(probe_gl); then
+        echo "setup: GL runtime works: $gl_msg"
+    else
+        echo "setup: WARNING: no GL runtime ($gl_msg); GLSL techniques will not be registered" >&2
+    fi
+fi

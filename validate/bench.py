@@ -11,6 +11,8 @@ and its plain reduction run alternately, so that load on the machine touches bot
   (:func:`~validate.local_models.sh.project_samples`). The ratio to the plain reduction is the figure:
   the memory-bound limit is one pass over the texels.
 * SH9 irradiance at 100k normals: drjit vs numpy.
+* The GL runtimes (:mod:`validate.bench_gl`): cold start of each runtime, and each built-in GLSL technique's
+  per-receiver cost beside its Python transcription.
 
 Map sizes (one child process per size and task, so that each peak RSS is clean): an H×2H map
 (H = 1024, 2048, 4096, 8192 by default: "1k" … "8k" name the rows), a smooth sky with a 0.5° sun,
@@ -255,16 +257,19 @@ def tables(kernels: list[dict[str, Any]], sizes: list[dict[str, Any]]) -> list[d
 
 
 def run_bench(out: Path, sizes: tuple[int, ...] = DEFAULT_SIZES) -> int:
-    from . import backend
+    from . import backend, bench_gl
     from .atomic import write_text
 
     be = backend.init()
     print(f"backend: {be.describe()}")
     kernels = kernel_rows()
+    print("GL runtimes (cold start: child processes; per receiver: this process) ...")
+    gl_starts, gl_rows = bench_gl.startup_records(), bench_gl.per_receiver_rows()
     print("map sizes (child processes):")
     records = size_records(sizes)
     doc = {"generated": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"), "backend": be.variant,
-           "tables": tables(kernels, records), "kernels": kernels, "sizes": records}
+           "tables": tables(kernels, records) + bench_gl.tables(gl_starts, gl_rows), "kernels": kernels,
+           "sizes": records, "gl": {"startup": gl_starts, "per_receiver": gl_rows}}
     for t in doc["tables"]:
         print(f"\n{t['caption']}")
         print(" | ".join(t["headers"]))

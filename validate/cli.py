@@ -44,6 +44,7 @@ from pathlib import Path
 from . import interrupt
 from .atomic import OutputError, output_error
 from .errors import ValidateError
+from .gl import runtime
 from .interrupt import Interrupted  # re-exported: callers catch it here
 from .report.docs import update_docs
 
@@ -55,6 +56,7 @@ EPILOG = """examples:
   python -m validate run sh9 --probe my_probe.exr      # one experiment, one extra probe
   python -m validate all --plugin my_technique.py      # your technique in every experiment of its family
   python -m validate list --plugin my_technique.py     # families, their contracts, registered techniques
+  python -m validate run brdfs --plugin my_brdf.glsl   # a GLSL technique (see docs/glsl.md)
   python -m validate bench                             # speed and memory, side by side -> bench.json
   python -m validate all --quick --baseline old/results.json   # ... and what changed since then
   python -m validate compare old/results.json reports/results.json --strict   # CI: exit 1 on a regression
@@ -90,7 +92,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="compare with an earlier results.json (or its folder): a 'changes' entry in "
                              "results.json and a summary line (see `compare`)")
     common.add_argument("--plugin", action="append", default=[], metavar="FILE|MODULE",
-                        help="import a Python file or module that registers techniques (repeatable)")
+                        help="a Python file or module that registers techniques, or a .glsl technique file "
+                             "(repeatable)")
     common.add_argument("--no-progress", action="store_true", help="no progress bars")
     common.add_argument("--workers", type=_positive_int, default=1, metavar="N",
                         help="run per-environment tasks on a local Dask cluster of N processes (default 1: "
@@ -150,6 +153,13 @@ def load_plugins(specs: tuple[str, ...]) -> None:
 
 def load_plugin(spec: str) -> None:
     path = Path(spec)
+    if path.suffix == ".glsl":
+        if not path.is_file():
+            raise ValidateError(f"{spec}: plugin file not found")
+        from .local_models.glsl_technique import load_glsl
+
+        load_glsl(spec)  # compile/link errors: "<file>:<line>: <driver message>"
+        return
     try:
         if path.suffix == ".py":
             if not path.is_file():
@@ -182,10 +192,16 @@ def _cmd_list(plugins: list[str]) -> int:
         print(f"  {name}")
     for fam in FAMILIES.values():
         print(f"technique family {fam.name}: {fam.contract}")
+        if fam.glsl_contract:
+            print(f"  GLSL entry point (docs/glsl.md): {fam.glsl_contract}")
         for t in fam:
-            tag = "" if t.builtin else " [plug-in]"
+            tag = _glsl_tag(t) + ("" if t.builtin else " [plug-in]")
             thr = "; thresholds " + ", ".join(f"{k} < {v:g}" for k, v in t.thresholds.items()) if t.thresholds else ""
             print(f"  {t.name:24s} {t.description}{tag}{thr}")
+    from .local_models.glsl_technique import STATUS
+
+    for kind, why in STATUS.items():
+        print(f"GLSL techniques ({kind}): " + (f"not registered: {why}" if why else "registered"))
     return 0
 
 
@@ -200,6 +216,25 @@ def _cmd_docs(results: Path, docs: Path, check: bool) -> int:
         return 1
     print(f"{docs}: {'up to date with' if not changed else 'rendered from'} {results}")
     return 0
+
+
+def _glsl_tag(t: object) -> str:
+    """`` [GLSL llvmpipe; seed …]`` for a GLSL technique, else empty."""
+    meta = getattr(t, "meta", {})
+    if "glsl" not in meta:
+        return ""
+    seed = f"; seed {meta['seed']}" if meta.get("seed") else ""
+    return f" [GLSL {meta.get('runtime', 'llvmpipe')}{seed}]"
+
+
+def _gl_meta() -> dict:
+    """``meta.gl``: GL_RENDERER/GL_VERSION of each runtime started in this run, and why GLSL techniques
+    of a runtime are not registered when they are not."""
+    from .local_models.glsl_technique import STATUS
+
+    out: dict = {"runtimes": runtime.meta()}
+    out["glsl_techniques"] = {k: ("registered" if not why else f"not registered: {why}") for k, why in STATUS.items()}
+    return out
 
 
 def _versions() -> dict:
@@ -391,7 +426,7 @@ def _run_in(args: argparse.Namespace, exps: dict, todo: list[str], staging: Path
                             "command": "python -m validate " + " ".join(sys.argv[1:]), "quick": args.quick,
                             "wall_time_s": round(time.perf_counter() - t0, 2),
                             "skipped_inputs": [list(s) for s in skipped],
-                            "environments": _environments_meta(envs)},
+                            "environments": _environments_meta(envs), "gl": _gl_meta()},
                    "experiments": experiments}
         if baseline is not None:
             from .compare import compare
@@ -403,6 +438,7 @@ def _run_in(args: argparse.Namespace, exps: dict, todo: list[str], staging: Path
             state["committed"] = True
     finally:
         ctx.close()
+        runtime.close_all()
     return results, held
 
 

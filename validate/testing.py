@@ -65,6 +65,10 @@ examples/``).
     The same for the ``specular``, ``arealight``, ``shadow``, ``brdf`` and ``uberlight`` families; they are
     implemented by their experiments' ``check`` modules (:mod:`validate.experiments.ibl.check`,
     ``arealights.check``, ``shadows.check``, ``brdfs.check``, ``uberlight.check``) and documented there.
+
+Every check also accepts the path of a ``.glsl`` technique file (``check_brdf("my_brdf.glsl")``): the file
+is parsed, compiled on its runtime (an error is ``<file>:<line>: <driver message>``) and checked through
+the family's contract like a Python function, without being registered (docs/glsl.md).
 """
 
 from __future__ import annotations
@@ -72,6 +76,7 @@ from __future__ import annotations
 import os
 import sys
 from collections.abc import Callable, Iterable, Mapping
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -88,6 +93,7 @@ from .experiments.shadows import check as shadows_check
 from .experiments.techniques import CheckResult, Stat
 from .experiments.uberlight import check as uberlight_check
 from .local_models import irradiance
+from .local_models.glsl_technique import technique_from_file
 from .local_models.registry import Technique
 from .metrics.irradiance_error import irradiance_errors
 from .reference.irradiance import reference_irradiance
@@ -97,6 +103,8 @@ DEFAULT_ENVIRONMENTS = ("two_tone", "grace_probe")
 
 
 def _technique(fn: Callable[..., Any] | Technique | str, name: str | None) -> Technique:
+    if is_glsl(fn):
+        fn = technique_from_file(fn, "irradiance")  # type: ignore[arg-type]
     if isinstance(fn, str):
         fn = irradiance[fn]
     if isinstance(fn, Technique):
@@ -144,11 +152,28 @@ def check_irradiance(fn: Callable[[np.ndarray, np.ndarray], np.ndarray] | Techni
     return CheckResult(tech.name, "irradiance", out)
 
 
-check_specular = ibl_check.check_specular
-check_arealight = arealights_check.check_arealight
-check_shadow = shadows_check.check_shadow
-check_brdf = brdfs_check.check_brdf
-check_uberlight = uberlight_check.check_uberlight
+def is_glsl(fn: object) -> bool:
+    """A path (str or Path) to a ``.glsl`` technique file."""
+    return isinstance(fn, (str, Path)) and str(fn).endswith(".glsl")
+
+
+def _accepting_glsl(family: str, impl: Callable[..., Any]) -> Callable[..., Any]:
+    """``impl`` (an experiment's check) that also takes a ``.glsl`` file as its first argument."""
+    def check(*args: Any, **kwargs: Any) -> Any:
+        if args and is_glsl(args[0]):  # a GLSL file: compiled on its runtime, checked like a Python function
+            args = (technique_from_file(args[0], family), *args[1:])
+        return impl(*args, **kwargs)
+
+    check.__name__ = check.__qualname__ = impl.__name__
+    check.__doc__ = impl.__doc__
+    return check
+
+
+check_specular = _accepting_glsl("specular", ibl_check.check_specular)
+check_arealight = _accepting_glsl("arealight", arealights_check.check_arealight)
+check_shadow = _accepting_glsl("shadow", shadows_check.check_shadow)
+check_brdf = _accepting_glsl("brdf", brdfs_check.check_brdf)
+check_uberlight = _accepting_glsl("uberlight", uberlight_check.check_uberlight)
 
 
 def compare(old: str | os.PathLike[str] | Mapping[str, Any], new: str | os.PathLike[str] | Mapping[str, Any]

@@ -72,6 +72,7 @@ class Family:
     lower: float | None = None
     upper: float | None = None
     bounds_reason: str = ""
+    glsl_contract: str = ""  # the GLSL entry point and its uniforms, where the family has one (glsl_families)
     _techniques: dict[str, Technique] = field(default_factory=dict, repr=False)
 
     # -- registration -------------------------------------------------------------------------

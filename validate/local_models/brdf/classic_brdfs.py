@@ -29,7 +29,9 @@ Models
   * ``phong_normalized`` — modified Phong [5]: f_r = ρ/π + k_s (s + 2)/(2π) max(0, r·v)^s (the suite's
     ``modphong`` BSDF), s = ``phong_exponent``.
   * ``blinn_phong_normalized``: f_r = ρ/π + k_s (s + 8)/(8π) (n·h)^s [7], s = ``exponent``.
-  * ``cook_torrance_printed`` — Ganovelli et al. §6.10.1 eq. 6.60–6.66 as printed [1]:
+  * ``cook_torrance_printed`` — one *reading* of Ganovelli et al. §6.10.1 eq. 6.60–6.66 [1], not the printed
+    text: the seed prints G2 = (n·h)(n·l)/(v·h) without the 2 of G1 (eq. 6.63) and eq. 6.60 without the
+    factor n·l; the readings of the text as printed are ``listings.ganovelli_cook_torrance``. This one:
     S = F D G / ((n·l)(n·v)) · (n·l) (colour from F; ``ks`` unused), with the Beckmann distribution as in
     Cook & Torrance [6]
     D = exp(−tan²θ_h/m²)/(m² cos⁴θ_h) (no 1/π), the V-cavity G = min{1, 2(n·h)(n·v)/(v·h),
@@ -146,8 +148,8 @@ def blinn_phong_normalized(params: Mapping[str, Any], normals: np.ndarray, light
     return g.finish(f * column(g.cl))
 
 
-@brdf.register("cook_torrance_printed", "Cook–Torrance as printed in Ganovelli eq. 6.60–6.66: F_Schlick(n·l) D "
-               "G_Vcavity / ((n·l)(n·v)), no π or 4")
+@brdf.register("cook_torrance_printed", "Cook–Torrance after Ganovelli eq. 6.60–6.66, read with an n·l factor and "
+               "the 2 in both G terms (neither printed): F_Schlick(n·l) D G_Vcavity / ((n·l)(n·v)), no π or 4")
 def cook_torrance_printed(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray,
                           views: np.ndarray) -> np.ndarray:
     g = Geometry(normals, lights, views)

@@ -32,13 +32,18 @@ h = normalise(l + v), d = |p| the distance to the light. The 1/π makes the diff
 
 Techniques (F is the distance falloff; the listing has none):
 
-* ``uberlight`` — Listing 12.6/12.7 as printed: F = 1 (C is then an irradiance).
+* ``uberlight`` — Listing 12.6/12.7 as printed: F = 1 (C is then an irradiance); for receivers in front of
+  the light and ks = 0 (the printed specular, (n·l)(n·h)·SurfaceRoughness, has no exponent; behind the
+  light the listing still lights at depth |z|; see ``listings.orange_uberlight``, run as printed).
 * ``uberlight_inverse_square`` — F = 1/d²: I₀ · A · D is a radiant intensity (W sr⁻¹).
 * ``uberlight_fore_june`` — F from Barzel's falloff [2] as taught by Fore June ch. 20 §20.5 [3]:
   I(d) = K (d₀/d)^α for d ≥ d₀ and, in the near field, M exp(s (d/d₀)^β) with s = ln(K/M) and
   β = −α/s, which equals K and has the same slope −αK/d₀ at d = d₀ and tends to M as d → 0.
-  *Caveat:* the printed eq. 20.46–20.47 of [3] could not be consulted here; this is the form of
-  Barzel [2, §"Falloff"] as recalled, and the test checks its value and slope continuity at d₀.
+  Checked against the seed text: this is the near branch of the *listing* after eq. 20.47
+  (``pow(z/d0, beta)``, C¹ at d₀); the printed eq. 20.47 has (d₀/d)^β, which meets the far branch with
+  the opposite slope and → 0 as d → 0 (``listings.fore_june_falloff.uberlight_fore_june_printed``).
+  Two differences from the listing remain: the listing falls off on the depth |z|, here on the
+  distance d, and it fixes K = 1 (s = ln(1/M)).
   K = I₀/d₀^α so that α = 2 gives the far field I₀/d² exactly.
 
 References

@@ -1,0 +1,294 @@
+"""Per-family GLSL glue: the declarations a ``.glsl`` technique sees, the harness's ``main()``, and the
+host side that turns a family's Python call into per-receiver float textures and uniforms and the
+read-back colour into the family's output. The contracts are documented in
+:mod:`validate.local_models.glsl_technique` and ``docs/glsl.md``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import ValidateError
+from ..geometry import unit
+from .brdf import common as brdf_common
+from .light import common as light_common
+from .registry import FAMILIES
+
+Run = Callable[..., np.ndarray]  # run(inputs: list[(N, k)], uniforms: {name: value}, textures=None) -> (N, 4)
+
+
+def uniform_bytes(value: Any) -> bytes:
+    """A uniform's bytes: Python/NumPy ints → int32, everything else → float32 (arrays flattened)."""
+    arr = np.asarray(value)
+    if arr.dtype.kind in "iub":
+        return np.ascontiguousarray(arr, dtype=np.int32).tobytes()
+    return np.ascontiguousarray(arr, dtype=np.float32).tobytes()
+
+
+def _fetch(names: str) -> str:
+    return "\n".join(f"uniform sampler2D u_in{k};" for k in range(len(names.split())))
+
+
+@dataclass(frozen=True)
+class GLSLFamily:
+    """How a family's call maps onto its GLSL entry point."""
+
+    name: str
+    entry: str
+    declarations: str
+    main: str
+    call: Callable[..., np.ndarray]
+
+
+# -- brdf ---------------------------------------------------------------------------------------------------
+BRDF_DECL = _fetch("n l v") + """
+uniform vec3 u_albedo; uniform vec3 u_ks; uniform vec3 u_eta; uniform vec3 u_k;
+uniform float u_exponent; uniform float u_phong_exponent; uniform float u_alpha;
+uniform float u_sigma; uniform float u_minnaert_k;
+uniform int u_distribution;
+out vec4 o_color;
+vec3 brdf(vec3 n, vec3 l, vec3 v);
+"""
+BRDF_MAIN = """void main() {
+    ivec2 t = ivec2(gl_FragCoord.xy);
+    o_color = vec4(brdf(texelFetch(u_in0, t, 0).xyz, texelFetch(u_in1, t, 0).xyz, texelFetch(u_in2, t, 0).xyz), 1.0);
+}"""
+
+
+def brdf_uniforms(params: Mapping[str, Any], who: str) -> dict[str, Any]:
+    """The ``params`` mapping as uniforms (scalars broadcast to RGB for the vec3 ones)."""
+    rgb = {k: np.broadcast_to(brdf_common.param(params, k, who), (3,)) for k in ("albedo", "ks", "eta", "k")}
+    scal = {k: float(np.mean(brdf_common.param(params, k, who)))
+            for k in ("exponent", "phong_exponent", "alpha", "sigma", "minnaert_k")}
+    dist = str(params.get("distribution", brdf_common.DEFAULTS["distribution"])).lower()
+    return {**{f"u_{k}": v for k, v in rgb.items()}, **{f"u_{k}": v for k, v in scal.items()},
+            "u_distribution": 1 if dist == "ggx" else 0}
+
+
+def brdf_call(run: Run, params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray, views: np.ndarray,
+              **_: Any) -> np.ndarray:
+    out = run([unit(normals), unit(lights), unit(views)], brdf_uniforms(params, "glsl"))
+    return out[:, :3].astype(np.float64)
+
+
+# -- irradiance ---------------------------------------------------------------------------------------------
+IRRADIANCE_DECL = _fetch("n") + """
+uniform vec3 u_sh[9];
+uniform sampler2D u_radiance;
+uniform ivec2 u_radiance_size;
+out vec4 o_color;
+// Radiance of the lat-long map toward unit d, bilinear in (phi, theta) as Mitsuba's envmap: row i at
+// theta = i pi/(H-1), column j at phi = 2 pi (j + 1/2)/W, wrapping in phi. Done with texelFetch and the
+// weights in float32 (texture()'s hardware weights are quantised: llvmpipe errs ~2e-5 of a texel step).
+// Angles through atan2_precise: Mesa's acos errs 1.6e-4 rad and its atan 3.3e-6 (measured), one Newton
+// step on r sin(t - theta) with the precise sin/cos (<= 7.4e-8) brings atan to float32 rounding.
+float atan2_precise(float y, float x) {
+    float t = atan(y, x);
+    return t + (y * cos(t) - x * sin(t)) / max(length(vec2(x, y)), 1e-30);
+}
+vec3 env_radiance(vec3 d) {
+    float theta = atan2_precise(length(d.xz), d.y);
+    float phi = atan2_precise(d.x, -d.z);
+    if (phi < 0.0) phi += 6.28318530717958648;
+    int W = u_radiance_size.x, H = u_radiance_size.y;
+    float x = phi / 6.28318530717958648 * float(W) - 0.5;
+    float y = theta / 3.14159265358979324 * float(H - 1);
+    float x0 = floor(x), y0 = min(floor(y), float(H - 2));
+    float fx = x - x0, fy = y - y0;
+    int i0 = int(y0), j0 = (int(x0) % W + W) % W, j1 = (j0 + 1) % W;
+    vec3 a = mix(texelFetch(u_radiance, ivec2(j0, i0), 0).rgb,
+                 texelFetch(u_radiance, ivec2(j1, i0), 0).rgb, fx);
+    vec3 b = mix(texelFetch(u_radiance, ivec2(j0, i0 + 1), 0).rgb,
+                 texelFetch(u_radiance, ivec2(j1, i0 + 1), 0).rgb, fx);
+    return mix(a, b, fy);
+}
+vec3 irradiance(vec3 n);
+"""
+IRRADIANCE_MAIN = """void main() {
+    o_color = vec4(irradiance(texelFetch(u_in0, ivec2(gl_FragCoord.xy), 0).xyz), 1.0);
+}"""
+
+
+def irradiance_call(run: Run, radiance: np.ndarray, normals: np.ndarray, **_: Any) -> np.ndarray:
+    from .sh import project_environment  # noqa: PLC0415
+
+    rad = np.asarray(radiance, dtype=np.float64)
+    tex = np.concatenate([rad[..., :3], np.ones(rad.shape[:2] + (1,))], axis=-1)
+    uniforms = {"u_sh": project_environment(rad, 2), "u_radiance_size": np.array(rad.shape[1::-1], dtype=np.int32)}
+    out = run([unit(normals)], uniforms, {"u_radiance": tex})
+    return out[:, :3].astype(np.float64)
+
+
+# -- light --------------------------------------------------------------------------------------------------
+LIGHT_DECL = _fetch("p n") + """
+uniform int u_light_type;
+uniform vec3 u_light_position; uniform vec3 u_light_direction;
+uniform float u_light_intensity; uniform float u_light_irradiance;
+uniform float u_light_cutoff_angle; uniform float u_light_beam_width;
+uniform float u_light_exponent; uniform float u_light_range;
+out vec4 o_color;
+vec3 shade(vec3 p, vec3 n, vec3 v);
+"""
+LIGHT_MAIN = """void main() {
+    ivec2 t = ivec2(gl_FragCoord.xy);
+    vec3 n = texelFetch(u_in1, t, 0).xyz;
+    o_color = vec4(shade(texelFetch(u_in0, t, 0).xyz, n, n), 1.0);
+}"""
+LIGHT_TYPES = {"point": 0, "spot": 1, "directional": 2}
+
+
+def light_uniforms(light: Mapping[str, Any]) -> dict[str, Any]:
+    """The light mapping as uniforms (absent keys → 0; direction normalised)."""
+    kind = light.get("type")
+    if kind not in LIGHT_TYPES:
+        raise ValidateError(f"light of type {kind!r}: GLSL light techniques model "
+                                           f"{', '.join(LIGHT_TYPES)} only")
+    d = np.asarray(light.get("direction", (0.0, 0.0, -1.0)), dtype=np.float64)
+    u = {"u_light_type": LIGHT_TYPES[kind], "u_light_direction": d / np.linalg.norm(d),
+         "u_light_position": np.asarray(light.get("position", (0.0, 0.0, 0.0)), dtype=np.float64)}
+    for key in ("intensity", "irradiance", "cutoff_angle", "beam_width", "exponent", "range"):
+        u[f"u_light_{key}"] = float(light.get(key, 1.0 if key == "exponent" else 0.0))
+    return u
+
+
+def host_shadow(light: Mapping[str, Any], p: np.ndarray, n: np.ndarray, e: np.ndarray, visible: Any) -> np.ndarray:
+    """E·V with V the scene's shadow-ray test, exactly as :func:`light_common.point_irradiance` and
+    :func:`light_common.directional` apply it (lit receivers only, lifted along the lit side's normal)."""
+    lit = e > 0
+    if visible is None or not lit.any():
+        return e
+    if light["type"] == "directional":
+        to_light = -np.asarray(light["direction"], dtype=np.float64)
+        to_light /= np.linalg.norm(to_light)
+        targets = p[lit] + light_common.DIRECTIONAL_REACH * to_light
+        facing = n[lit]
+    else:
+        pos = np.asarray(light["position"], dtype=np.float64)
+        sign = np.sign(np.sum((pos - p[lit]) * n[lit], axis=-1))
+        facing, targets = n[lit] * sign[:, None], np.broadcast_to(pos, p[lit].shape)
+    out = e.copy()
+    out[lit] *= light_common.shadow(visible, p[lit], facing, targets)
+    return out
+
+
+def light_call(run: Run, light: Mapping[str, Any], points: np.ndarray, normals: np.ndarray,
+               visible: Any = None, **_: Any) -> np.ndarray:
+    p, n = light_common.as_points(points, normals)
+    n = unit(n)
+    e = run([p, n], light_uniforms(light))[:, 0].astype(np.float64)
+    return host_shadow(light, p, n, e, visible)
+
+
+# -- arealight ----------------------------------------------------------------------------------------------
+AREA_DECL = _fetch("p n") + """
+uniform int u_area_shape;
+uniform vec3 u_area_center; uniform vec3 u_area_normal; uniform vec3 u_area_tangent;
+uniform float u_area_radius; uniform vec2 u_area_size; uniform float u_area_radiance;
+out vec4 o_color;
+vec3 shade(vec3 p, vec3 n, vec3 v);
+"""
+AREA_SHAPES = {"disc": 0, "sphere": 1, "rectangle": 2}
+
+
+def area_uniforms(light: Mapping[str, Any]) -> dict[str, Any]:
+    """The area-light mapping as uniforms (absent keys → 0; normal and tangent normalised where given)."""
+    shape = light.get("shape")
+    if shape not in AREA_SHAPES:
+        raise ValidateError(f"area light: shape {shape!r}; GLSL arealight techniques take {', '.join(AREA_SHAPES)}")
+
+    def given(key: str, default: tuple[float, float, float]) -> np.ndarray:
+        return unit(np.asarray(light.get(key, default), dtype=np.float64))
+
+    size = np.broadcast_to(np.asarray(light.get("size", 0.0), dtype=np.float64), (2,))
+    return {"u_area_shape": AREA_SHAPES[shape], "u_area_center": np.asarray(light["center"], dtype=np.float64),
+            "u_area_normal": given("normal", (0.0, -1.0, 0.0)), "u_area_tangent": given("tangent", (1.0, 0.0, 0.0)),
+            "u_area_radius": float(light.get("radius", 0.0)), "u_area_size": size,
+            "u_area_radiance": float(light.get("radiance", 1.0))}
+
+
+def arealight_call(run: Run, light: Mapping[str, Any], points: np.ndarray, normals: np.ndarray,
+                   **_: Any) -> np.ndarray:
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    return run([p, unit(normals)], area_uniforms(light))[:, 0].astype(np.float64)
+
+
+# -- shadow -------------------------------------------------------------------------------------------------
+SHADOW_DECL = _fetch("w p n") + """
+uniform sampler2D u_shadow_map;
+uniform int u_shadow_resolution;
+uniform float u_texel_tan; uniform float u_near; uniform float u_far; uniform float u_depth_scale;
+uniform float u_offset_factor; uniform float u_offset_units; uniform float u_depth_lsb;
+uniform vec3 u_light_position; uniform vec3 u_light_normal; uniform float u_light_radius;
+out vec4 o_color;
+float visibility(vec3 p, vec3 n, vec4 w);
+"""
+SHADOW_MAIN = """void main() {
+    ivec2 t = ivec2(gl_FragCoord.xy);
+    o_color = vec4(visibility(texelFetch(u_in1, t, 0).xyz, texelFetch(u_in2, t, 0).xyz, texelFetch(u_in0, t, 0)));
+}"""
+
+
+def shadow_call(run: Run, shadow_map: Any, light: Any, points: np.ndarray, normals: np.ndarray,
+                **_: Any) -> np.ndarray:
+    """Window coordinates (x, y, z_w, z) from :meth:`ShadowMap.window_coords` (host, float64 → float32);
+    the map as an R × R texture (.r window depth D, 1 = empty; .g depth slope DZ per texel)."""
+    from .shadow_map import DEPTH_LSB, PolygonOffset  # noqa: PLC0415
+
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    n = unit(normals)
+    x, y, z_w, z = shadow_map.window_coords(p)
+    r = shadow_map.resolution
+    tex = np.zeros((r, r, 4))
+    tex[..., 0] = shadow_map.depth_image()
+    tex[..., 1] = np.array(shadow_map.slope, dtype=np.float64).reshape(r, r)
+    v, off = shadow_map.view, PolygonOffset()
+    uniforms = {"u_shadow_resolution": np.int32(r), "u_texel_tan": shadow_map.texel_tan, "u_near": v.near,
+                "u_far": v.far, "u_depth_scale": v.depth_scale, "u_offset_factor": off.factor,
+                "u_offset_units": off.units, "u_depth_lsb": DEPTH_LSB,
+                "u_light_position": np.asarray(light.centre, dtype=np.float64),
+                "u_light_normal": np.asarray(light.normal, dtype=np.float64), "u_light_radius": float(light.radius)}
+    out = run([np.stack([x, y, z_w, z], axis=1), p, n], uniforms, {"u_shadow_map": tex})
+    return out[:, 0].astype(np.float64)
+
+
+GLSL_CONTRACTS = {
+    "brdf": "vec3 brdf(vec3 n, vec3 l, vec3 v) -> f_r(l, v)·max(0, n·l), zero below either horizon; uniforms "
+            "vec3 u_albedo, u_ks, u_eta, u_k; float u_exponent, u_phong_exponent, u_alpha, u_sigma, u_minnaert_k; "
+            "int u_distribution (0 beckmann, 1 ggx)",
+    "irradiance": "vec3 irradiance(vec3 n) -> E(n) (not E/π); uniforms vec3 u_sh[9] (radiance SH L00, L1m1, L10, "
+                  "L11, L2m2, L2m1, L20, L21, L22: orthonormal, no Condon–Shortley phase, world xyz, z polar), "
+                  "sampler2D u_radiance (lat-long, row 0 = zenith, texelFetch), ivec2 u_radiance_size; "
+                  "helper vec3 env_radiance(vec3 d)",
+    "light": "vec3 shade(vec3 p, vec3 n, vec3 v) -> unshadowed E in W/m² (.r read; v = n; V applied by the host); "
+             "uniforms int u_light_type (0 point, 1 spot, 2 directional), vec3 u_light_position, u_light_direction, "
+             "float u_light_intensity, u_light_irradiance, u_light_cutoff_angle, u_light_beam_width (degrees), "
+             "u_light_exponent, u_light_range",
+    "arealight": "vec3 shade(vec3 p, vec3 n, vec3 v) -> E in W/m² (.r read; v = n); uniforms int u_area_shape "
+                 "(0 disc, 1 sphere, 2 rectangle), vec3 u_area_center, u_area_normal (the emitting side), "
+                 "u_area_tangent, float u_area_radius, vec2 u_area_size, float u_area_radiance",
+    "shadow": "float visibility(vec3 p, vec3 n, vec4 w) -> V in [0, 1]; w = (x, y, z_w, z): continuous texel "
+              "coordinates, clamped window depth and view depth of p (ShadowMap.window_coords); uniforms "
+              "sampler2D u_shadow_map (R×R, .r window depth D (1 = empty), .g slope DZ, texel (i, j) = "
+              "texelFetch(ivec2(i, j))), int u_shadow_resolution, float u_texel_tan, u_near, u_far, "
+              "u_depth_scale, u_offset_factor, u_offset_units, u_depth_lsb (glPolygonOffset(2, 4), 2^-24), "
+              "vec3 u_light_position, u_light_normal, float u_light_radius",
+}
+
+SPECS: dict[str, GLSLFamily] = {
+    "brdf": GLSLFamily("brdf", "vec3 brdf(vec3 n, vec3 l, vec3 v)", BRDF_DECL, BRDF_MAIN, brdf_call),
+    "irradiance": GLSLFamily("irradiance", "vec3 irradiance(vec3 n)", IRRADIANCE_DECL, IRRADIANCE_MAIN,
+                             irradiance_call),
+    "light": GLSLFamily("light", "vec3 shade(vec3 p, vec3 n, vec3 v)", LIGHT_DECL, LIGHT_MAIN, light_call),
+    "arealight": GLSLFamily("arealight", "vec3 shade(vec3 p, vec3 n, vec3 v)", AREA_DECL, LIGHT_MAIN,
+                            arealight_call),
+    "shadow": GLSLFamily("shadow", "float visibility(vec3 p, vec3 n, vec4 w)", SHADOW_DECL, SHADOW_MAIN,
+                         shadow_call),
+}
+
+
+for _name, _text in GLSL_CONTRACTS.items():
+    FAMILIES[_name].glsl_contract = _text  # shown by `validate list`, documented in docs/glsl.md
