@@ -4,11 +4,11 @@ Kernels (this process; best of ``repeats`` runs after one warm-up, JIT compilati
 and its plain reduction run alternately, so that load on the machine touches both alike):
 
 * SH projection (l ≤ 2 and l ≤ 8) of a 512×1024 lat-long map — the separable projection
-  (:func:`validate.local_models.sh.project_environment`) beside a *plain reduction over the same
+  (:func:`validate.local_models.irradiance.sh.project_environment`) beside a *plain reduction over the same
   texels*, Σ_i Ω_i Σ_j L_ij, computed the fastest way we know (the same polyphase per-row matrix
   products, rows shared among the CPUs the same way, with a single row of ones), beside a plain
   drjit sum of the texels already on the device, and beside the direct per-texel sum in drjit
-  (:func:`~validate.local_models.sh.project_samples`). The ratio to the plain reduction is the figure:
+  (:func:`~validate.local_models.irradiance.sh.project_samples`). The ratio to the plain reduction is the figure:
   the memory-bound limit is one pass over the texels.
 * SH9 irradiance at 100k normals: drjit vs numpy.
 * The GL runtimes (:mod:`validate.bench_gl`): cold start of each runtime, and each built-in GLSL technique's
@@ -75,9 +75,9 @@ def _best_pair(f: Callable[[], object], g: Callable[[], object], repeats: int = 
 
 def plain_reduction(radiance: np.ndarray) -> np.ndarray:
     """Σ_i Ω_i Σ_j L_ij (3,): the same row products as the SH projection
-    (:func:`~.local_models.sh.fourier_row_sums` with lmax = 0: the same polyphase matrix products, threads and
+    (:func:`~.local_models.irradiance.sh.fourier_row_sums` with lmax = 0: the same polyphase matrix products, threads and
     blocks, one row of ones instead of the 2·lmax+1 Fourier columns) — the floor a projection can approach."""
-    from .local_models.sh import fourier_row_sums
+    from .local_models.irradiance.sh import fourier_row_sums
     from .scenes import latlong
 
     h, w = radiance.shape[:2]

@@ -92,7 +92,7 @@ def _inputs(fam: str, n: int) -> tuple[Any, ...]:
 def _shadow_inputs(rng: np.random.Generator, n: int) -> tuple[Any, ...]:
     """A synthetic 512² D24 map over a ground plane under a disc light (no ray casting: the lookup is timed)."""
     from .backend import float_type  # noqa: PLC0415
-    from .local_models import shadow_map as smod  # noqa: PLC0415
+    from .local_models.shadow import shadow_map as smod  # noqa: PLC0415
     from .scenes.shadow_scenes import DiscLight  # noqa: PLC0415
 
     F, r = float_type(), 512

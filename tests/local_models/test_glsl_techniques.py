@@ -131,7 +131,7 @@ def test_light_shadow_is_the_hosts(rng: np.random.Generator) -> None:
 
 @needs_gl
 def test_irradiance_transcription(rng: np.random.Generator) -> None:
-    from validate.local_models.sh import C1, C2, C3, C4, C5, project_environment
+    from validate.local_models.irradiance.sh import C1, C2, C3, C4, C5, project_environment
 
     rad = rng.uniform(0.0, 2.0, (32, 64, 3))
     n = _unit(rng.standard_normal((3000, 3)))
@@ -150,7 +150,7 @@ def test_shadow_transcription(rng: np.random.Generator) -> None:
     float32 z_r with the same float32 D + o; a disagreement is allowed only where |z_r − (D + o)| is within
     4ε (a fused multiply-add may round the offset differently); measured 0 of 20 000."""
     from validate.backend import float_type
-    from validate.local_models import shadow_map as smod
+    from validate.local_models.shadow import shadow_map as smod
     from validate.scenes.shadow_scenes import DiscLight
 
     F = float_type()

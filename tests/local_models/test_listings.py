@@ -11,10 +11,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from validate.local_models.brdf.common import Geometry, fresnel_f0
 
 from validate.errors import ValidateError
 from validate.gl.listing_harness import Edit, apply_edits
-from validate.local_models.classic_brdfs import Geometry, fresnel_f0
 from validate.local_models.listings import fore_june_falloff as ff
 from validate.local_models.listings import ganovelli_cook_torrance as gct
 from validate.local_models.listings import ganovelli_lamps as g6

@@ -18,10 +18,10 @@ Entry points and the uniforms the harness declares (do not redeclare them; see d
   the same quantity as the Python contract (n, l, v unit, any frame); zero below either horizon.
   Uniforms ``vec3 u_albedo, u_ks, u_eta, u_k``; ``float u_exponent, u_phong_exponent, u_alpha, u_sigma,
   u_minnaert_k``; ``int u_distribution`` (0 beckmann, 1 ggx) — the ``params`` mapping, defaults as in
-  :data:`validate.local_models.classic_brdfs.DEFAULTS`.
+  :data:`validate.local_models.brdf.classic_brdfs.DEFAULTS`.
 * irradiance: ``vec3 irradiance(vec3 n)`` → E(n) = ∫ L max(0, n·ω) dω (not E/π). Uniforms
   ``vec3 u_sh[9]``: the environment's radiance SH coefficients L_lm from
-  :func:`validate.local_models.sh.project_environment` (real SH without Condon–Shortley phase, world
+  :func:`validate.local_models.irradiance.sh.project_environment` (real SH without Condon–Shortley phase, world
   (x, y, z) polynomial, order L00, L1m1, L10, L11, L2m2, L2m1, L20, L21, L22, orthonormal:
   ∫ Y_k Y_k' dω = δ_kk'); ``sampler2D u_radiance``: the lat-long map (RGB in .rgb, array row i = texel
   row i, NEAREST: read it with ``texelFetch``), in Mitsuba's ``envmap`` convention
@@ -41,7 +41,7 @@ Entry points and the uniforms the harness declares (do not redeclare them; see d
   ``float u_area_radiance`` (W/(m² sr)); no shadowing (the family's scenes have no occluders).
 * shadow:     ``float visibility(vec3 p, vec3 n, vec4 w)`` → V′ ∈ [0, 1]; w = (x, y, z_w, z), the receiver's
   continuous texel coordinates (texel (i, j) covers [i, i+1) × [j, j+1)), window depth clamped to [0, 1] and
-  view depth (:meth:`~validate.local_models.shadow_map.ShadowMap.window_coords`). Uniforms ``sampler2D
+  view depth (:meth:`~validate.local_models.shadow.shadow_map.ShadowMap.window_coords`). Uniforms ``sampler2D
   u_shadow_map`` (R × R: .r the stored window depth D, 1 = empty; .g the depth slope DZ per texel; texel
   (i, j) = ``texelFetch(u_shadow_map, ivec2(i, j), 0)``), ``int u_shadow_resolution``; ``float u_texel_tan,
   u_near, u_far, u_depth_scale, u_offset_factor, u_offset_units, u_depth_lsb`` (glPolygonOffset(2, 4) on a

@@ -37,7 +37,7 @@ from typing import Any
 import numpy as np
 
 from ...local_models import family
-from ...local_models.classic_brdfs import cook_torrance, cook_torrance_printed
+from ...local_models.brdf.classic_brdfs import cook_torrance, cook_torrance_printed
 from ...local_models.listings import diffuse_listings as dl
 from ...local_models.listings import fore_june_falloff as ff
 from ...local_models.listings import fore_june_uberlight as fj
@@ -47,7 +47,7 @@ from ...local_models.listings import orange_uberlight as ou
 from ...local_models.listings import redbook_lights as rb
 from ...local_models.listings import usc420_lecture as usc
 from ...local_models.listings.runner import GL_SKIPPED, gl_status, unit
-from ...local_models.uberlight import NO_DISTANCE_SHAPING, superellipse_shape_np
+from ...local_models.uberlight.orange_book import NO_DISTANCE_SHAPING, superellipse_shape_np
 from ...reference import brdf_render as br
 from ...reference import uberlight_render as ur
 from ...reference.point_emitter import point_irradiance
@@ -119,7 +119,7 @@ def _pairs(r: dict[str, np.ndarray]) -> dict[str, tuple[Any, Any]]:
                            ("redbook_7_6", POINT_LIGHT, False)):
         out[name] = (lambda lm=lm, sp=spot: rb.python(lm, r["plane"], r["normals"], sp),
                      lambda nm=name, lm=lm: rb.glsl(nm, lm, r["plane"], r["normals"]))
-    from ...local_models.classic_brdfs import phong
+    from ...local_models.brdf.classic_brdfs import phong
 
     out["usc420_l11"] = (lambda: phong(prm, nz, r["l"], r["v"]), lambda: usc.phong_usc420_glsl(prm, nz, r["l"], r["v"]))
     return out

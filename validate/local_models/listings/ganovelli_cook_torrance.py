@@ -21,7 +21,7 @@ Readings argued here:
 
 Units: Lp is the light's "amount" as in Ganovelli's Lambert term L = L_incident k_D (N·L) (eq. 6.5), i.e.
 E⊥/π for a light of perpendicular irradiance E⊥ ("π folded into the light",
-:mod:`validate.local_models.classic_brdfs`). The brdf family's output L_o/E⊥ is then S/π with S the
+:mod:`validate.local_models.brdf.classic_brdfs`). The brdf family's output L_o/E⊥ is then S/π with S the
 printed expression divided by Lp.
 
 What the existing ``classic_brdfs.cook_torrance_printed`` differs in: it puts the 2 of 6.62 into G2 as

@@ -19,7 +19,7 @@ only, so a rotation of (n, l, v) leaves c unchanged) and sets the one uniform vi
 places the receiver at viewPosition = −v so that eyedir = normalize(0 − viewPosition) = v, with
 modelViewMatrix = normalMatrix = I, projectionMatrix = the placement; k_d = albedo, k_s = ks,
 α = phong_exponent, L_a = 0, L_d = L_s = 1/π (π folded into the light,
-:mod:`validate.local_models.classic_brdfs`). Output c.rgb; zero below either horizon as the family
+:mod:`validate.local_models.brdf.classic_brdfs`). Output c.rgb; zero below either horizon as the family
 requires. The transcription is ``classic_brdfs.phong`` (same formula).
 
 References
