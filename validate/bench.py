@@ -75,8 +75,9 @@ def _best_pair(f: Callable[[], object], g: Callable[[], object], repeats: int = 
 
 def plain_reduction(radiance: np.ndarray) -> np.ndarray:
     """Σ_i Ω_i Σ_j L_ij (3,): the same row products as the SH projection
-    (:func:`~.local_models.irradiance.sh.fourier_row_sums` with lmax = 0: the same polyphase matrix products, threads and
-    blocks, one row of ones instead of the 2·lmax+1 Fourier columns) — the floor a projection can approach."""
+    (:func:`~.local_models.irradiance.sh.fourier_row_sums` with lmax = 0: the same polyphase matrix products,
+    threads and blocks, one row of ones instead of the 2·lmax+1 Fourier columns) — the floor a projection can
+    approach."""
     from .local_models.irradiance.sh import fourier_row_sums
     from .scenes import latlong
 

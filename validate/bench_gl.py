@@ -137,7 +137,7 @@ def _webgl_row(n: int) -> dict[str, Any]:
     from .local_models import glsl_technique as gt  # noqa: PLC0415
 
     try:
-        tech = gt.technique_from_file(gt.BUILTIN_DIR / "sh9.glsl", "irradiance", runtime="webgl2",
+        tech = gt.technique_from_file(gt.BUILTIN_DIR / "irradiance" / "sh9.glsl", "irradiance", runtime="webgl2",
                                       name="glsl_sh9@webgl2")
     except ValidateError as exc:
         return {"family": "irradiance", "glsl": "glsl_sh9@webgl2", "python": "sh9", "skipped": str(exc)}

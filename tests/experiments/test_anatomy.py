@@ -34,9 +34,9 @@ RUN_CALLS = {"compute", "claims", "findings", "sections", "ExperimentResult", "d
              "settings_json", "to_json"}
 
 
-def test_the_ten_experiments_are_packages() -> None:
-    assert NAMES == sorted(["arealights", "brdfs", "engines", "hemisphere", "ibl", "lights", "multiscatter", "sh9",
-                            "shadows", "uberlight"])
+def test_every_experiment_is_a_package() -> None:
+    assert set(NAMES) >= {"arealights", "brdfs", "engines", "hemisphere", "ibl", "lights", "multiscatter", "sh9",
+                          "shadows", "uberlight"}
     flat = [m.name for m in pkgutil.iter_modules([str(PACKAGE_DIR)]) if not m.ispkg]
     assert sorted(flat) == ["base", "formatting", "inputs", "techniques"]  # shared by the experiments, not experiments
 

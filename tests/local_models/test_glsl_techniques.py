@@ -272,7 +272,8 @@ def test_glsl_plugin_without_gl_is_one_line(monkeypatch: pytest.MonkeyPatch, cap
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("fname", ["sh9.glsl", "blinn_phong_normalized.glsl", "point_inverse_square.glsl"])
+@pytest.mark.parametrize("fname", ["irradiance/sh9.glsl", "brdf/blinn_phong_normalized.glsl",
+                                   "light/point_inverse_square.glsl"])
 def test_same_file_on_webgl2(rng: np.random.Generator, fname: str) -> None:
     """Each built-in file run on Chromium WebGL2 (SwiftShader) equals its llvmpipe run: these shaders use
     only +, −, ×, /, sqrt, normalize and pow, which both implement to a few ulp (SwiftShader's coarse sin/cos
@@ -303,7 +304,7 @@ def test_check_irradiance_accepts_a_glsl_file() -> None:
     10× margin while a wrong SH order or a missing 2 in eq. 12 moves it by > 1e-2)."""
     from validate.testing import check_irradiance
 
-    path = gt.BUILTIN_DIR / "sh9.glsl"
+    path = gt.BUILTIN_DIR / "irradiance" / "sh9.glsl"
     g = check_irradiance(str(path), environments=("two_tone",), normals=200)
     p = check_irradiance("sh9", environments=("two_tone",), normals=200)
     assert g.technique == "glsl_sh9"

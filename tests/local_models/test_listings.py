@@ -11,16 +11,16 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from validate.local_models.brdf.common import Geometry, fresnel_f0
 
 from validate.errors import ValidateError
 from validate.gl.listing_harness import Edit, apply_edits
-from validate.local_models.listings import fore_june_falloff as ff
-from validate.local_models.listings import ganovelli_cook_torrance as gct
-from validate.local_models.listings import ganovelli_lamps as g6
+from validate.local_models.brdf import ganovelli_cook_torrance as gct
+from validate.local_models.brdf.common import Geometry, fresnel_f0
+from validate.local_models.light import ganovelli_lamps as g6
 from validate.local_models.listings import runner
 from validate.local_models.listings.catalog import LISTINGS, SEED_FILES, SHADERS, listing
 from validate.local_models.registry import FAMILIES, define_family
+from validate.local_models.uberlight import fore_june_falloff as ff
 
 SEEDS = Path(__file__).resolve().parents[2].parent / "shared" / "seeds"
 GL_OK, GL_WHY = runner.gl_status()

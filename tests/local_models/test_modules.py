@@ -45,8 +45,18 @@ def _registered_by() -> dict[str, set[str]]:
     out: dict[str, set[str]] = {}
     for fam in lm.FAMILIES.values():
         for tech in fam:
+            if "glsl" in tech.meta and tech.builtin and tech.meta["glsl"].endswith(".glsl"):
+                continue  # a GLSL built-in: a .glsl file, checked by test_glsl_builtins_live_in_their_family
             out.setdefault(tech.fn.__module__, set()).add(tech.name)
     return out
+
+
+def test_glsl_builtins_live_in_their_family_folder() -> None:
+    glsl = [t for fam in lm.FAMILIES.values() for t in fam if str(t.meta.get("glsl", "")).endswith(".glsl")]
+    for tech in glsl:
+        path = Path(tech.meta["glsl"])
+        if tech.builtin:
+            assert path.parent.name == tech.family, f"{tech.name}: {path} is not in local_models/{tech.family}/"
 
 
 def _imported_modules(name: str) -> set[str]:

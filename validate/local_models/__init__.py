@@ -31,7 +31,6 @@ from __future__ import annotations
 import importlib
 
 from . import families
-from .glsl_technique import register_builtins as register_glsl_builtins
 from .registry import FAMILIES, Family, Technique, define_family, family, find_technique
 
 
@@ -42,12 +41,11 @@ def register_irradiance_model(name: str, description: str = "", **kwargs):  # no
 
 def load_builtins() -> None:
     """Import every family folder, in :data:`.families.__all__` order (each imports its technique files),
-    then the textbooks' listings (:mod:`.listings`), then the GLSL built-ins (``glsl/*.glsl``), which
+    then the GLSL built-ins (``<family>/*.glsl``), which
     register after the Python techniques they transcribe so every family keeps its order."""
     for name in families.__all__:
         importlib.import_module(f"{__name__}.{name}")
-    importlib.import_module(f"{__name__}.listings")
-    register_glsl_builtins()
+    importlib.import_module(f"{__name__}.glsl_technique").register_builtins()
 
 
 load_builtins()

@@ -47,7 +47,8 @@ arealight = define_family(
 
 shadow = define_family(
     "shadow",
-    "fn(shadow_map: ShadowMap (depth map rendered from the light, see local_models.shadow.shadow_map), light: DiscLight, "
+    "fn(shadow_map: ShadowMap (depth map rendered from the light, see local_models.shadow.shadow_map), "
+    "light: DiscLight, "
     "points: (N, 3) receiver positions, normals: (N, 3)) -> (N,) visibility V' in [0, 1]",
     lambda shadow_map, light, points, normals, **_: (len(points),),
     lower=0.0, upper=1.0,

@@ -14,8 +14,6 @@ import numpy as np
 
 from ..errors import ValidateError
 from ..geometry import unit
-from .brdf import common as brdf_common
-from .light import common as light_common
 from .registry import FAMILIES
 
 Run = Callable[..., np.ndarray]  # run(inputs: list[(N, k)], uniforms: {name: value}, textures=None) -> (N, 4)
@@ -61,6 +59,7 @@ BRDF_MAIN = """void main() {
 
 def brdf_uniforms(params: Mapping[str, Any], who: str) -> dict[str, Any]:
     """The ``params`` mapping as uniforms (scalars broadcast to RGB for the vec3 ones)."""
+    from .brdf import common as brdf_common  # noqa: PLC0415 — at call time: the family packages import this module
     rgb = {k: np.broadcast_to(brdf_common.param(params, k, who), (3,)) for k in ("albedo", "ks", "eta", "k")}
     scal = {k: float(np.mean(brdf_common.param(params, k, who)))
             for k in ("exponent", "phong_exponent", "alpha", "sigma", "minnaert_k")}
@@ -114,7 +113,7 @@ IRRADIANCE_MAIN = """void main() {
 
 
 def irradiance_call(run: Run, radiance: np.ndarray, normals: np.ndarray, **_: Any) -> np.ndarray:
-    from .sh import project_environment  # noqa: PLC0415
+    from .irradiance.sh import project_environment  # noqa: PLC0415
 
     rad = np.asarray(radiance, dtype=np.float64)
     tex = np.concatenate([rad[..., :3], np.ones(rad.shape[:2] + (1,))], axis=-1)
@@ -158,6 +157,7 @@ def light_uniforms(light: Mapping[str, Any]) -> dict[str, Any]:
 def host_shadow(light: Mapping[str, Any], p: np.ndarray, n: np.ndarray, e: np.ndarray, visible: Any) -> np.ndarray:
     """E·V with V the scene's shadow-ray test, exactly as :func:`light_common.point_irradiance` and
     :func:`light_common.directional` apply it (lit receivers only, lifted along the lit side's normal)."""
+    from .light import common as light_common  # noqa: PLC0415 — at call time (import cycle via the family packages)
     lit = e > 0
     if visible is None or not lit.any():
         return e
@@ -177,6 +177,7 @@ def host_shadow(light: Mapping[str, Any], p: np.ndarray, n: np.ndarray, e: np.nd
 
 def light_call(run: Run, light: Mapping[str, Any], points: np.ndarray, normals: np.ndarray,
                visible: Any = None, **_: Any) -> np.ndarray:
+    from .light import common as light_common  # noqa: PLC0415 — at call time (import cycle via the family packages)
     p, n = light_common.as_points(points, normals)
     n = unit(n)
     e = run([p, n], light_uniforms(light))[:, 0].astype(np.float64)
@@ -236,7 +237,7 @@ def shadow_call(run: Run, shadow_map: Any, light: Any, points: np.ndarray, norma
                 **_: Any) -> np.ndarray:
     """Window coordinates (x, y, z_w, z) from :meth:`ShadowMap.window_coords` (host, float64 → float32);
     the map as an R × R texture (.r window depth D, 1 = empty; .g depth slope DZ per texel)."""
-    from .shadow_map import DEPTH_LSB, PolygonOffset  # noqa: PLC0415
+    from .shadow.shadow_map import DEPTH_LSB, PolygonOffset  # noqa: PLC0415
 
     p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
     n = unit(normals)

@@ -74,7 +74,7 @@ from .registry import FAMILIES, Technique
 HEADER = re.compile(r"^\s*//\s*validate:\s*([A-Za-z_]+)\s*=\s*(.*?)\s*$")
 RUNTIMES = ("llvmpipe", "webgl2")
 MAX_WIDTH = 1024  # receivers per framebuffer row (llvmpipe's limit is 16384; 1024 keeps rows cache-friendly)
-BUILTIN_DIR = Path(__file__).with_name("glsl")
+BUILTIN_DIR = Path(__file__).parent  # built-ins are <family>/<name>.glsl, beside the Python techniques
 STATUS: dict[str, str] = {}  # runtime -> "" (available) or the reason GLSL techniques of it are not registered
 
 
@@ -292,7 +292,7 @@ def make_fn(src: GLSLSource) -> Callable[..., np.ndarray]:
     def fn(*args: Any, **kwargs: Any) -> np.ndarray:
         return spec.call(lambda inputs, uniforms, textures=None: evaluate(src, inputs, uniforms, textures),
                          *args, **kwargs)
-    fn.__module__ = "validate.local_models.glsl" if src.meta.get("builtin") else "glsl_plugin"
+    fn.__module__ = f"validate.local_models.{src.family}" if src.meta.get("builtin") else "glsl_plugin"
     fn.__qualname__ = fn.__name__ = src.name
     fn.__doc__ = src.description or f"GLSL technique {src.path}"
     return fn
@@ -338,10 +338,10 @@ def gl_status(runtime: str = "llvmpipe") -> tuple[bool, str]:
 
 
 def register_builtins() -> None:
-    """Register every ``glsl/*.glsl`` shipped with the suite whose runtime starts here; record why not.
+    """Register every ``<family>/*.glsl`` shipped with the suite whose runtime starts here; record why not.
     Called by :func:`validate.local_models.load_builtins` after every Python built-in, so GLSL
     transcriptions follow their originals in each family's order."""
-    for path in sorted(BUILTIN_DIR.glob("*.glsl")):
+    for path in sorted(BUILTIN_DIR.glob("*/*.glsl")):
         src = parse_glsl(path)
         ok, why = gl_status(src.runtime)
         STATUS[src.runtime] = "" if ok else why

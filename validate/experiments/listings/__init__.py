@@ -10,30 +10,25 @@ rows are skipped (the findings say why) and the Python transcriptions stand in.
 
 from __future__ import annotations
 
-from dataclasses import asdict
-
-from ..base import Claim, Context, ExperimentResult, Section, register_experiment
+from ..base import Context, ExperimentResult, register_experiment
+from . import report
 from .claims import claims
-from .compute import Measurements, compute
+from .compute import compute
 from .report import findings, sections
-from .settings import FULL, QUICK, Settings
+from .settings import FULL, QUICK
 
 NAME = "listings"
 TITLE = "The textbooks' lighting listings, run as printed"
 DESCRIPTION = ("Every lighting listing of the five seed texts on llvmpipe beside its Python transcription and "
                "Mitsuba; printed equations against their corrections")
-ORDER = 95
+ORDER = 92
 
 
 @register_experiment(NAME, TITLE, DESCRIPTION, order=ORDER)
 def run(ctx: Context) -> ExperimentResult:
-    s = QUICK if ctx.quick else FULL
-    m = compute(ctx, s)
-    res = ExperimentResult(NAME, TITLE, DESCRIPTION, claims=claims(m), findings=findings(m), settings=asdict(s))
-    res.data = {k: v for k, v in asdict(m).items() if k != "settings"}
-    res.sections = sections(m, ctx)
-    return res
+    m = compute(ctx, QUICK if ctx.quick else FULL)
+    return ExperimentResult(NAME, TITLE, DESCRIPTION, claims=claims(m), findings=findings(m),
+                            settings=report.settings_json(m), data=report.data(m), sections=sections(m, ctx))
 
 
-__all__ = ["DESCRIPTION", "FULL", "NAME", "ORDER", "QUICK", "TITLE", "Claim", "Measurements", "Section", "Settings",
-           "claims", "compute", "findings", "run", "sections"]
+__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections", "run"]

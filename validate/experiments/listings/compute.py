@@ -5,7 +5,7 @@ Parts (each a dict of plain numbers in :class:`Measurements`):
 * ``transcription`` (GL only): per runnable listing, ``rel`` = max |GLSL − Python| / max |Python| over
   random receivers (the float64 transcription of the same listing and host state);
 * ``cook_torrance``: per Mitsuba ``roughconductor`` (Beckmann α), every reading of Ganovelli's eq.
-  6.60–6.66 (:mod:`validate.local_models.listings.ganovelli_cook_torrance`), the suite's existing
+  6.60–6.66 (:mod:`validate.local_models.brdf.ganovelli_cook_torrance`), the suite's existing
   ``cook_torrance_printed`` and the corrected ``cook_torrance``: ``energy_ratio`` = Σ w Y(q) / Σ w Y(q_ref)
   and ``rel_l1`` = Σ w |Y(q) − Y(q_ref)| / Σ w Y(q_ref) over the (l, v) grid of
   :func:`validate.scenes.brdf_scenes.brdf_grid` (Y luminance, q the cosine-weighted BRDF); uncertainty
@@ -37,16 +37,16 @@ from typing import Any
 import numpy as np
 
 from ...local_models import family
+from ...local_models.brdf import ganovelli_cook_torrance as gct
+from ...local_models.brdf import usc420_phong as usc
 from ...local_models.brdf.classic_brdfs import cook_torrance, cook_torrance_printed
+from ...local_models.light import ganovelli_lamps as g6
+from ...local_models.light import redbook_lights as rb
 from ...local_models.listings import diffuse_listings as dl
-from ...local_models.listings import fore_june_falloff as ff
 from ...local_models.listings import fore_june_uberlight as fj
-from ...local_models.listings import ganovelli_cook_torrance as gct
-from ...local_models.listings import ganovelli_lamps as g6
-from ...local_models.listings import orange_uberlight as ou
-from ...local_models.listings import redbook_lights as rb
-from ...local_models.listings import usc420_lecture as usc
 from ...local_models.listings.runner import GL_SKIPPED, gl_status, unit
+from ...local_models.uberlight import fore_june_falloff as ff
+from ...local_models.uberlight import orange_uberlight as ou
 from ...local_models.uberlight.orange_book import NO_DISTANCE_SHAPING, superellipse_shape_np
 from ...reference import brdf_render as br
 from ...reference import uberlight_render as ur

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import asdict
 from typing import Any
 
 from ...local_models.listings.catalog import LISTINGS, SEED_FILES
@@ -186,3 +187,13 @@ def sections(m: Measurements, ctx: Context) -> list[Section]:
 
 
 __all__ = ["findings", "index_counts", "sections"]
+
+
+def settings_json(m: Measurements) -> dict[str, Any]:
+    """The settings the run used (results.json ``settings``)."""
+    return asdict(m.settings)
+
+
+def data(m: Measurements) -> dict[str, Any]:
+    """The measurements as results.json data (the settings go under ``settings``)."""
+    return {k: v for k, v in asdict(m).items() if k != "settings"}

@@ -31,7 +31,7 @@ Models
   * ``blinn_phong_normalized``: f_r = ρ/π + k_s (s + 8)/(8π) (n·h)^s [7], s = ``exponent``.
   * ``cook_torrance_printed`` — one *reading* of Ganovelli et al. §6.10.1 eq. 6.60–6.66 [1], not the printed
     text: the seed prints G2 = (n·h)(n·l)/(v·h) without the 2 of G1 (eq. 6.63) and eq. 6.60 without the
-    factor n·l; the readings of the text as printed are ``listings.ganovelli_cook_torrance``. This one:
+    factor n·l; the readings of the text as printed are ``brdf.ganovelli_cook_torrance``. This one:
     S = F D G / ((n·l)(n·v)) · (n·l) (colour from F; ``ks`` unused), with the Beckmann distribution as in
     Cook & Torrance [6]
     D = exp(−tan²θ_h/m²)/(m² cos⁴θ_h) (no 1/π), the V-cavity G = min{1, 2(n·h)(n·v)/(v·h),

@@ -30,7 +30,7 @@ import numpy as np
 from ...gl.listing_harness import Placement, homogeneous
 from ..families import light
 from ..light.common import Visible, as_points, require, shadow
-from .runner import register_gl, run, unit
+from ..listings.runner import register_gl, run, unit
 
 PHYSICAL = (0.0, 0.0, 1.0)  # (k_c, k_l, k_q) = inverse square
 

@@ -35,19 +35,8 @@ import numpy as np
 
 from ...gl.listing_harness import Placement, homogeneous
 from ..brdf.common import Geometry, param
-from ..families import brdf, light
-from ..light.common import Visible, point_irradiance, require
-from .runner import register_gl, run
-
-
-@light.register("point_usc420_a1b1c0", "USC CSCI 420 lecture 11's 'reasonable starting point' attenuation "
-                "1/(a + bq + cq²) with a = b = 1, c = 0: E = I max(0, l·n)/(1 + q)", lights=("point",),
-                attenuation=(1.0, 1.0, 0.0), seed="001 USC CSCI 420 lecture 11, 'Diffuse Light Intensity'")
-def point_usc420_a1b1c0(light_map: Mapping[str, Any], points: Any, normals: Any,
-                        visible: Visible | None = None) -> np.ndarray:
-    """E = I max(0, n·ω)/(1 + d) · V [1]."""
-    require(light_map, kinds=("point",))
-    return point_irradiance(light_map, points, normals, visible, attenuation=lambda d: 1.0 / (1.0 + d))
+from ..families import brdf
+from ..listings.runner import register_gl, run
 
 
 def to_light_frame(lights: np.ndarray, *vectors: np.ndarray) -> list[np.ndarray]:
@@ -92,4 +81,4 @@ def phong_usc420_glsl(params: Mapping[str, Any], normals: np.ndarray, lights: np
     return Geometry(normals, lights, views).finish(glsl_phong(params, normals, lights, views))
 
 
-__all__ = ["glsl_phong", "phong_usc420_glsl", "point_usc420_a1b1c0", "to_light_frame"]
+__all__ = ["glsl_phong", "phong_usc420_glsl", "to_light_frame"]

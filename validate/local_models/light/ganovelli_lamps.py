@@ -29,7 +29,7 @@ import numpy as np
 from ...gl.listing_harness import Placement
 from ..families import light
 from ..light.common import Visible, as_points, require, shadow
-from .runner import register_gl, run, unit
+from ..listings.runner import register_gl, run, unit
 
 LAMP_R_SCALE = 0.03 * 3.14 * 3.14  # the listing's r = 0.03*3.14*3.14*length(...)
 LAMP_FACTOR = 1.0 / LAMP_R_SCALE ** 2  # the listing's E over I cos θ/d²

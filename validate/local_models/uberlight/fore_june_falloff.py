@@ -30,7 +30,7 @@ import numpy as np
 
 from ...errors import ValidateError
 from ..families import uberlight
-from ..uberlight.orange_book import check_light, shade
+from ..uberlight.common import check_light, shade
 
 
 def _constants(k: float, m: float, alpha: float) -> tuple[float, float]:

@@ -33,8 +33,8 @@ import numpy as np
 
 from ...gl.listing_harness import Placement, homogeneous
 from ..families import uberlight
-from ..uberlight.orange_book import check_light
-from .runner import register_gl, run, smoothstep, unit
+from ..listings.runner import register_gl, run, smoothstep, unit
+from ..uberlight.common import check_light
 
 
 def world_to_light(light: Mapping[str, Any]) -> np.ndarray:

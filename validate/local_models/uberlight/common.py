@@ -1,0 +1,157 @@
+"""Shared code of the überlight family: the Orange Book listing's shaping (superellipse, distance
+window, smoothstep), its light coordinates and the shading skeleton every überlight technique uses
+(formulas and references: :mod:`.orange_book`). Registers nothing."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from ...backend import float_type
+from ...errors import ValidateError
+
+SHAPE_KEYS = ("width", "height", "width_edge", "height_edge", "roundness")
+DISTANCE_KEYS = ("near", "far", "near_edge", "far_edge")
+NO_DISTANCE_SHAPING = {"near": 0.0, "far": 1.0e9, "near_edge": 0.0, "far_edge": 0.0}
+
+
+def check_light(light: Mapping[str, Any], *extra: str) -> None:
+    """One-line error naming the missing or invalid überlight parameters."""
+    keys = ("position", "axes", "intensity") + SHAPE_KEYS + DISTANCE_KEYS + extra
+    missing = [k for k in keys if k not in light]
+    if missing:
+        raise ValidateError(f"überlight light mapping: missing {', '.join(missing)}")
+    bad = [k for k in ("width", "height", "roundness") if not float(light[k]) > 0]
+    bad += [k for k in ("width_edge", "height_edge", "near_edge", "far_edge") if not float(light[k]) >= 0]
+    if bad:
+        raise ValidateError(f"überlight light mapping: {', '.join(bad)} must be > 0 (widths, roundness) or ≥ 0 "
+                            "(edges)")
+
+
+def _f(a: Any) -> Any:
+    return float_type()(np.ascontiguousarray(np.asarray(a, dtype=np.float64).ravel(), dtype=np.float32))
+
+
+def smoothstep(e0: Any, e1: Any, x: Any) -> Any:
+    """GLSL smoothstep; e₀ = e₁ is the step x ≥ e₁ (module docstring)."""
+    import drjit as dr
+
+    width = e1 - e0
+    t = dr.clip((x - e0) / dr.select(width > 0, width, 1.0), 0.0, 1.0)
+    return dr.select(width > 0, t * t * (3.0 - 2.0 * t), dr.select(x >= e1, 1.0, 0.0))
+
+
+def light_coordinates(light: Mapping[str, Any], points: np.ndarray) -> np.ndarray:
+    """(N, 3) receiver positions in the light's frame (x, y, z = forward), float64."""
+    axes = np.asarray(light["axes"], dtype=np.float64).reshape(3, 3)
+    rel = np.asarray(points, dtype=np.float64).reshape(-1, 3) - np.asarray(light["position"], dtype=np.float64)
+    return rel @ axes.T
+
+
+def superellipse_shape(light: Mapping[str, Any], lc: Any) -> Any:
+    """A = 1 − smoothstep(inner, outer, 1) of Listing 12.6 (drjit; ``lc`` = (x, y, z) drjit arrays)."""
+    import drjit as dr
+
+    x, y, z = lc
+    front = z > 0
+    zs = dr.select(front, z, 1.0)
+    px, py = dr.abs(x / zs), dr.abs(y / zs)
+    w, h = float(light["width"]), float(light["height"])
+    ww, hh = w + float(light["width_edge"]), h + float(light["height_edge"])
+    e1, e2 = 2.0 / float(light["roundness"]), -float(light["roundness"]) / 2.0
+    at_axis = (px == 0) & (py == 0)
+    inner = w * h * dr.power(dr.select(at_axis, 1.0, dr.power(h * px, e1) + dr.power(w * py, e1)), e2)
+    outer = ww * hh * dr.power(dr.select(at_axis, 1.0, dr.power(hh * px, e1) + dr.power(ww * py, e1)), e2)
+    shape = 1.0 - smoothstep(inner, outer, dr.full(type(inner), 1.0, dr.width(inner)))
+    return dr.select(front, dr.select(at_axis, 1.0, shape), 0.0)
+
+
+def distance_shape(light: Mapping[str, Any], z: Any) -> Any:
+    """D = smoothstep(near − nearEdge, near, z) · (1 − smoothstep(far, far + farEdge, z)) (Listing 12.6)."""
+    near, far = float(light["near"]), float(light["far"])
+    ne, fe = float(light["near_edge"]), float(light["far_edge"])
+    one = z * 0.0
+    return smoothstep(one + (near - ne), one + near, z) * (1.0 - smoothstep(one + far, one + (far + fe), z))
+
+
+def superellipse_shape_np(light: Mapping[str, Any], x: np.ndarray, y: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """The same A in float64 numpy (the slow, obvious version the drjit one is tested against; the fits use it)."""
+    def sstep(e0: np.ndarray, e1: np.ndarray, v: float) -> np.ndarray:
+        wdt = e1 - e0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.clip((v - e0) / np.where(wdt > 0, wdt, 1.0), 0.0, 1.0)
+        return np.where(wdt > 0, t * t * (3 - 2 * t), (v >= e1).astype(float))
+
+    front = z > 0
+    zs = np.where(front, z, 1.0)
+    px, py = np.abs(x / zs), np.abs(y / zs)
+    w, h = float(light["width"]), float(light["height"])
+    ww, hh = w + float(light["width_edge"]), h + float(light["height_edge"])
+    e1, e2 = 2.0 / float(light["roundness"]), -float(light["roundness"]) / 2.0
+    axis = (px == 0) & (py == 0)
+    with np.errstate(divide="ignore", over="ignore"):
+        inner = w * h * np.where(axis, 1.0, (h * px) ** e1 + (w * py) ** e1) ** e2
+        outer = ww * hh * np.where(axis, 1.0, (hh * px) ** e1 + (ww * py) ** e1) ** e2
+    return np.where(front & ~axis, 1.0 - sstep(inner, outer, 1.0), np.where(front, 1.0, 0.0))
+
+
+def distance_shape_np(light: Mapping[str, Any], z: np.ndarray) -> np.ndarray:
+    """The same D in float64 numpy (twin of :func:`distance_shape`)."""
+    def sstep(e0: float, e1: float, v: np.ndarray) -> np.ndarray:
+        if e1 > e0:
+            t = np.clip((v - e0) / (e1 - e0), 0.0, 1.0)
+            return t * t * (3 - 2 * t)
+        return (v >= e1).astype(float)
+
+    z = np.asarray(z, dtype=np.float64)
+    near, far = float(light["near"]), float(light["far"])
+    return sstep(near - float(light["near_edge"]), near, z) * (1.0 - sstep(far, far + float(light["far_edge"]), z))
+
+
+def fore_june_falloff(d: np.ndarray, intensity: float, d0: float, alpha: float, max_intensity: float
+                      ) -> np.ndarray:
+    """Barzel's falloff (module docstring): K (d₀/d)^α for d ≥ d₀, M exp(s (d/d₀)^β) below, K = I₀/d₀^α."""
+    d = np.asarray(d, dtype=np.float64)
+    k = intensity / d0 ** alpha
+    if not (max_intensity > k > 0 and d0 > 0 and alpha > 0):
+        raise ValidateError(f"Fore June falloff: need M > K = I₀/d₀^α > 0 and d₀, α > 0 (M={max_intensity:g}, "
+                            f"K={k:g}, d₀={d0:g}, α={alpha:g})")
+    s = math.log(k / max_intensity)
+    beta = -alpha / s
+    with np.errstate(divide="ignore"):
+        far = k * (d0 / np.maximum(d, 1e-30)) ** alpha
+    return np.where(d >= d0, far, max_intensity * np.exp(s * (d / d0) ** beta))
+
+
+def shade(light: Mapping[str, Any], points: np.ndarray, normals: np.ndarray, views: np.ndarray,
+          material: Mapping[str, Any], shadow: np.ndarray | None, falloff: np.ndarray | float) -> np.ndarray:
+    """L_o of the module docstring with the per-point falloff F (array or scalar)."""
+    import drjit as dr
+
+    check_light(light)
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    lc64 = light_coordinates(light, p)
+    lc = [_f(lc64[:, i]) for i in range(3)]
+    a = superellipse_shape(light, lc) * distance_shape(light, lc[2])
+    to_light = np.asarray(light["position"], dtype=np.float64) - p
+    dist = np.linalg.norm(to_light, axis=1)
+    ldir = to_light / np.maximum(dist, 1e-30)[:, None]
+    n = np.asarray(normals, dtype=np.float64).reshape(-1, 3)
+    v = np.asarray(views, dtype=np.float64).reshape(-1, 3)
+    half = ldir + v
+    half /= np.maximum(np.linalg.norm(half, axis=1), 1e-30)[:, None]
+    ndotl = dr.maximum(_f(np.einsum("nk,nk->n", n, ldir)), 0.0)
+    ndoth = dr.maximum(_f(np.einsum("nk,nk->n", n, half)), 0.0)
+    albedo = np.broadcast_to(np.asarray(material.get("albedo", 1.0), dtype=np.float64), (len(p),))
+    ks, s = float(material.get("ks", 0.0)), float(material.get("specular_exponent", 20.0))
+    refl = _f(albedo / math.pi) * ndotl + ks * dr.power(ndoth, s)
+    vis = _f(np.ones(len(p)) if shadow is None else shadow)
+    c = float(light["intensity"]) * a * _f(np.broadcast_to(np.asarray(falloff, dtype=np.float64), (len(p),)))
+    return np.array(c * vis * refl, dtype=np.float64)
+
+
+def _distance(light: Mapping[str, Any], points: np.ndarray) -> np.ndarray:
+    return np.linalg.norm(np.asarray(points, dtype=np.float64).reshape(-1, 3) - np.asarray(light["position"]), axis=1)
