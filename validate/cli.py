@@ -86,6 +86,7 @@ EPILOG = """examples:
   python -m validate all --plugin my_technique.py      # your technique in every experiment of its family
   python -m validate list --plugin my_technique.py     # families, their contracts, registered techniques
   python -m validate bench                             # speed and memory, side by side -> bench.json
+  python -m validate worst sh9 --budget 400            # worst lighting found for sh9 -> reports/worst_sh9_*.exr
 
 environment variables:
   VALIDATE_PROBES   default for --probes
@@ -131,6 +132,9 @@ def _parser() -> argparse.ArgumentParser:
     r = sub.add_parser("run", parents=[common], help="run one experiment and update the report")
     r.add_argument("name", help="experiment name (see `list`)")
     sub.add_parser("all", parents=[common], help="run every experiment and write the report")
+    from .experiments.worstcase.command import add_parser as add_worst_parser
+
+    add_worst_parser(sub)
     b = sub.add_parser("bench", help="benchmarks: drjit local models vs numpy, reference cost")
     b.add_argument("--out", type=Path, default=Path("reports"), metavar="DIR")
     b.add_argument("--sizes", default="1024,2048,4096,8192", metavar="H,H,...",
@@ -323,6 +327,12 @@ def main(argv: list[str] | None = None) -> int:
             return _run(args, [args.name])
         if args.command == "all":
             return _run(args, None)
+        if args.command == "worst":
+            from .experiments.worstcase.command import run_worst
+
+            for spec in args.plugin:
+                load_plugin(spec)
+            return run_worst(args)
         if args.command == "bench":
             from .bench import run_bench
 
