@@ -49,8 +49,8 @@ def sh9_claims(m: Measurements) -> list[Claim]:
         mean, target = cert["flux_luminance.mean"], directional_worst_case_mean()
         c = Claim("worstcase.certificate.sh9.mean", "sh9's mean-error certificate equals R&H's ½∫|K̃ − max(0, x)| dx",
                   "|certificate − 0.030674|", RH_TOLERANCE, abs(mean.value - target), 0.0, "<", "", RH_SOURCE)
-        pg = m.sh9_power.get(f"E x {GAIN}")
-        out.append(c.with_power(f"sh9 × {GAIN}", abs(pg["mean"] - target)) if pg else c)
+        pg = m.sh9_power.get(f"l2 x {L2_SCALE}")
+        out.append(c.with_power(f"sh9 with its l = 2 band × {L2_SCALE}", abs(pg["mean"] - target)) if pg else c)
     for label, p in m.sh9_power.items():
         c = Claim(f"worstcase.certificate.power.{label.replace(' ', '')}",
                   f"perturbing sh9 ({label}) moves the certificate by the closed-form amount",

@@ -10,7 +10,8 @@ directions (3 Floats) and exact cell solid angles ΔΩ_j — and normals (3 Floa
   (R&H 2001 eq. 8; ``sh9``'s registered form is eq. 12 with the 6-digit c1…c5, equal to 10⁻⁶ relative);
 * windowed SH9 (Hanning, Lanczos weights), ZH3 stored / hallucinated (Roughton et al. 2024),
   Geomerics L1 (Hazel 2013), hemisphere lighting with C = E(±U)/π (the formulas of
-  :mod:`validate.local_models.windowed_sh`, :mod:`~validate.local_models.zh3`, :mod:`~validate.local_models.hemisphere`).
+  :mod:`validate.local_models.windowed_sh`, :mod:`~validate.local_models.zh3`,
+  :mod:`~validate.local_models.hemisphere`).
 
 Tested equal to the registered techniques within :data:`EQUALITY_TOLERANCE` of the flux
 (tests/experiments/test_worstcase.py).

@@ -126,7 +126,8 @@ class Raster:
             v = g[7 * k:7 * k + 3]
             norm = dr.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + 1e-20)
             cos = (v[0] * self.dirs[0] + v[1] * self.dirs[1] + v[2] * self.dirs[2]) / norm
-            lam = fam.sharpness_min * dr.exp(math.log(fam.sharpness_max / fam.sharpness_min) * sigmoid(dr, g[7 * k + 3]))
+            span = math.log(fam.sharpness_max / fam.sharpness_min)
+            lam = fam.sharpness_min * dr.exp(span * sigmoid(dr, g[7 * k + 3]))
             lobe = dr.exp(lam * (cos - dr.max(dr.detach(cos))))  # the shift cancels in the normalisation
             lobe = lobe / dr.sum(lobe * self.dw)
             for c in range(3):

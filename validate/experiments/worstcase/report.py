@@ -76,7 +76,8 @@ def sections(m: Measurements, ctx: Context) -> list[Section]:
                    _pct(c["flux_luminance.mean"].value) if "flux_luminance.mean" in c else "—"]
                   for n, c in m.certificates.items()], "sup over all non-negative lighting, flux-normalised")
     srch = Table(["technique", "metric", "method", "worst found", "± (2H)", "restarts", "random search", "probe"],
-                 [[n, r.metric, r.method, _pct(r.value), _pct(r.uncertainty), ", ".join(_pct(v) for v in r.restart_values),
+                 [[n, r.metric, r.method, _pct(r.value), _pct(r.uncertainty),
+                   ", ".join(_pct(v) for v in r.restart_values),
                    _pct(r.random_value) if r.random_value == r.random_value else "—", m.probes.get(f"{n}:{met}", "")]
                   for n, res in m.searches.items() for met, r in res.items()], "differentiable / SPSA search")
     figs = [_figure(m, ctx, n) for n in m.certificates]
