@@ -47,6 +47,7 @@ def run_worst(args: argparse.Namespace) -> int:
           f"at H = {s.height} and {2 * s.height}; e(2H) = {pct(r.value_2x)})")
     print(f"restarts: {', '.join(pct(v) for v in r.restart_values)} (spread "
           f"{pct(max(r.restart_values) - min(r.restart_values))}); random search, same budget: {pct(r.random_value)}")
+    print(f"worst lighting: {r.lighting}")
     for metric, limit in tech.thresholds.items():
         env = tech.meta.get("environments")
         where = f" (declared for {', '.join(env)} only)" if env else ""

@@ -173,3 +173,28 @@ def write_probe(path: Any, radiance: np.ndarray) -> None:
 
     with atomic_path(path, ".exr") as tmp:
         mi.Bitmap(np.ascontiguousarray(radiance, dtype=np.float32)).write(str(tmp))
+
+
+def _softplus_np(x: np.ndarray) -> np.ndarray:
+    return np.maximum(x, 0.0) + np.log1p(np.exp(-np.abs(x)))
+
+
+def describe(fam: Family, theta: np.ndarray, height: int) -> str:
+    """The lighting θ in words: each lobe's direction (θ, φ in degrees), sharpness λ and share of the luminance
+    flux, the soft map's share, and Φ_Y (before the rescaling every share is a flux in the same units)."""
+    y = np.array(LUMINANCE)
+    parts, shares = [], []
+    for k in range(fam.lobes):
+        v = theta[7 * k:7 * k + 3]
+        th, ph = latlong.direction_to_spherical(v / np.linalg.norm(v))
+        lam = fam.sharpness_min * (fam.sharpness_max / fam.sharpness_min) ** (1 / (1 + np.exp(-theta[7 * k + 3])))
+        shares.append(float(_softplus_np(theta[7 * k + 4:7 * k + 7]) @ y))
+        parts.append(f"lobe θ={np.degrees(th):.1f}° φ={np.degrees(ph):.1f}° λ={lam:.3g}")
+    idx, wts = upsample_plan(fam.map_height, height)
+    _, dw = texel_geometry(height)
+    coarse = _softplus_np(theta[7 * fam.lobes:-1]).reshape(3, -1)
+    shares.append(float(sum(y[c] * ((wts * coarse[c][idx]).sum(axis=0) @ dw) for c in range(3))))
+    total = sum(shares)
+    flux = FLUX_REFERENCE * 10 ** (fam.decades / (1 + np.exp(-theta[-1])))
+    words = [f"{p} ({100 * s / total:.1f} % of Φ)" for p, s in zip(parts, shares[:-1], strict=True)]
+    return "; ".join(words + [f"soft map {100 * shares[-1] / total:.1f} % of Φ", f"Φ_Y = {flux:.4g}"])

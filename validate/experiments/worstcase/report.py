@@ -26,7 +26,7 @@ def findings(m: Measurements) -> list[str]:
             out.append(f"{name}: search ({r.method}) {metric} = {_pct(r.value)} ± {_pct(r.uncertainty)} "
                        f"(restarts {', '.join(_pct(v) for v in r.restart_values)}; random search "
                        f"{_pct(r.random_value)}; {r.evaluations} evaluations, {r.wall_s:.1f} s; probe "
-                       f"{m.probes.get(name + ':' + metric, '')})")
+                       f"{m.probes.get(name + ':' + metric, '')}); the lighting: {r.lighting}")
     for name, lim in m.thresholds.items():
         r = m.searches.get(name, {}).get("flux_luminance.max")
         from ...local_models import irradiance

@@ -40,7 +40,7 @@ from ...metrics.irradiance_error import RELATIVE_FLOOR
 from ...scenes.latlong import fibonacci_sphere
 from . import dr_models
 from .errors import Technique, check_metric, errors_at, registered, worst_normal
-from .lighting import LUMINANCE, Family, Raster
+from .lighting import LUMINANCE, Family, Raster, describe
 
 LEARNING_RATE = 0.3  # measured on sh9 at H = 16: 2 of 3 starts reach 99.9 % of 3/32 in 100 steps (0.1: 0 of 3)
 TAU = 0.01  # smooth-max temperature relative to the current max
@@ -72,14 +72,21 @@ class SearchResult:
     wall_s: float
     theta: np.ndarray = field(repr=False)
     radiance: np.ndarray = field(repr=False)
+    family: Family = field(default=Family(), repr=False)
 
     @property
     def uncertainty(self) -> float:
         """Quadrature resolution of the truth: |e(2H) − e(H)| for the same lighting."""
         return abs(self.value_2x - self.value)
 
+    @property
+    def lighting(self) -> str:
+        """The worst lighting found, in words (:func:`.lighting.describe`)."""
+        return describe(self.family, self.theta, self.radiance.shape[0])
+
     def to_json(self) -> dict[str, Any]:
         return {"technique": self.technique, "metric": self.metric, "method": self.method, "value": self.value,
+                "lighting": self.lighting,
                 "value_2x": self.value_2x, "uncertainty": self.uncertainty, "restart_values": self.restart_values,
                 "random_value": self.random_value, "evaluations": self.evaluations, "normal": self.normal,
                 "wall_s": self.wall_s}
@@ -240,4 +247,4 @@ def search(name: str, s: SearchSettings, metric: str = "flux_luminance.max", fn:
         rnd = worst_normal(fn, raster.numpy(th_r), metric)[0]
     method = "drjit AD (Adam)" if ad else "SPSA (2 evaluations per step, Adam)"
     return SearchResult(name, metric, method, value, value_2x, [float(v) for v in finals], float(rnd), used,
-                        [float(x) for x in normal], round(time.perf_counter() - t0, 2), thetas[k], radiance)
+                        [float(x) for x in normal], round(time.perf_counter() - t0, 2), thetas[k], radiance, s.family)
