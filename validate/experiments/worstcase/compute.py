@@ -33,8 +33,9 @@ class Measurements:
     thresholds: dict[str, dict[str, Any]] = field(default_factory=dict)
 
 
-def _names(wanted: tuple[str, ...] | None) -> list[str]:
-    return [t.name for t in irradiance if wanted is None or t.name in wanted]
+def _names(wanted: tuple[str, ...] | None, plugins: bool = False) -> list[str]:
+    """Registered techniques named in ``wanted`` (None: all), plus every plug-in when ``plugins``."""
+    return [t.name for t in irradiance if wanted is None or t.name in wanted or plugins and not t.builtin]
 
 
 def sh9_perturbed(weights: tuple[float, float, float]) -> Any:
@@ -93,7 +94,7 @@ def compute_sh9_power(m: Measurements, s: Settings) -> None:
 def compute_searches(ctx: Context, m: Measurements, s: Settings) -> None:
     ss = SearchSettings(height=s.search_height, normals=s.search_normals, budget=s.budget, restarts=s.restarts,
                         seed=ctx.seed)
-    for name in _names(s.searched):
+    for name in _names(s.searched, plugins=True):
         m.searches[name] = {"flux_luminance.max": search(name, ss, "flux_luminance.max")}
         if name in s.relative:
             m.searches[name]["relative.max"] = search(name, ss, "relative.max", with_random=False)
@@ -106,7 +107,7 @@ def compute_searches(ctx: Context, m: Measurements, s: Settings) -> None:
 
 def compute(ctx: Context, s: Settings) -> Measurements:
     m = Measurements(s)
-    names = sorted(set(_names(s.linear)) | set(_names(s.searched)), key=_names(None).index)
+    names = sorted(set(_names(s.linear, plugins=True)) | set(_names(s.searched, plugins=True)), key=_names(None).index)
     compute_linearity(m, names, ctx.seed)
     compute_certificates(m, s)
     compute_sh9_power(m, s)

@@ -11,7 +11,10 @@ class Settings:
     2H₀, … refined locally; ``search_height``: H of the searched maps (one of the certificate's levels, so the
     search is compared with the certificate of the same maps); ``budget``/``restarts``: evaluations and
     restarts of each search; ``linear``/``searched``/``means``: techniques considered (None: every
-    registered irradiance technique; names not registered are skipped)."""
+    registered irradiance technique; names not registered are skipped; plug-ins are always included).
+    FULL certifies every linear technique but searches only sh9 (against its certificate) and the nonlinear
+    built-ins: a search costs ~30 s of CPU (AD) to minutes (SPSA through an engine); ``worst TECHNIQUE``
+    searches any other one."""
 
     coarse: int
     levels: int
@@ -30,4 +33,5 @@ QUICK = Settings(coarse=8, levels=2, search_height=16, search_normals=300, budge
                  linear=("sh9", "sh9_hanning", "sh9_lanczos", "zh3_hallucinated", "sh1_geomerics"),
                  searched=("sh9", "zh3_hallucinated"), means=("sh9",), relative=())
 FULL = Settings(coarse=16, levels=3, search_height=32, search_normals=400, budget=400, restarts=4,
-                linear=None, searched=None, means=None, power_levels=2)
+                linear=None, searched=("sh9", "zh3_stored", "zh3_hallucinated", "sh1_geomerics", "sh9_cmgen_auto",
+                                       "babylon_sh"), means=("sh9",), power_levels=2)
