@@ -88,6 +88,7 @@ class Certificate:
     normal: list[float]
     levels: list[tuple[int, float]]  # (H, value) per refinement level
     calls: int
+    texel: int  # the worst texel of the last level's H×2H map
     errors_over_normals: Any = field(default=None, repr=False)  # (normals, e) of the worst light, for the figure
 
     def to_json(self) -> dict[str, Any]:
@@ -172,4 +173,4 @@ def certificate(fn: Technique, name: str, metric: str, coarse: int, levels: int)
     worst_light = delta_map(h, int(texels[order[0]]))
     e = errors_at(fn, worst_light, dense, base)
     return Certificate(name, metric, path[-1][1], unc, [float(x) for x in best_dir], [float(x) for x in best_n],
-                       path, calls, (dense, e))
+                       path, calls, int(texels[order[0]]), (dense, e))

@@ -69,7 +69,8 @@ def threshold_claims(m: Measurements) -> list[Claim]:
             if irradiance[name].meta.get("environments") or not metric.endswith(".max"):
                 continue
             c = Claim(f"worstcase.certificate.{name}.{metric}", f"{name}'s declared {metric} holds for every "
-                      "non-negative lighting (its certificate)", metric, limit, cert["flux_luminance.max"].value,
+                      f"non-negative lighting (its certificate; worst light: probe "
+                      f"{m.probes.get(name + ':certificate', '')})", metric, limit, cert["flux_luminance.max"].value,
                       cert["flux_luminance.max"].uncertainty, "<", "%", irradiance[name].source or "declared")
             if name in m.threshold_power:
                 c.with_power(f"{name} × {GAIN} or × {2 - GAIN} (a 2 % gain error)", m.threshold_power[name])

@@ -51,8 +51,12 @@ def run_worst(args: argparse.Namespace) -> int:
     for metric, limit in tech.thresholds.items():
         env = tech.meta.get("environments")
         where = f" (declared for {', '.join(env)} only)" if env else ""
-        verdict = "BROKEN" if r.value + r.uncertainty >= limit and not env else (
-            "exceeded" if r.value >= limit else "holds")
+        if r.value + r.uncertainty < limit:
+            verdict = "holds"
+        elif r.value - r.uncertainty >= limit:
+            verdict = "exceeded" if env else "BROKEN"
+        else:
+            verdict = "not shown to hold (the limit is within the uncertainty)"
         print(f"declared {metric} < {pct(limit)}{where}: {verdict} on the worst lighting found")
     print(f"wrote {path} (load it with --probe {path})")
     return 0

@@ -55,13 +55,17 @@ def compute_linearity(m: Measurements, names: list[str], seed: int) -> None:
                              "linear": bool(d < LINEARITY_TOLERANCE and x < LINEARITY_TOLERANCE)}
 
 
-def compute_certificates(m: Measurements, s: Settings) -> None:
+def compute_certificates(ctx: Context, m: Measurements, s: Settings) -> None:
     means = set(_names(s.means))
     for name, lin in m.linearity.items():
         if not lin["linear"]:
             continue
         metrics = ["flux_luminance.max"] + (["flux_luminance.mean"] if name in means else [])
         m.certificates[name] = {met: certificate(registered(name), name, met, s.coarse, s.levels) for met in metrics}
+        cert = m.certificates[name]["flux_luminance.max"]
+        path, rel = ctx.figure_path(NAME, f"certificate_{name}.exr")  # the worst light: a unit-flux texel delta
+        write_probe(path, delta_map(cert.levels[-1][0], cert.texel))
+        m.probes[f"{name}:certificate"] = rel
         m.thresholds[name] = dict(irradiance[name].thresholds)
         restricted = irradiance[name].meta.get("environments")
         if m.thresholds[name] and not restricted:
@@ -109,7 +113,7 @@ def compute(ctx: Context, s: Settings) -> Measurements:
     m = Measurements(s)
     names = sorted(set(_names(s.linear, plugins=True)) | set(_names(s.searched, plugins=True)), key=_names(None).index)
     compute_linearity(m, names, ctx.seed)
-    compute_certificates(m, s)
+    compute_certificates(ctx, m, s)
     compute_sh9_power(m, s)
     compute_searches(ctx, m, s)
     return m
