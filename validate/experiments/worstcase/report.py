@@ -27,6 +27,12 @@ def findings(m: Measurements) -> list[str]:
                        f"(restarts {', '.join(_pct(v) for v in r.restart_values)}; random search "
                        f"{_pct(r.random_value)}; {r.evaluations} evaluations, {r.wall_s:.1f} s; probe "
                        f"{m.probes.get(name + ':' + metric, '')}); the lighting: {r.lighting}")
+    for name, res in m.searches.items():
+        r = res["flux_luminance.max"]
+        if name in m.certificates and not r.method.startswith("drjit"):
+            cert = m.certificates[name]["flux_luminance.max"].at(m.settings.search_height)
+            out.append(f"{name}: the gradient-free search ({r.method}) reached {_pct(r.value / cert)} of the "
+                       f"certificate {_pct(cert)} at H = {m.settings.search_height}")
     for name, lim in m.thresholds.items():
         r = m.searches.get(name, {}).get("flux_luminance.max")
         from ...local_models import irradiance
