@@ -8,9 +8,13 @@ exists, :mod:`.dr_models`; SPSA otherwise), whose worst lighting is written as a
 
 from __future__ import annotations
 
+from typing import Any
+
+from ...local_models import irradiance
 from ..base import Context, ExperimentResult, register_experiment
+from ..techniques import technique_entry
 from .claims import claims
-from .compute import NAME, compute
+from .compute import NAME, Measurements, compute
 from .report import findings, sections
 from .settings import FULL, QUICK
 
@@ -30,7 +34,20 @@ def run(ctx: Context) -> ExperimentResult:
             "searches": {n: {k: r.to_json() for k, r in v.items()} for n, v in m.searches.items()},
             "probes": m.probes}
     return ExperimentResult(NAME, TITLE, DESCRIPTION, claims(m), findings(m), sections(m, ctx), data,
-                            settings={k: v for k, v in s.__dict__.items()})
+                            settings={k: v for k, v in s.__dict__.items()}, techniques=technique_entries(m))
+
+
+def technique_entries(m: Measurements) -> dict[str, Any]:
+    """results.json entries: linearity defect, certificates and worst errors found, per technique."""
+    out = {}
+    for name, lin in m.linearity.items():
+        metrics: dict[str, float] = {"linearity_defect": lin["defect"]}
+        for metric, c in m.certificates.get(name, {}).items():
+            metrics[f"certificate.{metric}"] = c.value
+        for metric, r in m.searches.get(name, {}).items():
+            metrics[f"search.{metric}"] = r.value
+        out[name] = technique_entry(irradiance[name], metrics, linear=lin["linear"])
+    return out
 
 
 __all__ = ["DESCRIPTION", "FULL", "NAME", "ORDER", "QUICK", "TITLE", "claims", "compute", "findings", "run", "sections"]

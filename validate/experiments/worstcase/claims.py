@@ -29,7 +29,8 @@ def linearity_claims(m: Measurements) -> list[Claim]:
         if name in EXPECTED_NONLINEAR:
             c = Claim(f"worstcase.linearity.{name}", f"{name} is detected as nonlinear (not given a certificate)",
                       "linearity defect / Φ", LINEARITY_TOLERANCE, lin["defect"], 0.0, ">", "",
-                      "issue 22: expected nonlinear (per-map axis, window, clamp or power)")
+                      "nonlinear by construction: a per-map axis (ZH3), a power q^p with p from the map "
+                      "(Geomerics), a per-map window (cmgen auto), a radiance clamp at 4096 (Babylon)")
             out.append(c.with_power("the defect of sh9 (linear)", m.linearity.get("sh9", {"defect": 0.0})["defect"]))
     return out
 
@@ -86,7 +87,8 @@ def search_claims(m: Measurements) -> list[Claim]:
             cert = m.certificates[name]["flux_luminance.max"].at(m.settings.search_height)
             c = Claim(f"worstcase.search.{name}.reaches_certificate", f"the search on {name} reaches ≥ 99 % of its "
                       "certificate from random starts", "search / certificate", SEARCH_FRACTION, r.value / cert,
-                      r.uncertainty / cert, ">", "%", "issue 22 (search vs the exact certificate, same map resolution)")
+                      r.uncertainty / cert, ">", "%", "the certificate of the same map resolution (exact sup over "
+                      "non-negative maps, validate.experiments.worstcase.certificate); 99 %: the search's target")
             out.append(c.with_power("random search, same budget, no gradients", r.random_value / cert))
         for metric, limit in m.thresholds.get(name, {}).items():
             # flux_luminance ≤ flux_rgb (a Y-weighted mean of the per-channel ratios), so the search's
