@@ -53,8 +53,9 @@ class Family:
         return 7 * self.lobes + 6 * self.map_height ** 2 + 1
 
     def random(self, rng: np.random.Generator) -> np.ndarray:
-        """A random start: lobes in uniform directions, λ log-uniform in [λ_min, √λ_max λ_min]… the mid
-        range, fluxes and map logits N(0, 1), flux logit N(0, 1)."""
+        """A random start: lobe directions uniform on the sphere (normalised Gaussian v), sharpness logits
+        U(−3, 0) (λ ∈ [1.8, 316] for the default range: broad to sun-sized lobes, none yet a single texel),
+        lobe flux logits N(0, 1), map logits N(−1, 1), flux logit N(0, 1)."""
         th = np.empty(self.size)
         k = self.lobes
         v = rng.normal(size=(k, 3))
