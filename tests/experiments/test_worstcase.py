@@ -100,7 +100,6 @@ def test_sh9_mean_certificate_is_rh_mean() -> None:
     assert abs(cert.value - directional_worst_case_mean()) < RH_TOLERANCE
 
 
-@pytest.mark.slow
 def test_search_reaches_certificate_and_beats_random() -> None:
     """drjit-AD search on sh9 from random starts reaches ≥ 99 % of 3/32 (the certificate at every resolution);
     random search with the same budget does not."""
