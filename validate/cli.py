@@ -44,6 +44,7 @@ from pathlib import Path
 from . import interrupt
 from .atomic import OutputError, output_error
 from .errors import ValidateError
+from .experiments.worstcase.command import add_parser as add_worst_parser
 from .gl import runtime
 from .interrupt import Interrupted  # re-exported: callers catch it here
 from .report.docs import update_docs
@@ -61,6 +62,7 @@ EPILOG = """examples:
   python -m validate all --quick --baseline old/results.json   # ... and what changed since then
   python -m validate compare old/results.json reports/results.json --strict   # CI: exit 1 on a regression
   python -m validate docs --results reports/results.json   # docs/ figures from that run (--check: exit 1 if stale)
+  python -m validate worst sh9 --budget 400            # worst lighting found for sh9 -> reports/worst_sh9_*.exr
 
 environment variables:
   VALIDATE_PROBES   default for --probes
@@ -122,6 +124,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--strict", action="store_true",
                    help="exit with status 1 on a regression: a claim that passed and now fails, or a technique "
                         "metric worse beyond its uncertainty (errors: larger is worse)")
+    add_worst_parser(sub)
     b = sub.add_parser("bench", help="benchmarks: drjit local models vs numpy, reference cost")
     b.add_argument("--out", type=Path, default=Path("reports"), metavar="DIR")
     b.add_argument("--sizes", default="1024,2048,4096,8192", metavar="H,H,...",
@@ -535,6 +538,12 @@ def main(argv: list[str] | None = None) -> int:
             return _run(args, [args.name])
         if args.command == "all":
             return _run(args, None)
+        if args.command == "worst":
+            from .experiments.worstcase.command import run_worst
+
+            for spec in args.plugin:
+                load_plugin(spec)
+            return run_worst(args)
         if args.command == "bench":
             from .bench import run_bench
 
