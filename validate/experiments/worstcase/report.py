@@ -2,15 +2,22 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
+from ...local_models import irradiance
 from ...scenes.latlong import direction_to_spherical
 from ..base import Context, Figure, Section, Table
+from ..formatting import pct
+from ..techniques import technique_entry
 from .compute import NAME, Measurements
+from .settings import Settings
 
 
-def _pct(x: float) -> str:
-    return f"{100 * x:.4g} %"
+def pct4(x: float) -> str:
+    """A fraction as per cent, 4 significant digits."""
+    return pct(x, 4)
 
 
 def findings(m: Measurements) -> list[str]:
@@ -18,21 +25,21 @@ def findings(m: Measurements) -> list[str]:
     for name, cert in m.certificates.items():
         c = cert["flux_luminance.max"]
         th, ph = direction_to_spherical(np.asarray(c.direction))
-        out.append(f"{name}: certificate max_n |E′ − E| / Φ ≤ {_pct(c.value)} ± {_pct(c.uncertainty)} for any "
+        out.append(f"{name}: certificate max_n |E′ − E| / Φ ≤ {pct4(c.value)} ± {pct4(c.uncertainty)} for any "
                    f"non-negative lighting (worst light at θ = {np.degrees(th):.1f}°, φ = {np.degrees(ph):.1f}°; "
-                   f"levels {', '.join(f'H={h}: {_pct(v)}' for h, v in c.levels)})")
+                   f"levels {', '.join(f'H={h}: {pct4(v)}' for h, v in c.levels)})")
     for name, res in m.searches.items():
         for metric, r in res.items():
-            out.append(f"{name}: search ({r.method}) {metric} = {_pct(r.value)} ± {_pct(r.uncertainty)} "
-                       f"(restarts {', '.join(_pct(v) for v in r.restart_values)}; random search "
-                       f"{_pct(r.random_value)}; {r.evaluations} evaluations, {r.wall_s:.1f} s; probe "
+            out.append(f"{name}: search ({r.method}) {metric} = {pct4(r.value)} ± {pct4(r.uncertainty)} "
+                       f"(restarts {', '.join(pct4(v) for v in r.restart_values)}; random search "
+                       f"{pct4(r.random_value)}; {r.evaluations} evaluations, {r.wall_s:.1f} s; probe "
                        f"{m.probes.get(name + ':' + metric, '')}); the lighting: {r.lighting}")
     for name, res in m.searches.items():
         r = res["flux_luminance.max"]
         if name in m.certificates and not r.method.startswith("drjit"):
             cert = m.certificates[name]["flux_luminance.max"].at(m.settings.search_height)
-            out.append(f"{name}: the gradient-free search ({r.method}) reached {_pct(r.value / cert)} of the "
-                       f"certificate {_pct(cert)} at H = {m.settings.search_height}")
+            out.append(f"{name}: the gradient-free search ({r.method}) reached {pct4(r.value / cert)} of the "
+                       f"certificate {pct4(cert)} at H = {m.settings.search_height}")
     for name, lim in m.thresholds.items():
         r = m.searches.get(name, {}).get("flux_luminance.max")
         from ...local_models import irradiance
@@ -41,8 +48,8 @@ def findings(m: Measurements) -> list[str]:
         for metric, limit in lim.items():
             if env and r is not None:
                 verdict = "exceeds" if r.value > limit else "stays within"
-                out.append(f"{name}: the worst lighting found ({_pct(r.value)}) {verdict} its declared {metric} < "
-                           f"{_pct(limit)}, which is declared for {', '.join(env)} only (not a claim here)")
+                out.append(f"{name}: the worst lighting found ({pct4(r.value)}) {verdict} its declared {metric} < "
+                           f"{pct4(limit)}, which is declared for {', '.join(env)} only (not a claim here)")
     return out
 
 
@@ -77,14 +84,41 @@ def sections(m: Measurements, ctx: Context) -> list[Section]:
                 [[n, f"{v['defect']:.3g}", f"{v['crosstalk']:.3g}", "yes" if v["linear"] else "no"]
                  for n, v in m.linearity.items()], "f(aL₁ + bL₂) vs a f(L₁) + b f(L₂), random HDR maps + sun/sky")
     cert = Table(["technique", "certificate (max)", "±", "levels", "mean certificate"],
-                 [[n, _pct(c["flux_luminance.max"].value), _pct(c["flux_luminance.max"].uncertainty),
-                   "; ".join(f"H={h}: {_pct(v)}" for h, v in c["flux_luminance.max"].levels),
-                   _pct(c["flux_luminance.mean"].value) if "flux_luminance.mean" in c else "—"]
+                 [[n, pct4(c["flux_luminance.max"].value), pct4(c["flux_luminance.max"].uncertainty),
+                   "; ".join(f"H={h}: {pct4(v)}" for h, v in c["flux_luminance.max"].levels),
+                   pct4(c["flux_luminance.mean"].value) if "flux_luminance.mean" in c else "—"]
                   for n, c in m.certificates.items()], "sup over all non-negative lighting, flux-normalised")
     srch = Table(["technique", "metric", "method", "worst found", "± (2H)", "restarts", "random search", "probe"],
-                 [[n, r.metric, r.method, _pct(r.value), _pct(r.uncertainty),
-                   ", ".join(_pct(v) for v in r.restart_values),
-                   _pct(r.random_value) if r.random_value == r.random_value else "—", m.probes.get(f"{n}:{met}", "")]
+                 [[n, r.metric, r.method, pct4(r.value), pct4(r.uncertainty),
+                   ", ".join(pct4(v) for v in r.restart_values),
+                   pct4(r.random_value) if r.random_value == r.random_value else "—", m.probes.get(f"{n}:{met}", "")]
                   for n, res in m.searches.items() for met, r in res.items()], "differentiable / SPSA search")
     figs = [_figure(m, ctx, n) for n in m.certificates]
     return [Section("Worst case for any lighting", findings(m), figs, [lin, cert, srch])]
+
+
+def data(m: Measurements) -> dict[str, Any]:
+    """results.json data: linearity, certificates, power checks, searches and the probes written."""
+    return {"linearity": m.linearity,
+            "certificates": {n: {k: c.to_json() for k, c in v.items()} for n, v in m.certificates.items()},
+            "sh9_power": m.sh9_power, "threshold_power": m.threshold_power,
+            "searches": {n: {k: r.to_json() for k, r in v.items()} for n, v in m.searches.items()},
+            "probes": m.probes}
+
+
+def settings_json(s: Settings) -> dict[str, Any]:
+    """The settings the run used."""
+    return dict(s.__dict__)
+
+
+def techniques(m: Measurements) -> dict[str, Any]:
+    """results.json entries: linearity defect, certificates and worst errors found, per technique."""
+    out = {}
+    for name, lin in m.linearity.items():
+        metrics: dict[str, float] = {"linearity_defect": lin["defect"]}
+        for metric, c in m.certificates.get(name, {}).items():
+            metrics[f"certificate.{metric}"] = c.value
+        for metric, r in m.searches.get(name, {}).items():
+            metrics[f"search.{metric}"] = r.value
+        out[name] = technique_entry(irradiance[name], metrics, linear=lin["linear"])
+    return out
