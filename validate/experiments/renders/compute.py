@@ -48,6 +48,7 @@ class SceneResult:
     references: dict[str, np.ndarray]  # kind → (R, R, 3) truth image (NaN off the sphere)
     reference_energy: dict[str, tuple[float, float]]  # kind → mean ± standard error over the mask
     mask: np.ndarray
+    stderrs: dict[str, np.ndarray] = field(default_factory=dict)  # kind → (R, R, 3) standard error
     engines: dict[str, EngineResult] = field(default_factory=dict)
     skipped: dict[str, str] = field(default_factory=dict)  # engine → reason
 
@@ -95,7 +96,7 @@ def budget(kind: str, mean: np.ndarray) -> tuple[np.ndarray | float, str]:
 def measure_scene(scene: rs.RenderScene, kind: str, s: Settings) -> SceneResult:
     refs, hit = references(scene, kind, s)
     truths = {k: truth(r, hit, s.passes) for k, r in refs.items()}
-    res = SceneResult(scene, kind, {k: t[0] for k, t in truths.items()}, {}, hit)
+    res = SceneResult(scene, kind, {k: t[0] for k, t in truths.items()}, {}, hit, {k: t[1] for k, t in truths.items()})
     for name in s.engines:
         try:
             er = engines.render(name, scene)

@@ -2,7 +2,7 @@
 // metallicF0Factor = KHR_materials_specular's factor, 0 for a Lambertian), HDRCubeTexture on the scene's .hdr
 // file (its RGBE loader, panorama-to-cube, spherical polynomial for diffuse, HDRFiltering prefilter for
 // specular), DirectionalLight in lux, a TEXTURETYPE_FLOAT RenderTargetTexture read back with readPixels.
-// Image processing (tone mapping, exposure, gamma) is off: the target holds linear radiance.
+// Image processing (tone mapping, exposure, gamma) is left to a post process that is never attached: linear radiance.
 import * as BABYLON from '../../../node_modules/@babylonjs/core/index.js';
 
 export const version = BABYLON.Engine.Version;
@@ -44,7 +44,13 @@ export async function renderBabylon(d) {
   const opts = d.options || {};
   const scene = new BABYLON.Scene(eng);
   scene.useRightHandedSystem = true;
-  scene.imageProcessingConfiguration.isEnabled = false;
+  // Linear output: with image processing "applied by a post process" the PBR shader skips its own tone mapping
+  // and its final toGammaSpace (measured: without this the target held radiance^(1/2.2)); no post process is
+  // attached to the render target, so nothing applies it.
+  scene.imageProcessingConfiguration.applyByPostProcess = true;
+  scene.imageProcessingConfiguration.toneMappingEnabled = false;
+  scene.imageProcessingConfiguration.exposure = 1.0;
+  scene.imageProcessingConfiguration.contrast = 1.0;
   scene.clearColor = new BABYLON.Color4(0, 0, 0, 0);
   let prefilter_ms = 0;
   if (d.environment) {
