@@ -137,4 +137,5 @@ def encode_f32(a: np.ndarray) -> str:
     return base64.b64encode(np.ascontiguousarray(a, dtype=np.float32).tobytes()).decode("ascii")
 
 
-__all__ = ["base_url", "publish", "served_root", "open_page", "call", "decode_f32", "encode_f32", "PAGES", "NODE_MODULES"]
+__all__ = ["base_url", "publish", "served_root", "open_page", "call", "decode_f32", "encode_f32", "PAGES",
+           "NODE_MODULES"]

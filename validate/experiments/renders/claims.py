@@ -62,8 +62,9 @@ def furnace_claims(m: Measurements) -> list[Claim]:
     out = []
     for name in engines:
         dev = [abs(s.engines[name].energy - 1.0) for s in scenes if name in s.engines]
+        rough = ", ".join(f"{r:g}" for r in m.settings.furnace_roughness)
         c = Claim(f"renders.{name}.furnace.energy", f"{name}: white spheres (dielectric and metal, roughness "
-                  f"{', '.join(f'{r:g}' for r in m.settings.furnace_roughness)}) in the white furnace return radiance 1",
+                  f"{rough}) in the white furnace return radiance 1",
                   "max over scenes of |mean radiance − 1|", FURNACE_ENERGY_TOL, max(dev), 0.0, "<", "",
                   "energy conservation (white, non-absorbing, convex: exactly 1); budget 2 half-float lookups + "
                   "BRDF LUT (4·2⁻¹¹) + SwiftShader trig 2e-4 ≈ 2e-3")

@@ -66,7 +66,8 @@ def scene_list(s: Settings) -> list[tuple[rs.RenderScene, str]]:
     return out + [(rs.lambert_sun_scene(s.resolution, s.sun_lux), "directional")]
 
 
-def references(scene: rs.RenderScene, kind: str, s: Settings) -> tuple[dict[str, RenderReference | None], np.ndarray]:
+def references(scene: rs.RenderScene, kind: str,
+               s: Settings) -> tuple[dict[str, RenderReference | None], np.ndarray]:
     """Reference renders by kind (None: the closed-form furnace 1) and the hit mask."""
     from ...reference.render_reference import centre_rays
 
@@ -118,8 +119,6 @@ def measure_scene(scene: rs.RenderScene, kind: str, s: Settings) -> SceneResult:
 
 
 def compute(ctx: Any, s: Settings) -> Measurements:
-    import time
-
     from ...gl import runtime
 
     out = [measure_scene(sc, kind, s) for sc, kind in ctx.progress(scene_list(s), "renders: scenes")]

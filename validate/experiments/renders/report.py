@@ -31,7 +31,8 @@ def scene_table(sr: SceneResult) -> Table:
         for kind, j in er.judgements.items():
             rows.append([name, kind, j.n_pixels, pct(j.fraction_accepted), f"{j.max_abs_z:.2f} / {j.critical_z:.2f}",
                          _pm(j.mean_rel, j.mean_rel_unc), _pm(j.max_rel, j.max_rel_unc), f"{j.mean_signed_rel:+.3%}",
-                         f"{er.energy:.5f}", f"{sr.reference_energy[kind][0]:.5f} ± {sr.reference_energy[kind][1]:.1e}"])
+                         f"{er.energy:.5f}",
+                         f"{sr.reference_energy[kind][0]:.5f} ± {sr.reference_energy[kind][1]:.1e}"])
     for name, why in sr.skipped.items():
         rows.append([name, "skipped", why, "", "", "", "", "", "", ""])
     return Table(["engine", "reference", "pixels", "accepted", "max|z| / z*", "mean |rel|", "max |rel|",
