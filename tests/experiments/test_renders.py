@@ -1,7 +1,7 @@
 """Issue 21, first slice: engines' pixels against Mitsuba (scenes, reference, per-pixel z, check_render).
 
 Default run: the judgement on synthetic images, the RGBE writer, check_render on an analytic Lambert shader
-(Mitsuba only, 16² pixels), and three.js's Lambertian sphere under a directional light (32², one scene,
+(Mitsuba only, 16² pixels), and three.js's Lambertian sphere under a directional light (64², one scene,
 skipped with the reason without Chromium / node_modules). The furnace and Babylon are ``slow``.
 """
 
@@ -95,15 +95,21 @@ def _directional(engine: str, resolution: int) -> tuple:
             judge(img * 1.02, ref.mean, ref.stderr, ref.dof, mask, b, text))
 
 
+# The directional budget is a margin measured at 64² (compute.DIRECT_BUDGET_OF_PEAK); at 32² the 2-pixel edge
+# mask is twice as wide in the image but leaves limb pixels whose tessellation error is larger (measured: 5 of
+# 500 pixels rejected), so the engines are judged at the 64² of the experiment.
+DIRECT_RES = 64
+
+
 def test_three_lambert_sphere_equals_mitsuba_per_pixel() -> None:
-    j, j102 = _directional("three", SMALL)
+    j, j102 = _directional("three", DIRECT_RES)
     assert j.fraction_accepted >= MIN_ACCEPTED, j
     assert j102.fraction_accepted < MIN_ACCEPTED  # power: the light intensity × 1.02
 
 
 @pytest.mark.slow
 def test_babylon_lambert_sphere_equals_mitsuba_per_pixel() -> None:
-    j, j102 = _directional("babylon", SMALL)
+    j, j102 = _directional("babylon", DIRECT_RES)
     assert j.fraction_accepted >= MIN_ACCEPTED, j
     assert j102.fraction_accepted < MIN_ACCEPTED
 
