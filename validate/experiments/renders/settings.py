@@ -1,0 +1,20 @@
+"""Settings of the ``renders`` experiment: image size, reference samples, engines."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Settings:
+    resolution: int = 64  # 64² pixels: a Mitsuba reference costs seconds on 2 cores
+    spp: int = 32  # samples per pixel per pass (pixel-centre rays)
+    passes: int = 8  # independent passes → per-pixel standard error with 7 dof
+    seed: int = 0
+    engines: tuple[str, ...] = ("three", "babylon")
+    furnace_roughness: tuple[float, ...] = (0.25, 0.5, 1.0)
+    sun_lux: float = 3.0
+
+
+QUICK = Settings(spp=16, passes=8)
+FULL = Settings(spp=128, passes=8)

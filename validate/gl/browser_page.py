@@ -1,0 +1,141 @@
+"""A page in the run's one headless Chromium that can import ES modules from ``node_modules``.
+
+:mod:`validate.gl.webgl` starts the browser (SwiftShader WebGL2) with an ``about:blank`` page holding a
+raw WebGL2 canvas; engines (three.js, Babylon.js) need ES-module imports, so this module serves two
+folders over a loopback HTTP server started once per process — ``/node_modules/`` (the project's
+pinned ``package.json`` packages) and ``/pages/`` (the engine scripts of
+:mod:`validate.local_models.render`) — and opens one extra tab per page in the *same* browser
+(:func:`validate.gl.runtime.get` ``("webgl2")``), so a run still starts one browser.
+
+Arrays cross the page boundary as base64 float32 bytes, unchanged (as in :mod:`validate.gl.webgl`).
+The playwright sync API is bound to its thread: use a page from the thread that started the runtime.
+"""
+
+from __future__ import annotations
+
+import base64
+import functools
+import http.server
+import threading
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import runtime
+from .egl import GLUnavailable
+
+ROOT = Path(__file__).resolve().parents[2]
+NODE_MODULES = ROOT / "node_modules"
+PAGES = ROOT / "validate" / "local_models" / "render"
+
+_server: dict[str, Any] = {}
+_pages: dict[str, Any] = {}
+_lock = threading.RLock()
+
+
+class _Handler(http.server.SimpleHTTPRequestHandler):
+    """Static files from ROOT, only under /node_modules/ and /validate/local_models/render/; quiet."""
+
+    extensions_map = {**http.server.SimpleHTTPRequestHandler.extensions_map, ".js": "text/javascript",
+                      ".mjs": "text/javascript"}
+
+    def log_message(self, format: str, *args: Any) -> None:  # noqa: A002 - the base class's name
+        pass
+
+    def end_headers(self) -> None:
+        self.send_header("Cache-Control", "max-age=3600")
+        super().end_headers()
+
+
+def served_root() -> Path:
+    """A private temporary folder holding links to node_modules and the pages, and ``data/`` (published files)."""
+    with _lock:
+        if "root" not in _server:
+            import atexit
+            import shutil
+            import tempfile
+
+            root = Path(tempfile.mkdtemp(prefix="validate-pages-"))
+            atexit.register(shutil.rmtree, root, True)
+            (root / "node_modules").symlink_to(NODE_MODULES)
+            (root / "validate" / "local_models").mkdir(parents=True)
+            (root / "validate" / "local_models" / "render").symlink_to(PAGES)
+            (root / "data").mkdir()
+            _server["root"] = root
+        return Path(_server["root"])
+
+
+def publish(name: str, data: bytes) -> str:
+    """Serve ``data`` at ``/data/<name>`` (written once per name); returns the URL path."""
+    path = served_root() / "data" / name
+    if not path.exists():
+        tmp = path.with_suffix(path.suffix + ".part")
+        tmp.write_bytes(data)
+        tmp.replace(path)
+    return f"/data/{name}"
+
+
+def base_url() -> str:
+    """``http://127.0.0.1:PORT`` of the static server (started on first call, a daemon thread)."""
+    with _lock:
+        if "url" not in _server:
+            if not (NODE_MODULES / "three").exists():
+                raise GLUnavailable(f"{NODE_MODULES}: three not installed (run `npm ci`)")
+            handler = functools.partial(_Handler, directory=str(served_root()))
+            srv = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
+            threading.Thread(target=srv.serve_forever, daemon=True).start()
+            _server.update(server=srv, url=f"http://127.0.0.1:{srv.server_address[1]}")
+        return str(_server["url"])
+
+
+def open_page(name: str, timeout_s: float = 300.0) -> Any:
+    """The playwright page for ``validate/local_models/render/<name>`` (opened once per process).
+
+    The page must set ``window.ready = true`` (or ``window.ready = "error text"``) once its modules
+    have loaded. Raises :class:`GLUnavailable` with the reason when Chromium or the page cannot start.
+    """
+    with _lock:
+        if name in _pages:
+            return _pages[name]
+        rt = runtime.get("webgl2")
+        browser = getattr(rt, "_browser", None)  # TODO(merge): a public WebGL2.new_page() on branch gl
+        if browser is None:
+            raise GLUnavailable("webgl2 runtime has no browser")
+        page = browser.new_page()
+        errors: list[str] = []
+        page.on("pageerror", lambda exc: errors.append(str(exc)))
+        page.goto(f"{base_url()}/validate/local_models/render/{name}", wait_until="commit", timeout=timeout_s * 1000)
+        try:
+            page.wait_for_function("window.ready !== undefined", timeout=timeout_s * 1000)
+        except Exception as exc:
+            raise GLUnavailable(f"{name}: page did not load ({'; '.join(errors) or exc})") from exc
+        ready = page.evaluate("window.ready")
+        if ready is not True:
+            raise GLUnavailable(f"{name}: {ready}")
+        _pages[name] = page
+        return page
+
+
+def call(name: str, function: str, arg: Any, timeout_s: float = 300.0) -> Any:
+    """``await window[function](arg)`` on page ``name``; a returned ``{error}`` raises GLUnavailable."""
+    page = open_page(name)
+    page.set_default_timeout(timeout_s * 1000)
+    r = page.evaluate(f"(a) => window.{function}(a)", arg)
+    if isinstance(r, dict) and "error" in r:
+        raise GLUnavailable(f"{name}: {r['error']}")
+    return r
+
+
+def decode_f32(data: str, shape: tuple[int, ...]) -> np.ndarray:
+    """base64 float32 bytes → array of ``shape`` (a copy)."""
+    return np.frombuffer(base64.b64decode(data), dtype=np.float32).reshape(shape).copy()
+
+
+def encode_f32(a: np.ndarray) -> str:
+    """Array → base64 float32 bytes."""
+    return base64.b64encode(np.ascontiguousarray(a, dtype=np.float32).tobytes()).decode("ascii")
+
+
+__all__ = ["base_url", "publish", "served_root", "open_page", "call", "decode_f32", "encode_f32", "PAGES",
+           "NODE_MODULES"]

@@ -1,0 +1,59 @@
+"""Engines rendering a :class:`~validate.scenes.render_scenes.RenderScene` through their own pipelines.
+
+Each engine is a page (``<engine>.html`` + ``<engine>_render.mjs``) in the run's one headless Chromium
+(:mod:`validate.gl.browser_page`), reading the scene JSON of
+:meth:`~validate.scenes.render_scenes.RenderScene.engine_json` and returning an RGBA32F image read back
+exactly. :func:`render` returns (R, R, 4) float32 with row 0 = TOP (the scene's convention), the alpha
+channel = coverage (0 off the sphere).
+
+Engines
+-------
+``three``    three.js 0.187 — MeshPhysicalMaterial, PMREMGenerator, FloatType target (three_render.mjs).
+``babylon``  Babylon.js 9.35 — PBRMaterial, its HDR prefilter, TEXTURETYPE_FLOAT target (babylon_render.mjs).
+
+Filament is not here: its npm package (1.53) ships no IBL prefilter (cmgen) and no ``readPixels`` of a
+float target, so it cannot render the scene from the same file through its own pipeline (issue 21).
+
+Precision budget (what an engine may differ from the exact integral of its own model without a bug):
+three's PMREM and Babylon's prefiltered cube store half floats (relative 2⁻¹¹ ≈ 4.9e-4 per texel);
+SwiftShader's sin/cos are good to ~2e-4 absolute (:mod:`validate.gl.webgl`).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...gl import browser_page
+from ...scenes.render_scenes import RenderScene
+
+# engine → (page, entry point, options the page reads); "babylon_lambert" is Babylon with its diffuse model set to
+# Lambert (MATERIAL_DIFFUSE_MODEL_LAMBERT = 2) instead of its default energy-preserving Oren–Nayar.
+ENGINES = {"three": ("three.html", "renderThree", {}), "babylon": ("babylon.html", "renderBabylon", {}),
+           "babylon_lambert": ("babylon.html", "renderBabylon", {"diffuseModel": 2})}
+HALF_FLOAT_RTOL = 2.0**-11  # IEEE binary16: 10 explicit mantissa bits, unit roundoff 2⁻¹¹
+SWIFTSHADER_TRIG_ATOL = 2e-4  # measured sin/cos error (validate.gl.webgl docstring)
+
+
+@dataclass
+class EngineRender:
+    image: np.ndarray  # (R, R, 4) float32, row 0 = top
+    frame_ms: float
+    wall_s: float
+    version: str
+
+
+def render(engine: str, scene: RenderScene) -> EngineRender:
+    """``engine`` renders ``scene``; raises GLUnavailable with the reason when it cannot run."""
+    page, fn, options = ENGINES[engine]
+    t0 = time.perf_counter()
+    r = browser_page.call(page, fn, dict(scene.engine_json(), options=options))
+    n = scene.resolution
+    img = browser_page.decode_f32(r["data"], (n, n, 4))[::-1].copy()  # readPixels row 0 = bottom
+    return EngineRender(img, float(r.get("frame_ms", np.nan)), time.perf_counter() - t0, str(r.get("version", "")))
+
+
+__all__ = ["ENGINES", "EngineRender", "render", "HALF_FLOAT_RTOL", "SWIFTSHADER_TRIG_ATOL"]
+

@@ -1,0 +1,89 @@
+// Babylon.js renders a validate render scene through its own pipeline: PBRMaterial (metallic-roughness;
+// metallicF0Factor = KHR_materials_specular's factor, 0 for a Lambertian), HDRCubeTexture on the scene's .hdr
+// file (its RGBE loader, panorama-to-cube, spherical polynomial for diffuse, HDRFiltering prefilter for
+// specular), DirectionalLight in lux, a TEXTURETYPE_FLOAT RenderTargetTexture read back with readPixels.
+// Image processing (tone mapping, exposure, gamma) is left to a post process that is never attached: linear radiance.
+import * as BABYLON from '../../../node_modules/@babylonjs/core/index.js';
+
+export const version = BABYLON.Engine.Version;
+let engine = null, canvas = null;
+const envCache = new Map();  // environment key -> prefiltered HDRCubeTexture (prefiltered once per environment)
+
+function getEngine() {
+  if (!engine) {
+    canvas = document.createElement('canvas'); canvas.width = 64; canvas.height = 64;
+    engine = new BABYLON.Engine(canvas, false, {preserveDrawingBuffer: true, stencil: false});
+  }
+  return engine;
+}
+
+async function environment(scene, env, cubeSize) {
+  if (envCache.has(env.key)) return envCache.get(env.key);
+  const t0 = performance.now();
+  const tex = new BABYLON.HDRCubeTexture(env.url, scene, cubeSize, false, true, false, true);
+  await new Promise((res, rej) => { const check = () => tex.isReady() ? res() : setTimeout(check, 20); check(); });
+  await scene.whenReadyAsync();
+  const entry = {tex, ms: performance.now() - t0};
+  envCache.set(env.key, entry);
+  return entry;
+}
+
+function material(scene, m, opts) {
+  const mat = new BABYLON.PBRMaterial('m', scene);
+  mat.albedoColor = new BABYLON.Color3(...m.baseColor);
+  mat.metallic = m.metallic; mat.roughness = m.roughness;
+  mat.metallicF0Factor = m.specular;
+  if (opts.diffuseModel !== undefined) mat.brdf.baseDiffuseModel = opts.diffuseModel;
+  mat.skipFinalColorClamp = true;
+  return mat;
+}
+
+export async function renderBabylon(d) {
+  const eng = getEngine();
+  const {width, height} = d.image;
+  const opts = d.options || {};
+  const scene = new BABYLON.Scene(eng);
+  scene.useRightHandedSystem = true;
+  // Linear output: with image processing "applied by a post process" the PBR shader skips its own tone mapping
+  // and its final toGammaSpace (measured: without this the target held radiance^(1/2.2)); no post process is
+  // attached to the render target, so nothing applies it.
+  scene.imageProcessingConfiguration.applyByPostProcess = true;
+  scene.imageProcessingConfiguration.toneMappingEnabled = false;
+  scene.imageProcessingConfiguration.exposure = 1.0;
+  scene.imageProcessingConfiguration.contrast = 1.0;
+  scene.clearColor = new BABYLON.Color4(0, 0, 0, 0);
+  let prefilter_ms = 0;
+  if (d.environment) {
+    const e = await environment(scene, d.environment, opts.cubeSize || 128);
+    // the texture belongs to the first scene that loaded it; later scenes share it
+    scene.environmentTexture = e.tex; prefilter_ms = e.ms; e.ms = 0;
+  }
+  for (const l of d.lights) {
+    const light = new BABYLON.DirectionalLight('sun', new BABYLON.Vector3(...l.direction), scene);
+    light.intensity = l.intensity; light.diffuse = new BABYLON.Color3(...l.color); light.specular = new BABYLON.Color3(...l.color);
+  }
+  const [su, sv] = d.sphere.segments;
+  const sphere = BABYLON.MeshBuilder.CreateSphere('s', {diameter: 2 * d.sphere.radius, segments: sv - 2}, scene);
+  sphere.material = material(scene, d.material, opts);
+  const cam = new BABYLON.FreeCamera('c', new BABYLON.Vector3(...d.camera.position), scene);
+  cam.upVector = new BABYLON.Vector3(...d.camera.up);
+  cam.setTarget(new BABYLON.Vector3(...d.camera.target));
+  cam.mode = BABYLON.Camera.ORTHOGRAPHIC_CAMERA;
+  const e = d.camera.half_extent;
+  cam.orthoLeft = -e; cam.orthoRight = e; cam.orthoTop = e; cam.orthoBottom = -e; cam.minZ = 0.1; cam.maxZ = 100;
+  scene.activeCamera = cam;
+  const rt = new BABYLON.RenderTargetTexture('rt', {width, height}, scene, false, true,
+                                             BABYLON.Constants.TEXTURETYPE_FLOAT, false, BABYLON.Texture.NEAREST_SAMPLINGMODE);
+  rt.renderList = [sphere]; rt.activeCamera = cam; rt.clearColor = new BABYLON.Color4(0, 0, 0, 0);
+  await scene.whenReadyAsync();
+  const t0 = performance.now();
+  for (let k = 0; k < 200 && !sphere.material.isReady(sphere); k++) await new Promise(r => setTimeout(r, 20));
+  rt.render();
+  const px = await rt.readPixels();
+  const frame_ms = performance.now() - t0;
+  const out = new Float32Array(px.buffer, px.byteOffset, width * height * 4).slice();
+  rt.dispose(); sphere.material.dispose(); sphere.dispose();
+  if (scene.environmentTexture) scene.environmentTexture = null;  // keep the cached texture alive
+  return {data: f32ToB64(out), frame_ms, prefilter_ms, version};
+}
+import {f32ToB64} from './common.mjs';

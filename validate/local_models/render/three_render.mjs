@@ -1,0 +1,78 @@
+// three.js renders a validate render scene through its own pipeline: MeshPhysicalMaterial (MeshStandardMaterial
+// plus KHR_materials_specular's specularIntensity, 0 for a Lambertian), PMREMGenerator.fromEquirectangular on a
+// float DataTexture, DirectionalLight in lux (physically based units, the default since r155), a FloatType
+// render target, NoToneMapping, LinearSRGBColorSpace; read back with readRenderTargetPixels (row 0 = bottom).
+import * as THREE from 'three';
+import {f32ToB64, environmentTexels} from './common.mjs';
+
+export const version = THREE.REVISION;
+let renderer = null;
+const pmremCache = new Map();  // environment key -> PMREM render target (the prefilter runs once per environment)
+
+function getRenderer(w, h) {
+  if (!renderer) {
+    const canvas = document.createElement('canvas');
+    renderer = new THREE.WebGLRenderer({canvas, antialias: false, alpha: true});
+    renderer.toneMapping = THREE.NoToneMapping;
+    renderer.outputColorSpace = THREE.LinearSRGBColorSpace;
+  }
+  renderer.setSize(w, h, false);
+  return renderer;
+}
+
+function environment(r, env) {
+  const t = environmentTexels(env);
+  // three's equirect lookup puts v = 1 at the zenith; a DataTexture is not flipped, so row 0 must be the nadir
+  const rows = new Float32Array(t.data.length), stride = 4 * t.width;
+  for (let y = 0; y < t.height; y++) rows.set(t.data.subarray(y * stride, (y + 1) * stride), (t.height - 1 - y) * stride);
+  const tex = new THREE.DataTexture(rows, t.width, t.height, THREE.RGBAFormat, THREE.FloatType);
+  tex.mapping = THREE.EquirectangularReflectionMapping;
+  tex.colorSpace = THREE.LinearSRGBColorSpace;
+  tex.magFilter = THREE.LinearFilter; tex.minFilter = THREE.LinearFilter;
+  tex.needsUpdate = true;
+  const pmrem = new THREE.PMREMGenerator(r);
+  const target = pmrem.fromEquirectangular(tex);
+  pmrem.dispose(); tex.dispose();
+  return target;
+}
+
+function material(m) {
+  const c = new THREE.Color().setRGB(m.baseColor[0], m.baseColor[1], m.baseColor[2], THREE.LinearSRGBColorSpace);
+  return new THREE.MeshPhysicalMaterial({color: c, metalness: m.metallic, roughness: m.roughness,
+                                         specularIntensity: m.specular});
+}
+
+export async function renderThree(d) {
+  const {width, height} = d.image;
+  const r = getRenderer(width, height);
+  const scene = new THREE.Scene();
+  let pmrem_ms = 0;
+  if (d.environment) {
+    const key = d.environment.key;
+    if (!pmremCache.has(key)) { const t = performance.now(); pmremCache.set(key, environment(r, d.environment)); pmrem_ms = performance.now() - t; }
+    scene.environment = pmremCache.get(key).texture;
+  }
+  for (const l of d.lights) {
+    const light = new THREE.DirectionalLight(new THREE.Color().setRGB(...l.color, THREE.LinearSRGBColorSpace), l.intensity);
+    light.position.set(-l.direction[0], -l.direction[1], -l.direction[2]);  // shines from position to target (origin)
+    scene.add(light); scene.add(light.target);
+  }
+  const [su, sv] = d.sphere.segments;
+  const mesh = new THREE.Mesh(new THREE.SphereGeometry(d.sphere.radius, su, sv), material(d.material));
+  scene.add(mesh);
+  const e = d.camera.half_extent;
+  const cam = new THREE.OrthographicCamera(-e, e, e, -e, 0.1, 100);
+  cam.position.set(...d.camera.position); cam.up.set(...d.camera.up); cam.lookAt(...d.camera.target);
+  const target = new THREE.WebGLRenderTarget(width, height, {type: THREE.FloatType, format: THREE.RGBAFormat,
+    colorSpace: THREE.LinearSRGBColorSpace, depthBuffer: true, minFilter: THREE.NearestFilter, magFilter: THREE.NearestFilter});
+  r.setRenderTarget(target);
+  r.setClearColor(0x000000, 0); r.clear();
+  const t0 = performance.now();
+  r.render(scene, cam);
+  const out = new Float32Array(width * height * 4);
+  r.readRenderTargetPixels(target, 0, 0, width, height, out);
+  const frame_ms = performance.now() - t0;
+  r.setRenderTarget(null);
+  target.dispose(); mesh.geometry.dispose(); mesh.material.dispose();
+  return {data: f32ToB64(out), frame_ms, prefilter_ms: pmrem_ms, version};
+}
