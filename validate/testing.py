@@ -55,6 +55,10 @@ examples/``).
     ``r[env].<metric>`` one environment; ``r.environments[env][metric]`` the same as a dict;
     ``repr(r)`` lists every value ± uncertainty (pytest shows it when an assert fails).
 
+``check_render(render_fn, scenes=...)``
+    An engine's rendered pixels against the path tracer, per pixel with uncertainty
+    (:mod:`validate.testing_render`, the ``renders`` experiment's judgement).
+
 ``compare(old, new) -> Comparison``
     Two runs' ``results.json`` (paths, their folders, or loaded dicts) compared claim by claim and
     technique metric by metric (:mod:`validate.compare`): ``c.regressions`` lists the claims that passed
@@ -98,6 +102,7 @@ from .local_models.registry import Technique
 from .metrics.irradiance_error import irradiance_errors
 from .reference.irradiance import reference_irradiance
 from .scenes.latlong import fibonacci_sphere
+from .testing_render import check_render
 
 DEFAULT_ENVIRONMENTS = ("two_tone", "grace_probe")
 
@@ -181,6 +186,6 @@ def compare(old: str | os.PathLike[str] | Mapping[str, Any], new: str | os.PathL
     """Compare two runs (module docstring; the rules are :mod:`validate.compare`'s)."""
     return compare_runs(old, new)  # type: ignore[arg-type]
 
-__all__ = ["CheckResult", "MissingProbe", "Stat", "check_arealight", "check_brdf", "check_irradiance", "check_shadow",
-           "check_uberlight",
-           "check_specular", "compare", "find_probe", "load_named_environment", "probe_dirs"]
+__all__ = ["CheckResult", "MissingProbe", "Stat", "check_arealight", "check_brdf", "check_irradiance", "check_render",
+           "check_shadow", "check_specular", "check_uberlight", "compare", "find_probe", "load_named_environment",
+           "probe_dirs"]

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from ..base import Figure, Section, Table
-from ..formatting import pct
+from ..formatting import pct, pm
 from .compute import Measurements, SceneResult
 
 FILAMENT_NOTE = ("Filament is not rendered: its npm package (1.53) ships no IBL prefilter (cmgen) to turn the "
@@ -21,16 +21,12 @@ REFERENCE_NOTE = ("Two references, kept apart: 'energy' — a white non-absorbin
                   "the Lambertian sphere under a directional light (exact model, exact integral).")
 
 
-def _pm(v: float, u: float) -> str:
-    return f"{pct(v)} ± {pct(u)}"
-
-
 def scene_table(sr: SceneResult) -> Table:
     rows: list[list[Any]] = []
     for name, er in sr.engines.items():
         for kind, j in er.judgements.items():
             rows.append([name, kind, j.n_pixels, pct(j.fraction_accepted), f"{j.max_abs_z:.2f} / {j.critical_z:.2f}",
-                         _pm(j.mean_rel, j.mean_rel_unc), _pm(j.max_rel, j.max_rel_unc), f"{j.mean_signed_rel:+.3%}",
+                         pm(j.mean_rel, j.mean_rel_unc), pm(j.max_rel, j.max_rel_unc), f"{j.mean_signed_rel:+.3%}",
                          f"{er.energy:.5f}",
                          f"{sr.reference_energy[kind][0]:.5f} ± {sr.reference_energy[kind][1]:.1e}"])
     for name, why in sr.skipped.items():
@@ -63,8 +59,8 @@ def findings(m: Measurements) -> list[str]:
         for name, er in sr.engines.items():
             for kind, j in er.judgements.items():
                 out.append(f"{sr.scene.name}, {name} vs {kind}: {pct(j.fraction_accepted)} of {j.n_pixels} pixels "
-                           f"accepted (z* = {j.critical_z:.2f}), mean |rel| {_pm(j.mean_rel, j.mean_rel_unc)}, max "
-                           f"{_pm(j.max_rel, j.max_rel_unc)}, bias {j.mean_signed_rel:+.3%}.")
+                           f"accepted (z* = {j.critical_z:.2f}), mean |rel| {pm(j.mean_rel, j.mean_rel_unc)}, max "
+                           f"{pm(j.max_rel, j.max_rel_unc)}, bias {j.mean_signed_rel:+.3%}.")
     metal = [s for s in m.scenes if "model" in s.reference_energy]
     if metal:
         loss = ", ".join(f"r {s.scene.material.roughness:g}: {s.reference_energy['model'][0]:.4f} ± "
@@ -83,3 +79,26 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
                            tables=[scene_table(s) for s in scenes]))
     out.append(Section("Engines not rendered", [FILAMENT_NOTE]))
     return out
+
+
+def data(m: Measurements) -> dict:
+    """results.json data: per scene and engine, frame times, energy and the per-pixel judgements."""
+    return {"scenes": {s.scene.name: {"kind": s.kind, "skipped": s.skipped, "engines": {
+        e: {"frame_ms": r.frame_ms, "wall_s": r.wall_s, "version": r.version, "energy": r.energy,
+            "judgements": {k: j.to_json() for k, j in r.judgements.items()}} for e, r in s.engines.items()},
+        "reference_energy": s.reference_energy} for s in m.scenes}, "startup": m.startup}
+
+
+def summary(m: Measurements) -> str:
+    """One line: what was rendered, or why every engine was skipped."""
+    s = m.settings
+    skipped = sorted({why for sc in m.scenes for why in sc.skipped.values()})
+    if skipped and not any(sc.engines for sc in m.scenes):
+        return "Skipped engines: " + "; ".join(skipped)
+    return f"{len(m.scenes)} scenes × {len(s.engines)} engines at {s.resolution}² pixels."
+
+
+def settings_json(m: Measurements) -> dict[str, Any]:
+    """The settings the run used."""
+    s = m.settings
+    return {"spp": s.spp, "passes": s.passes, "resolution": s.resolution, "engines": list(s.engines), "seed": s.seed}
