@@ -138,3 +138,16 @@ def test_ibl_bars_rank_each_technique_by_its_worst_material():
     s = summary.summary_for("ibl", {"comparisons": comps})
     assert isinstance(s, summary.Bars) and s.groups == ["Lambertian ρ = 0.8", "Phong s = 10", "Phong s = 100"]
     assert s.ranking() == [("sh9", 0.04, 0.02), ("pre", 0.9, 0.01)]
+
+
+def test_overview_names_the_environments_whose_noise_negatives_were_clamped(tmp_path):
+    """Issue 23 item 4: an environment clamped by default is noted on the overview page (from
+    meta.environments.<name>.clamped_negative); one that was not clamped is not listed."""
+    from validate.report import html
+
+    results = {"meta": {"environments": {
+        "blender_world_interior": {"source": "x.exr", "clamped_negative": {"texels": 1, "min": -2.3e-6}},
+        "grace_probe": {"source": "g.hdr"}}}, "experiments": {}}
+    page = html.render_pages(tmp_path, results)["index.html"]
+    assert "Negative texels clamped" in page and "blender_world_interior" in page and "-2.3e-06" in page
+    assert "grace_probe" not in page.split('id="clamped"')[1].split("</section>")[0]

@@ -200,3 +200,20 @@ def test_crosscheck_passes_high_resolution_on_a_real_probe(load_probe) -> None:
     env = load_probe("grace_probe_latlong.exr")
     cc = pathtrace.crosscheck_sphere(env, SLOW_RESOLUTION, SLOW_SPP, SLOW_PASSES, seed=0)
     assert cc.passed, f"{env.name}: {cc.summary()}"
+
+
+def test_relative_difference_ignores_near_zero_denominators() -> None:
+    """max_rel_diff is taken where the quadrature is ≥ REL_FLOOR × its mean (issue 23: near_directional's unlit
+    side gave 3.99e21 %): one pixel whose quadrature is 1e-25 and whose render is 1e-5 (a ratio of 1e20) is
+    masked and reported as masked; the 2 % error everywhere else is the figure. Without the mask the figure
+    would be 1e20 — the assertion on it fails if the floor is dropped."""
+    r = 8
+    mask = pathtrace.footprint_mask(r)
+    expected = np.where(mask[..., None], 1.0, np.nan) * np.ones(3)
+    mean = np.where(mask[..., None], 1.02, 0.0) * np.ones(3)
+    i, j = np.argwhere(mask)[0]
+    expected[i, j], mean[i, j] = 1e-25, 1e-5
+    render = pathtrace.SphereRender(mean, np.full_like(mean, 0.01), np.zeros_like(mean), mask, 16, 4, 0, {})
+    cc = pathtrace.compare(render, expected, np.zeros_like(expected))
+    assert abs(cc.max_rel_diff - 0.02) < 1e-9
+    assert cc.rel_masked_fraction == 1.0 / int(mask.sum())

@@ -335,6 +335,17 @@ def fmt_quantity(value: Any, sigma: Any = None, unit: str = "") -> str:
     return fmt.fmt_quantity(value, unit, s if s and s > 0 else None)
 
 
+
+def _clamped(meta: dict[str, Any]) -> list[list[Any]]:
+    """[environment, texels, min] for each environment whose float-noise negatives were clamped to 0
+    (``meta.environments.<name>.clamped_negative``, validate.scenes.loaders)."""
+    out = []
+    for name, env in (meta.get("environments") or {}).items():
+        c = (env or {}).get("clamped_negative") if isinstance(env, dict) else None
+        if c:
+            out.append([name, c.get("texels"), c.get("min")])
+    return out
+
 def _page(out_dir: Path, results: Mapping[str, Any]) -> dict[str, Any]:
     meta = results.get("meta") or {}
     experiments = results.get("experiments") or {}
@@ -359,6 +370,7 @@ def _page(out_dir: Path, results: Mapping[str, Any]) -> dict[str, Any]:
             "wall_time_s": wall,
             "versions": dict(meta.get("versions") or {}),
             "skipped_inputs": [list(s) for s in meta.get("skipped_inputs") or []],
+            "clamped_inputs": _clamped(meta),
         },
         "experiments": exps,
         "claims": claims,

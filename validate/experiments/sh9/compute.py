@@ -294,6 +294,7 @@ def pathtrace_crosscheck(env: Environment, settings: Settings, seed: int) -> dic
         "n_pixels": cc.n_pixels, "max_abs_z": cc.max_abs_z, "critical_z": cc.critical_z, "mean_z": cc.mean_z,
         "max_abs_mean_z": float(np.max(np.abs(cc.mean_z_channels))), "bias_limit": cc.bias_limit,
         "chi2_per_dof": cc.chi2_per_dof, "p_value": cc.p_value, "max_rel_diff": cc.max_rel_diff,
+        "rel_masked_fraction": cc.rel_masked_fraction,
         "passed": cc.passed, "alpha": cc.alpha, "settings": cc.settings,
         "biased_max_abs_mean_z": float(np.max(np.abs(biased.mean_z_channels))),
         "flipped_max_abs_z": flipped.max_abs_z,
