@@ -117,10 +117,16 @@ def test_babylon_lambert_sphere_equals_mitsuba_per_pixel() -> None:
 @pytest.mark.slow
 @pytest.mark.parametrize("engine", ["three", "babylon"])
 def test_furnace_energy(engine: str) -> None:
-    from validate.experiments.renders.claims import FURNACE_ENERGY_TOL
+    """Metal spheres return 1 in every engine; the dielectric does in three.js and, as the regression the
+    renders experiment states, not in Babylon (measured +1.7 % at roughness 0.5)."""
+    from validate.experiments.renders.claims import FURNACE_ENERGY_TOL, FURNACE_REGRESSIONS
 
     for scene in rs.furnace_scenes(SMALL, (0.5,)):
         er = _engine_or_skip(engine, scene)
         x, y = scene.pixel_centres()
         mask = interior_mask(x**2 + y**2 < 1.0, er.image[..., 3])
-        assert abs(er.image[..., :3][mask].mean() - 1.0) < FURNACE_ENERGY_TOL, scene.name
+        deviation = abs(er.image[..., :3][mask].mean() - 1.0)
+        if engine in FURNACE_REGRESSIONS and "dielectric" in scene.name:
+            assert deviation > FURNACE_ENERGY_TOL, scene.name
+        else:
+            assert deviation < FURNACE_ENERGY_TOL, scene.name

@@ -56,23 +56,38 @@ def _stderr(sr: SceneResult) -> np.ndarray:
     return sr.stderrs["mitsuba"]
 
 
+# Engines that keep a furnace defect, stated as the regression they have (issue 21 item 4): the claim passes
+# while the engine keeps it, and its power check is the corrected behaviour (an energy-conserving engine).
+# Measured here (64², 16 spp × 8 passes): Babylon 9.35's white dielectric returns 1.045 / 1.017 / 0.981 at
+# roughness 0.25 / 0.5 / 1 (its metal returns 1 to 6e-8); three.js 0.187 returns 1 to 1.4e-9.
+FURNACE_REGRESSIONS = {"babylon": "white dielectric sphere not energy-conserving in the white furnace"}
+
+
+def _furnace_claim(m: Measurements, name: str, dev: list[float], others: list[float]) -> Claim:
+    rough = ", ".join(f"{r:g}" for r in m.settings.furnace_roughness)
+    source = ("energy conservation (white, non-absorbing, convex: exactly 1); budget 2 half-float lookups + "
+              "BRDF LUT (4·2⁻¹¹) + SwiftShader trig 2e-4 ≈ 2e-3")
+    if name in FURNACE_REGRESSIONS:
+        c = Claim(f"renders.{name}.furnace.regression", f"{name} keeps a known defect: "
+                  f"{FURNACE_REGRESSIONS[name]} (roughness {rough})", "max over scenes of |mean radiance − 1|",
+                  FURNACE_ENERGY_TOL, max(dev), 0.0, ">", "", source + "; beyond it the engine loses or adds energy")
+        return c.with_power("corrected engine behaviour: an energy-conserving engine (the best other engine "
+                            "measured here)", min(others) if others else 0.0, 0.0)
+    c = Claim(f"renders.{name}.furnace.energy", f"{name}: white spheres (dielectric and metal, roughness "
+              f"{rough}) in the white furnace return radiance 1",
+              "max over scenes of |mean radiance − 1|", FURNACE_ENERGY_TOL, max(dev), 0.0, "<", "", source)
+    metal = [s.reference_energy["model"] for s in _scene(m, "furnace") if "model" in s.reference_energy]
+    worst = max(metal, key=lambda v: abs(v[0] - 1.0)) if metal else (float("nan"), 0.0)
+    return c.with_power("multiscatter removed: glTF single-scattering metal (Mitsuba roughconductor)",
+                        abs(worst[0] - 1.0), worst[1])
+
+
 def furnace_claims(m: Measurements) -> list[Claim]:
     scenes = _scene(m, "furnace")
     engines = sorted({e for s in scenes for e in s.engines})
-    out = []
-    for name in engines:
-        dev = [abs(s.engines[name].energy - 1.0) for s in scenes if name in s.engines]
-        rough = ", ".join(f"{r:g}" for r in m.settings.furnace_roughness)
-        c = Claim(f"renders.{name}.furnace.energy", f"{name}: white spheres (dielectric and metal, roughness "
-                  f"{rough}) in the white furnace return radiance 1",
-                  "max over scenes of |mean radiance − 1|", FURNACE_ENERGY_TOL, max(dev), 0.0, "<", "",
-                  "energy conservation (white, non-absorbing, convex: exactly 1); budget 2 half-float lookups + "
-                  "BRDF LUT (4·2⁻¹¹) + SwiftShader trig 2e-4 ≈ 2e-3")
-        metal = [s.reference_energy["model"] for s in scenes if "model" in s.reference_energy]
-        worst = max(metal, key=lambda v: abs(v[0] - 1.0)) if metal else (float("nan"), 0.0)
-        out.append(c.with_power("multiscatter removed: glTF single-scattering metal (Mitsuba roughconductor)",
-                                abs(worst[0] - 1.0), worst[1]))
-    return out
+    dev = {e: [abs(s.engines[e].energy - 1.0) for s in scenes if e in s.engines] for e in engines}
+    return [_furnace_claim(m, e, dev[e], [max(d) for o, d in dev.items() if o != e and o not in FURNACE_REGRESSIONS])
+            for e in engines]
 
 
 def claims(m: Measurements) -> list[Claim]:
