@@ -77,6 +77,7 @@ the family's contract like a Python function, without being registered (docs/gls
 
 from __future__ import annotations
 
+import functools
 import os
 import sys
 from collections.abc import Callable, Iterable, Mapping
@@ -164,13 +165,12 @@ def is_glsl(fn: object) -> bool:
 
 def _accepting_glsl(family: str, impl: Callable[..., Any]) -> Callable[..., Any]:
     """``impl`` (an experiment's check) that also takes a ``.glsl`` file as its first argument."""
+    @functools.wraps(impl)  # check.__wrapped__ is the experiment's own function
     def check(*args: Any, **kwargs: Any) -> Any:
         if args and is_glsl(args[0]):  # a GLSL file: compiled on its runtime, checked like a Python function
             args = (technique_from_file(args[0], family), *args[1:])
         return impl(*args, **kwargs)
 
-    check.__name__ = check.__qualname__ = impl.__name__
-    check.__doc__ = impl.__doc__
     return check
 
 

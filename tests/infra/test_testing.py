@@ -120,11 +120,12 @@ CHECKS = {"check_specular": "ibl", "check_arealight": "arealights", "check_shado
 @pytest.mark.parametrize("name", sorted(CHECKS))
 def test_every_family_check_is_its_experiments_check_module(name: str) -> None:
     """validate.testing imports each experiment's ``check`` module directly: the public function is that
-    module's function (the same object, no wrapper, no module-name strings)."""
+    module's function (the same object — behind the thin wrapper that also accepts a ``.glsl`` path — no
+    module-name strings)."""
     import importlib
 
     check = importlib.import_module(f"validate.experiments.{CHECKS[name]}.check")
-    assert name in testing.__all__ and getattr(testing, name) is getattr(check, name)
+    assert name in testing.__all__ and getattr(testing, name).__wrapped__ is getattr(check, name)
 
 
 def test_nothing_below_testing_imports_it() -> None:

@@ -16,5 +16,6 @@ class Settings:
     sun_lux: float = 3.0
 
 
-QUICK = Settings(spp=16, passes=8)
+# quick: three.js only (Babylon's page load and first prefilter cost ~80 s on 2 cores); full: both engines
+QUICK = Settings(spp=16, passes=8, engines=("three",))
 FULL = Settings(spp=128, passes=8)
