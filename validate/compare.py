@@ -44,6 +44,7 @@ from pathlib import Path
 from typing import Any
 
 from .errors import ValidateError
+from .format import pm, sig
 
 ROUNDOFF = 1e-9  # relative: below this, two values are the same number (float64 round-off of a re-run)
 HIGHER_IS_BETTER = ("psnr", "ssim", "score", "correlation", "r2")
@@ -102,7 +103,7 @@ class Comparison:
             return ""
         head = ("status", "kind", "key", "old", "new", "change", "> σ")
         body = [(r.status, r.kind, r.key, _pm(r.old, r.old_uncertainty), _pm(r.new, r.new_uncertainty),
-                 _num(r.change), "yes" if r.exceeds_uncertainty else "no") for r in rows]
+                 sig(r.change, 4), "yes" if r.exceeds_uncertainty else "no") for r in rows]
         widths = [max(len(x[i]) for x in [head, *body]) for i in range(len(head))]
         right = {3, 4, 5}
         lines = ["  ".join(c.rjust(w) if i in right else c.ljust(w)
@@ -110,12 +111,9 @@ class Comparison:
         return "\n".join(line.rstrip() for line in lines)
 
 
-def _num(v: float | None) -> str:
-    return "—" if v is None else f"{v:.4g}"
-
-
 def _pm(v: float | None, u: float | None) -> str:
-    return _num(v) if u is None or v is None else f"{v:.4g} ± {u:.2g}"
+    """A value (4 significant digits) or value ± uncertainty (digits the uncertainty supports)."""
+    return sig(v, 4) if u is None or v is None or u == 0 else pm(v, u)
 
 
 def _float(v: Any) -> float | None:

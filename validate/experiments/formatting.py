@@ -1,22 +1,16 @@
-"""Number formatting for findings and report tables, shared by every experiment."""
+"""The experiments' per-cent ± forms for findings and section tables, on top of :mod:`validate.format`
+(the one number-formatting module: :func:`~validate.format.pct`, :func:`~validate.format.pct_fixed` are
+re-exported from it)."""
 
 from __future__ import annotations
 
 import math
 
+from ..format import pct, pct_fixed
+
 
 def _missing(x: float | None) -> bool:
     return x is None or not math.isfinite(float(x))
-
-
-def pct(x: float | None, digits: int = 3) -> str:
-    """A fraction as per cent with ``digits`` significant digits: 0.0086 → "0.86 %"; None/NaN → "—"."""
-    return "—" if _missing(x) else f"{100 * float(x):.{digits}g} %"
-
-
-def pct_fixed(x: float | None, digits: int = 2) -> str:
-    """A fraction as per cent with ``digits`` decimals: 0.0086 → "0.86 %"; None/NaN → "n/a"."""
-    return "n/a" if _missing(x) else f"{100 * float(x):.{digits}f} %"
 
 
 def pm(value: float | None, uncertainty: float | None, digits: int = 3, fixed: bool = False) -> str:
@@ -32,3 +26,6 @@ def pm_entry(entry: dict[str, float] | None) -> str:
     if not entry:
         return "—"
     return f"{100 * entry['value']:.3g} ± {100 * entry['uncertainty']:.2g} %"
+
+
+__all__ = ["pct", "pct_fixed", "pm", "pm_entry"]
