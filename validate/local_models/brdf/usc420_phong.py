@@ -1,16 +1,5 @@
-"""USC CSCI 420 lecture 11 [1]: the printed attenuation and the Phong shader pair, as techniques.
-
-Printed forms (slides "Point Source", "Limitations of Point Sources", "Diffuse Light Intensity …",
-"Summary of Phong Model"):
-
-* point source: I ∝ 1/|p − p₀|²;
-* attenuation: 1/(a + b q + c q²), q = |p − p₀|; "real physics would demand only quadratic attenuation"
-  and "in practice, a = b = 1, c = 0 is a reasonable starting point" → ``point_usc420_a1b1c0``:
-  E = I max(0, l·n)/(1 + q). The slide's I_d = k_d L_d (l·n)/(a + bq + cq²) prints no clamp; the light
-  family's irradiance is ≥ 0, so the max(0, ·) of the shader is applied (identical where l·n ≥ 0);
-* Phong: I = (k_d L_d (l·n) + k_s L_s (r·v)^α)/(a + bq + cq²) + k_a L_a, r = 2(l·n)n − l;
-* spotlight: "cut-off by cone determined by angle θ", "attenuation function (brighter in center)" —
-  no formula printed (nothing to run).
+"""USC CSCI 420 lecture 11 [1]: the Phong shader pair, run as printed (the lecture's printed
+attenuation is :mod:`validate.local_models.light.usc420_lecture`).
 
 ``phong_usc420_glsl`` runs the lecture's "Phong Shader" vertex + fragment programs (#version 150; the
 fragment program prints no #version, the vertex program's is glued on) in the brdf family: per sample

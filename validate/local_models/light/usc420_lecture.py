@@ -1,4 +1,4 @@
-"""USC CSCI 420 lecture 11 [1]: the printed attenuation and the Phong shader pair, as techniques.
+"""USC CSCI 420 lecture 11 [1]: the printed attenuation forms, as techniques.
 
 Printed forms (slides "Point Source", "Limitations of Point Sources", "Diffuse Light Intensity …",
 "Summary of Phong Model"):
@@ -12,15 +12,7 @@ Printed forms (slides "Point Source", "Limitations of Point Sources", "Diffuse L
 * spotlight: "cut-off by cone determined by angle θ", "attenuation function (brighter in center)" —
   no formula printed (nothing to run).
 
-``phong_usc420_glsl`` runs the lecture's "Phong Shader" vertex + fragment programs (#version 150; the
-fragment program prints no #version, the vertex program's is glued on) in the brdf family: per sample
-the host rotates the sample's frame so that l is +z (:func:`to_light_frame`: the shader uses dot products
-only, so a rotation of (n, l, v) leaves c unchanged) and sets the one uniform viewLightDirection = +z,
-places the receiver at viewPosition = −v so that eyedir = normalize(0 − viewPosition) = v, with
-modelViewMatrix = normalMatrix = I, projectionMatrix = the placement; k_d = albedo, k_s = ks,
-α = phong_exponent, L_a = 0, L_d = L_s = 1/π (π folded into the light,
-:mod:`validate.local_models.brdf.classic_brdfs`). Output c.rgb; zero below either horizon as the family
-requires. The transcription is ``classic_brdfs.phong`` (same formula).
+The lecture's Phong shader pair runs in the brdf family: :mod:`validate.local_models.brdf.usc420_phong`.
 
 References
   [1] O. Stein, USC CSCI 420 Computer Graphics, Lecture 11 "Lighting and Shading" (after Angel, ch. 5).
