@@ -36,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from ..backend import init
+from ..backend import init, load_scene
 from ..errors import ValidateError
 from ..geometry import frame, perp, unit
 from ..scenes import area_lights
@@ -324,7 +324,7 @@ def render(light: Mapping[str, Any], alpha: float, point: np.ndarray, normal: np
     cam = (mi.ScalarTransform4f().look_at(origin=(p + 0.05 * v).tolist(), target=p.tolist(), up=up.tolist())
            @ mi.ScalarTransform4f().scale([1e-4, 1e-4, 1.0]))
     with tempfile.TemporaryDirectory(prefix="validate_tube_") as work:
-        scene = mi.load_dict({
+        scene = load_scene({
             "type": "scene", "integrator": {"type": "direct"}, "plane": plane, **emitter_shapes(light, work),
             "sensor": {"type": "orthographic", "to_world": cam, "near_clip": 1e-3, "far_clip": 10.0,
                        "film": {"type": "hdrfilm", "width": pixels, "height": pixels, "rfilter": {"type": "box"},
