@@ -312,7 +312,9 @@ def render(light: Mapping[str, Any], alpha: float, point: np.ndarray, normal: np
            pixels: int = 32, spp: int = 64, seed: int = 0) -> tuple[float, float]:
     """(mean, standard error) of L_o(p, v) rendered by Mitsuba: an orthographic camera looking along −v at a patch of
     side 10⁻⁴ around p on a large ``roughconductor`` (ggx, α, F = 1) plane, ``direct`` integrator (emitter and BSDF
-    sampling, MIS); pixels × pixels independent estimates of spp samples each."""
+    sampling, MIS); pixels × pixels independent estimates of spp samples each. The scene is loaded by
+    :func:`validate.backend.load_scene` (emitters in the dict's order: a tube's three emitters otherwise came out in
+    another order in ≈ 1 load in 12, and the same seed gave another estimate)."""
     import mitsuba as mi
 
     init()
