@@ -236,7 +236,14 @@ def fit_lamp(radius: float, depth: float, aperture: float, nodes: int = 1500,
     from ... import adfit
 
     prob = lamp_problem(radius, depth, aperture, nodes)
-    ad = fit_lamp_ad(prob, tuple(m == "ad" for m in methods)) if "ad" in methods and adfit.available() else {}
+    ad = tuple(m == "ad" and adfit.available() for m in methods)
+    out = fit_lamp_ad(prob, ad) if any(ad) else {"edge_deg": prob["edge"]}
+    return out | fit_lamp_scipy(prob, tuple(not x for x in ad))
+
+
+def fit_lamp_scipy(prob: dict[str, Any], which: tuple[bool, ...] = (True, True)) -> dict[str, float]:
+    """:func:`fit_lamp`'s scipy fits (``which`` = (cos^f, Mitsuba)): bounded Brent for f ∈ [0, 500] on the rms;
+    Nelder–Mead (xatol 10⁻⁴, fatol 10⁻⁹) for (beam, cutoff) from (0.3, 1) × edge."""
     from scipy.optimize import minimize, minimize_scalar
 
     edge, a, w, target = prob["edge"], prob["alpha"], prob["w"], prob["target"]
@@ -246,14 +253,12 @@ def fit_lamp(radius: float, depth: float, aperture: float, nodes: int = 1500,
 
     cos_a = np.cos(np.radians(a))
     out: dict[str, float] = {"edge_deg": edge}
-    if "cos_f_exponent" in ad:
-        out.update(cos_f_exponent=ad["cos_f_exponent"], cos_f_rms=ad["cos_f_rms"])
-    else:
+    if which[0]:
         res = minimize_scalar(lambda f: rms(np.where(a < edge, cos_a**f, 0.0)), bounds=(0.0, 500.0),
                               method="bounded")
         out.update(cos_f_exponent=float(res.x), cos_f_rms=rms(np.where(a < edge, cos_a**res.x, 0.0)))
-    if "mitsuba_rms" in ad:
-        return out | {k: ad[k] for k in ("mitsuba_beam_deg", "mitsuba_cutoff_deg", "mitsuba_rms")}
+    if not which[1]:
+        return out
 
     def mitsuba(p: np.ndarray) -> np.ndarray:  # beam width in [0, cutoff]
         cut = max(float(p[1]), 1e-3)
