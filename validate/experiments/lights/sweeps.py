@@ -166,6 +166,17 @@ def spot_exponent_problem(beam_deg: float, cutoff_deg: float, nodes: int = 2000)
     return {"alpha": a, "w": np.sin(np.radians(a)) + 1e-12, "target": mitsuba_spot_profile(a, beam_deg, cutoff_deg)}
 
 
+def spot_exponent_objective_ad(prob: dict[str, np.ndarray]) -> Any:
+    """Σ w_i (cos^f α_i − profile_i)² / Σ w_i in drjit (cos^f = exp(f ln cos α)), a function of [f]."""
+    import drjit as dr
+
+    from ... import adfit
+
+    log_cos = adfit.array(np.log(np.cos(np.radians(prob["alpha"]))))
+    wn, t = adfit.array(prob["w"] / np.sum(prob["w"])), adfit.array(prob["target"])
+    return lambda p: dr.sum(wn * (dr.exp(p[0] * log_cos) - t) ** 2)
+
+
 def fit_spot_exponent(beam_deg: float, cutoff_deg: float, nodes: int = 2000, method: str = "ad"
                       ) -> tuple[float, float]:
     """f minimising ∫₀^cutoff (cos^f α − profile(α))² sin α dα (solid-angle weighted least squares), and the
@@ -177,11 +188,7 @@ def fit_spot_exponent(beam_deg: float, cutoff_deg: float, nodes: int = 2000, met
     prob = spot_exponent_problem(beam_deg, cutoff_deg, nodes)
     a, w, target = prob["alpha"], prob["w"], prob["target"]
     if method == "ad" and adfit.available():
-        import drjit as dr
-
-        log_cos, wn, t = adfit.array(np.log(np.cos(np.radians(a)))), adfit.array(w / np.sum(w)), adfit.array(target)
-        fit = adfit.minimize(lambda p: dr.sum(wn * (dr.exp(p[0] * log_cos) - t) ** 2), [BRENT_START * 2000.0],
-                             bounds=[(0.0, 2000.0)])
+        fit = adfit.minimize(spot_exponent_objective_ad(prob), [BRENT_START * 2000.0], bounds=[(0.0, 2000.0)])
         return float(fit.x[0]), float(math.sqrt(max(fit.fun, 0.0)))
     from scipy.optimize import minimize_scalar
 
@@ -271,18 +278,16 @@ def fit_lamp_scipy(prob: dict[str, Any], which: tuple[bool, ...] = (True, True))
                   "mitsuba_rms": float(mit.fun)}
 
 
-def fit_lamp_ad(prob: dict[str, Any], which: tuple[bool, ...] = (True, True)) -> dict[str, float]:
-    """:func:`fit_lamp`'s two fits in drjit, minimising the weighted mean square (the rms's square: the same
-    minimiser) by L-BFGS-B (:func:`validate.adfit.minimize`): cos^f from Brent's first point
-    (:data:`BRENT_START` of [0, 500]); Mitsuba's (beam, cutoff) — 1 to the beam, linear to 0 at the cutoff, beam
-    clipped to [0, cutoff − 10⁻⁶] — from (0.3, 1) × edge with cutoff ≥ 10⁻³; ``which`` = (cos^f, Mitsuba) to fit."""
+def lamp_objectives_ad(prob: dict[str, Any]) -> tuple[Any, Any]:
+    """The weighted mean squares of :func:`fit_lamp_ad` in drjit: (of [f] for cos^f inside the edge, of
+    [beam, cutoff] for Mitsuba's profile)."""
     import drjit as dr
 
     from ... import adfit
 
-    edge, a_np, w = prob["edge"], prob["alpha"], prob["w"]
+    a_np, w = prob["alpha"], prob["w"]
     a, wn, t = adfit.array(a_np), adfit.array(w / np.sum(w)), adfit.array(prob["target"])
-    inside = adfit.array((a_np < edge).astype(np.float64))
+    inside = adfit.array((a_np < prob["edge"]).astype(np.float64))
     log_cos = adfit.array(np.log(np.cos(np.radians(a_np))))
 
     def cos_f(p: list[Any]) -> Any:
@@ -294,6 +299,18 @@ def fit_lamp_ad(prob: dict[str, Any], which: tuple[bool, ...] = (True, True)) ->
         model = dr.select(a < cut, dr.select(a <= beam, 1.0, (cut - a) / (cut - beam)), 0.0)
         return dr.sum(wn * (model - t) ** 2)
 
+    return cos_f, mitsuba
+
+
+def fit_lamp_ad(prob: dict[str, Any], which: tuple[bool, ...] = (True, True)) -> dict[str, float]:
+    """:func:`fit_lamp`'s two fits in drjit, minimising the weighted mean square (the rms's square: the same
+    minimiser) by L-BFGS-B (:func:`validate.adfit.minimize`): cos^f from Brent's first point
+    (:data:`BRENT_START` of [0, 500]); Mitsuba's (beam, cutoff) — 1 to the beam, linear to 0 at the cutoff, beam
+    clipped to [0, cutoff − 10⁻⁶] — from (0.3, 1) × edge with cutoff ≥ 10⁻³; ``which`` = (cos^f, Mitsuba) to fit."""
+    from ... import adfit
+
+    edge = prob["edge"]
+    cos_f, mitsuba = lamp_objectives_ad(prob)
     out: dict[str, float] = {"edge_deg": edge}
     if which[0]:
         f = adfit.minimize(cos_f, [BRENT_START * 500.0], bounds=[(0.0, 500.0)])
