@@ -119,10 +119,12 @@ class Fit:
 
 def minimize(objective: Objective, x0: Sequence[float], bounds: Sequence[tuple[float | None, float | None]] | None
              = None, scale: Sequence[float] | None = None, gtol: float = 1e-10, ftol: float = 1e-15,
-             maxiter: int = 2000, restarts: int = 4) -> Fit:
+             maxiter: int = 2000, restarts: int = 4, method: str = "L-BFGS-B") -> Fit:
     """min F(p) by L-BFGS-B [1] on u = p / scale, value and gradient from :func:`value_and_grad`; F is divided by
     |F(x0)| so that ``gtol`` / ``ftol`` are relative to the starting misfit. Up to ``restarts`` restarts from the
-    last point while one still lowers F by more than 10⁻¹² relative."""
+    last point while one still lowers F by more than 10⁻¹² relative. ``method="BFGS"``: scipy's unbounded BFGS
+    with the same gradient (``bounds`` must be None; ``ftol`` unused), whose Wolfe line search gets past kinks
+    of a piecewise-smooth F where L-BFGS-B's line search can stop short."""
     from scipy.optimize import minimize as sp_minimize
 
     x0 = np.asarray(x0, dtype=np.float64)
@@ -139,8 +141,13 @@ def minimize(objective: Objective, x0: Sequence[float], bounds: Sequence[tuple[f
     u, evals, message = x0 / s, 1, ""
     best = fg(u)[0]
     for _ in range(restarts + 1):  # a restart drops L-BFGS's curvature memory (stalls in narrow valleys)
-        res = sp_minimize(fg, u, jac=True, method="L-BFGS-B", bounds=b,
-                          options={"gtol": gtol, "ftol": ftol, "maxiter": maxiter, "maxcor": 20})
+        if method == "BFGS":
+            if b is not None:
+                raise ValueError("BFGS takes no bounds")
+            res = sp_minimize(fg, u, jac=True, method="BFGS", options={"gtol": gtol, "maxiter": maxiter})
+        else:
+            res = sp_minimize(fg, u, jac=True, method="L-BFGS-B", bounds=b,
+                              options={"gtol": gtol, "ftol": ftol, "maxiter": maxiter, "maxcor": 20})
         evals, message = evals + int(res.nfev), str(res.message)
         gain = best - float(res.fun)
         if float(res.fun) <= best:

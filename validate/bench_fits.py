@@ -26,7 +26,8 @@ from typing import Any
 import numpy as np
 
 RESIDUAL_TOL = 1e-6  # relative; both fits stop on their own tolerances, rounding of the sums is ~1e-13
-LTC_ENTRIES = ((23, 0), (23, 5), (20, 6), (14, 12), (8, 20), (5, 23), (2, 10))  # (i_r, j_θ) of the 24 × 24 table
+# (i_r, j_θ) of the 24 × 24 table; (0, 4) and (0, 13): α = 10⁻³, where the two land apart (either way)
+LTC_ENTRIES = ((23, 0), (23, 5), (20, 6), (14, 12), (8, 20), (5, 23), (2, 10), (0, 4), (0, 13))
 BARNDOORS = ((0.025, 0.0), (0.025, 0.6))  # (disc radius m, hole roundness), the quick settings' renders
 
 

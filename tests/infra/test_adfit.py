@@ -122,3 +122,12 @@ def test_spot_and_lamp_ad_fits_reach_brent():
     ad, sc = sw.fit_lamp_ad(lamp, (True, False)), sw.fit_lamp_scipy(lamp, (True, False))
     assert ad["cos_f_rms"] <= sc["cos_f_rms"] * (1 + RESIDUAL_TOL)
     assert math.isfinite(ad["cos_f_exponent"])
+
+
+def test_bench_only_rejects_an_unknown_section(capsys, tmp_path):
+    from validate.cli import main
+
+    assert main(["bench", "--only", "fits,nosuch", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1].startswith("validate: error: --only fits,nosuch: unknown section nosuch")
+    assert not (tmp_path / "bench.json").exists()
