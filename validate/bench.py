@@ -13,6 +13,7 @@ and its plain reduction run alternately, so that load on the machine touches bot
 * SH9 irradiance at 100k normals: drjit vs numpy.
 * The GL runtimes (:mod:`validate.bench_gl`): cold start of each runtime, and each built-in GLSL technique's
   per-receiver cost beside its Python transcription.
+* The fits (:mod:`validate.bench_fits`): each scipy fit beside its drjit-AD twin, time and residual.
 
 Map sizes (one child process per size and task, so that each peak RSS is clean): an H×2H map
 (H = 1024, 2048, 4096, 8192 by default: "1k" … "8k" name the rows), a smooth sky with a 0.5° sun,
@@ -25,7 +26,8 @@ built in the child row block by row block (not timed: it stands for reading the 
   plain drjit sum of the same texels already copied to the device, the memory-bound reference.
 
 A size whose estimated peak (:func:`validate.scenes.loaders.estimated_peak_bytes`) exceeds the
-memory available is skipped with the reason. Results go to ``<out>/bench.json`` (atomic): ``tables``
+memory available is skipped with the reason. ``--only`` runs some of the sections :data:`SECTIONS`
+(kernels, gl, sizes, fits). Results go to ``<out>/bench.json`` (atomic): ``tables``
 (headers, rows, caption — what the report shows) and the raw ``kernels`` and ``sizes`` records.
 """
 
@@ -257,20 +259,32 @@ def tables(kernels: list[dict[str, Any]], sizes: list[dict[str, Any]]) -> list[d
     ]
 
 
-def run_bench(out: Path, sizes: tuple[int, ...] = DEFAULT_SIZES) -> int:
-    from . import backend, bench_gl
+SECTIONS = ("kernels", "gl", "sizes", "fits")  # ``--only`` picks among these (fits: :mod:`validate.bench_fits`)
+
+
+def run_bench(out: Path, sizes: tuple[int, ...] = DEFAULT_SIZES, sections: tuple[str, ...] = SECTIONS) -> int:
+    from . import backend, bench_fits, bench_gl
     from .atomic import write_text
 
     be = backend.init()
     print(f"backend: {be.describe()}")
-    kernels = kernel_rows()
-    print("GL runtimes (cold start: child processes; per receiver: this process) ...")
-    gl_starts, gl_rows = bench_gl.startup_records(), bench_gl.per_receiver_rows()
-    print("map sizes (child processes):")
-    records = size_records(sizes)
+    kernels = kernel_rows() if "kernels" in sections else []
+    gl_starts: list[dict[str, Any]] = []
+    gl_rows: list[dict[str, Any]] = []
+    if "gl" in sections:
+        print("GL runtimes (cold start: child processes; per receiver: this process) ...")
+        gl_starts, gl_rows = bench_gl.startup_records(), bench_gl.per_receiver_rows()
+    records: list[dict[str, Any]] = []
+    if "sizes" in sections:
+        print("map sizes (child processes):")
+        records = size_records(sizes)
+    fits = bench_fits.fit_rows() if "fits" in sections else []
+    tabs = tables(kernels, records) if kernels or records else []
+    tabs += bench_gl.tables(gl_starts, gl_rows) if "gl" in sections else []
+    tabs += bench_fits.tables(fits) if fits else []
     doc = {"generated": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"), "backend": be.variant,
-           "tables": tables(kernels, records) + bench_gl.tables(gl_starts, gl_rows), "kernels": kernels,
-           "sizes": records, "gl": {"startup": gl_starts, "per_receiver": gl_rows}}
+           "sections": list(sections), "tables": tabs, "kernels": kernels, "sizes": records,
+           "gl": {"startup": gl_starts, "per_receiver": gl_rows}, "fits": fits}
     for t in doc["tables"]:
         print(f"\n{t['caption']}")
         print(" | ".join(t["headers"]))

@@ -59,6 +59,7 @@ EPILOG = """examples:
   python -m validate list --plugin my_technique.py     # families, their contracts, registered techniques
   python -m validate run brdfs --plugin my_brdf.glsl   # a GLSL technique (see docs/glsl.md)
   python -m validate bench                             # speed and memory, side by side -> bench.json
+  python -m validate bench --only fits                 # the fits only: scipy vs drjit AD
   python -m validate all --quick --baseline old/results.json   # ... and what changed since then
   python -m validate compare old/results.json reports/results.json --strict   # CI: exit 1 on a regression
   python -m validate docs --results reports/results.json   # docs/ figures from that run (--check: exit 1 if stale)
@@ -129,6 +130,8 @@ def _parser() -> argparse.ArgumentParser:
     b.add_argument("--out", type=Path, default=Path("reports"), metavar="DIR")
     b.add_argument("--sizes", default="1024,2048,4096,8192", metavar="H,H,...",
                    help="map heights (rows; width 2H) measured in child processes (default: 1k to 8k)")
+    b.add_argument("--only", default=None, metavar="SECTION,...",
+                   help="run only these sections of kernels, gl, sizes, fits (default: all)")
     d = sub.add_parser("docs", help="rewrite the measured-figure blocks of docs/ from a results.json")
     d.add_argument("--results", type=Path, default=Path("reports") / "results.json", metavar="FILE",
                    help="results to render (default: reports/results.json)")
@@ -551,7 +554,14 @@ def main(argv: list[str] | None = None) -> int:
                 sizes = tuple(int(v) for v in args.sizes.split(",") if v.strip())
             except ValueError:
                 raise ValidateError(f"--sizes {args.sizes}: expected heights like 1024,2048") from None
-            return run_bench(args.out, sizes)
+            from .bench import SECTIONS
+
+            only = tuple(v.strip() for v in (args.only or ",".join(SECTIONS)).split(",") if v.strip())
+            bad = [v for v in only if v not in SECTIONS]
+            if bad or not only:
+                raise ValidateError(f"--only {args.only}: unknown section {', '.join(bad) or '(none)'}; "
+                                    f"expected some of {', '.join(SECTIONS)}")
+            return run_bench(args.out, sizes, only)
         if args.command == "docs":
             return _cmd_docs(args.results, args.docs, args.check)
     except (Exception, Interrupted, KeyboardInterrupt) as exc:

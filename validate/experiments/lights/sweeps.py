@@ -157,14 +157,40 @@ def mitsuba_spot_profile(alpha_deg: np.ndarray, beam_deg: float, cutoff_deg: flo
     return np.where(a < cutoff_deg, np.where(a <= beam_deg, 1.0, ramp), 0.0)
 
 
-def fit_spot_exponent(beam_deg: float, cutoff_deg: float, nodes: int = 2000) -> tuple[float, float]:
-    """f minimising ∫₀^cutoff (cos^f α − profile(α))² sin α dα (solid-angle weighted least squares), and the
-    rms of the fit relative to the peak."""
-    from scipy.optimize import minimize_scalar
+BRENT_START = (3.0 - math.sqrt(5.0)) / 2.0  # scipy's bounded Brent evaluates lo + 0.381966 (hi − lo) first
 
+
+def spot_exponent_problem(beam_deg: float, cutoff_deg: float, nodes: int = 2000) -> dict[str, np.ndarray]:
+    """Nodes α_i on [0, cutoff], weights w_i = sin α_i + 10⁻¹², Mitsuba's profile there."""
     a = np.linspace(0.0, cutoff_deg, nodes)
-    w = np.sin(np.radians(a)) + 1e-12
-    target = mitsuba_spot_profile(a, beam_deg, cutoff_deg)
+    return {"alpha": a, "w": np.sin(np.radians(a)) + 1e-12, "target": mitsuba_spot_profile(a, beam_deg, cutoff_deg)}
+
+
+def spot_exponent_objective_ad(prob: dict[str, np.ndarray]) -> Any:
+    """Σ w_i (cos^f α_i − profile_i)² / Σ w_i in drjit (cos^f = exp(f ln cos α)), a function of [f]."""
+    import drjit as dr
+
+    from ... import adfit
+
+    log_cos = adfit.array(np.log(np.cos(np.radians(prob["alpha"]))))
+    wn, t = adfit.array(prob["w"] / np.sum(prob["w"])), adfit.array(prob["target"])
+    return lambda p: dr.sum(wn * (dr.exp(p[0] * log_cos) - t) ** 2)
+
+
+def fit_spot_exponent(beam_deg: float, cutoff_deg: float, nodes: int = 2000, method: str = "ad"
+                      ) -> tuple[float, float]:
+    """f minimising ∫₀^cutoff (cos^f α − profile(α))² sin α dα (solid-angle weighted least squares), and the
+    rms of the fit relative to the peak. ``method="scipy"``: bounded Brent on f ∈ [0, 2000] (xatol 10⁻³);
+    ``"ad"`` (the experiment's path where the variant has AD): L-BFGS-B on the same bounds with drjit's
+    gradient (:func:`validate.adfit.minimize`), started where Brent starts (:data:`BRENT_START`)."""
+    from ... import adfit
+
+    prob = spot_exponent_problem(beam_deg, cutoff_deg, nodes)
+    a, w, target = prob["alpha"], prob["w"], prob["target"]
+    if method == "ad" and adfit.available():
+        fit = adfit.minimize(spot_exponent_objective_ad(prob), [BRENT_START * 2000.0], bounds=[(0.0, 2000.0)])
+        return float(fit.x[0]), float(math.sqrt(max(fit.fun, 0.0)))
+    from scipy.optimize import minimize_scalar
 
     def cost(f: float) -> float:
         return float(np.sum(w * (np.cos(np.radians(a)) ** f - target) ** 2) / np.sum(w))
@@ -197,21 +223,50 @@ def lamp_profile(alpha_deg: np.ndarray, radius: float, depth: float, aperture: f
     return np.where(inside, np.cos(a) * lens_area(depth * t, radius, aperture) / (math.pi * radius**2), 0.0)
 
 
-def fit_lamp(radius: float, depth: float, aperture: float, nodes: int = 1500) -> dict[str, float]:
-    """Least-squares (solid-angle weighted) cos^f spot (cutoff = the lamp's beam edge) and Mitsuba spot
-    (beam width and cutoff) matching :func:`lamp_profile`; rms of each fit relative to the peak."""
-    from scipy.optimize import minimize, minimize_scalar
-
+def lamp_problem(radius: float, depth: float, aperture: float, nodes: int = 1500) -> dict[str, Any]:
+    """The lamp fits' data: the beam edge atan((r + a)/h), nodes on [0, 1.1 edge], weights, the profile."""
     edge = math.degrees(math.atan((radius + aperture) / depth))
     a = np.linspace(0.0, edge * 1.1, nodes)
-    w = np.sin(np.radians(a)) + 1e-12
-    target = lamp_profile(a, radius, depth, aperture)
+    return {"edge": edge, "alpha": a, "w": np.sin(np.radians(a)) + 1e-12,
+            "target": lamp_profile(a, radius, depth, aperture)}
+
+
+def fit_lamp(radius: float, depth: float, aperture: float, nodes: int = 1500,
+             methods: tuple[str, str] = ("ad", "scipy")) -> dict[str, float]:
+    """Least-squares (solid-angle weighted) cos^f spot (cutoff = the lamp's beam edge) and Mitsuba spot
+    (beam width and cutoff) matching :func:`lamp_profile`; rms of each fit relative to the peak.
+    ``methods`` = (cos^f fit, Mitsuba fit), each ``"scipy"`` (bounded Brent for f ∈ [0, 500]; Nelder–Mead for
+    (beam, cutoff) from (0.3, 1) × edge) or ``"ad"`` (L-BFGS-B with drjit gradients from the same starts,
+    :func:`fit_lamp_ad`; used only where the variant has AD). The experiment's choice, (AD, Nelder–Mead): the
+    AD cos^f fit reaches the Brent residual; the Mitsuba profile is piecewise linear in (beam, cutoff) (a kink
+    wherever either crosses a node), where L-BFGS-B stops 8·10⁻⁶ (relative) above Nelder–Mead's rms."""
+    from ... import adfit
+
+    prob = lamp_problem(radius, depth, aperture, nodes)
+    ad = tuple(m == "ad" and adfit.available() for m in methods)
+    out = fit_lamp_ad(prob, ad) if any(ad) else {"edge_deg": prob["edge"]}
+    return out | fit_lamp_scipy(prob, tuple(not x for x in ad))
+
+
+def fit_lamp_scipy(prob: dict[str, Any], which: tuple[bool, ...] = (True, True)) -> dict[str, float]:
+    """:func:`fit_lamp`'s scipy fits (``which`` = (cos^f, Mitsuba)): bounded Brent for f ∈ [0, 500] on the rms;
+    Nelder–Mead (xatol 10⁻⁴, fatol 10⁻⁹) for (beam, cutoff) from (0.3, 1) × edge."""
+    from scipy.optimize import minimize, minimize_scalar
+
+    edge, a, w, target = prob["edge"], prob["alpha"], prob["w"], prob["target"]
 
     def rms(model: np.ndarray) -> float:
         return float(math.sqrt(np.sum(w * (model - target) ** 2) / np.sum(w)))
 
     cos_a = np.cos(np.radians(a))
-    res = minimize_scalar(lambda f: rms(np.where(a < edge, cos_a**f, 0.0)), bounds=(0.0, 500.0), method="bounded")
+    out: dict[str, float] = {"edge_deg": edge}
+    if which[0]:
+        res = minimize_scalar(lambda f: rms(np.where(a < edge, cos_a**f, 0.0)), bounds=(0.0, 500.0),
+                              method="bounded")
+        out.update(cos_f_exponent=float(res.x), cos_f_rms=rms(np.where(a < edge, cos_a**res.x, 0.0)))
+    if not which[1]:
+        return out
+
     def mitsuba(p: np.ndarray) -> np.ndarray:  # beam width in [0, cutoff]
         cut = max(float(p[1]), 1e-3)
         return mitsuba_spot_profile(a, float(np.clip(p[0], 0.0, cut - 1e-6)), cut)
@@ -219,6 +274,50 @@ def fit_lamp(radius: float, depth: float, aperture: float, nodes: int = 1500) ->
     mit = minimize(lambda p: rms(mitsuba(p)), x0=[0.3 * edge, edge], method="Nelder-Mead",
                    options={"xatol": 1e-4, "fatol": 1e-9})
     cut = max(float(mit.x[1]), 1e-3)
-    beam = float(np.clip(mit.x[0], 0.0, cut - 1e-6))
-    return {"edge_deg": edge, "cos_f_exponent": float(res.x), "cos_f_rms": rms(np.where(a < edge, cos_a**res.x, 0.0)),
-            "mitsuba_beam_deg": beam, "mitsuba_cutoff_deg": cut, "mitsuba_rms": float(mit.fun)}
+    return out | {"mitsuba_beam_deg": float(np.clip(mit.x[0], 0.0, cut - 1e-6)), "mitsuba_cutoff_deg": cut,
+                  "mitsuba_rms": float(mit.fun)}
+
+
+def lamp_objectives_ad(prob: dict[str, Any]) -> tuple[Any, Any]:
+    """The weighted mean squares of :func:`fit_lamp_ad` in drjit: (of [f] for cos^f inside the edge, of
+    [beam, cutoff] for Mitsuba's profile)."""
+    import drjit as dr
+
+    from ... import adfit
+
+    a_np, w = prob["alpha"], prob["w"]
+    a, wn, t = adfit.array(a_np), adfit.array(w / np.sum(w)), adfit.array(prob["target"])
+    inside = adfit.array((a_np < prob["edge"]).astype(np.float64))
+    log_cos = adfit.array(np.log(np.cos(np.radians(a_np))))
+
+    def cos_f(p: list[Any]) -> Any:
+        return dr.sum(wn * (inside * dr.exp(p[0] * log_cos) - t) ** 2)
+
+    def mitsuba(p: list[Any]) -> Any:
+        cut = dr.maximum(p[1], 1e-3)
+        beam = dr.clip(p[0], 0.0, cut - 1e-6)
+        model = dr.select(a < cut, dr.select(a <= beam, 1.0, (cut - a) / (cut - beam)), 0.0)
+        return dr.sum(wn * (model - t) ** 2)
+
+    return cos_f, mitsuba
+
+
+def fit_lamp_ad(prob: dict[str, Any], which: tuple[bool, ...] = (True, True)) -> dict[str, float]:
+    """:func:`fit_lamp`'s two fits in drjit, minimising the weighted mean square (the rms's square: the same
+    minimiser) by L-BFGS-B (:func:`validate.adfit.minimize`): cos^f from Brent's first point
+    (:data:`BRENT_START` of [0, 500]); Mitsuba's (beam, cutoff) — 1 to the beam, linear to 0 at the cutoff, beam
+    clipped to [0, cutoff − 10⁻⁶] — from (0.3, 1) × edge with cutoff ≥ 10⁻³; ``which`` = (cos^f, Mitsuba) to fit."""
+    from ... import adfit
+
+    edge = prob["edge"]
+    cos_f, mitsuba = lamp_objectives_ad(prob)
+    out: dict[str, float] = {"edge_deg": edge}
+    if which[0]:
+        f = adfit.minimize(cos_f, [BRENT_START * 500.0], bounds=[(0.0, 500.0)])
+        out.update(cos_f_exponent=float(f.x[0]), cos_f_rms=math.sqrt(max(f.fun, 0.0)))
+    if which[1]:
+        m = adfit.minimize(mitsuba, [0.3 * edge, edge], bounds=[(0.0, None), (1e-3, None)])
+        cut = max(float(m.x[1]), 1e-3)
+        out.update(mitsuba_beam_deg=float(np.clip(m.x[0], 0.0, cut - 1e-6)), mitsuba_cutoff_deg=cut,
+                   mitsuba_rms=math.sqrt(max(m.fun, 0.0)))
+    return out

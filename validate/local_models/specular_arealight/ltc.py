@@ -155,12 +155,44 @@ def _matrix(frame: np.ndarray, p: np.ndarray) -> np.ndarray:
     return frame @ rot @ np.array([[p[0], 0.0, p[2]], [0.0, p[1], 0.0], [0.0, 0.0, 1.0]])
 
 
-def fit_entry(mu_v: float, alpha: float, init: tuple[float, ...] | None = None, n: int = 32) -> Entry:
-    """Fit M for one (cos θ_v, α): minimise ∫ |E·D_M − f cos|³ dω over (m11, m22, m13, φ) by Nelder–Mead, started
-    from ``init`` (the neighbouring entry's solution, [1]'s procedure) or (α, α, 0, 0); at normal incidence the
-    lobe is isotropic (m11 = m22, m13 = φ = 0: one parameter) as in [1]'s code."""
-    from scipy.optimize import minimize
+@dataclass(frozen=True)
+class FitProblem:
+    """One (cos θ_v, α) entry's fit data: the quadrature, f cos at its nodes, E, E_f, the lobe frame, the start."""
 
+    mu_v: float
+    alpha: float
+    quad: Quadrature
+    target: np.ndarray  # f_r cos at quad.dirs (F = 1)
+    norm: float
+    fresnel: float
+    frame: np.ndarray
+    iso: bool  # normal incidence: one parameter (m11 = m22, m13 = φ = 0)
+    x0: np.ndarray  # the start in the free parameters
+
+    def full(self, p: np.ndarray) -> np.ndarray:
+        """(m11, m22, m13, φ) from the free parameters."""
+        return np.array([p[0], p[0], 0.0, 0.0]) if self.iso else np.asarray(p, dtype=np.float64)
+
+    def l3_error(self, p: np.ndarray) -> float:
+        """∫ |E·D_M − f cos|³ dω at the free parameters ``p`` (10³⁰ where m11 or m22 ≤ 10⁻⁷)."""
+        pp = self.full(p)
+        if pp[0] <= 1e-7 or pp[1] <= 1e-7:
+            return 1e30
+        d = ltc_density(np.linalg.inv(_matrix(self.frame, pp)), self.quad.dirs)
+        return float(np.sum(self.quad.weights * np.abs(self.norm * d - self.target) ** 3))
+
+    def entry(self, p: np.ndarray) -> Entry:
+        pp = self.full(p)
+        m_inv = np.linalg.inv(_matrix(self.frame, pp))
+        m_inv = m_inv / m_inv[2, 2]
+        q = self.quad
+        l1 = float(np.sum(q.weights * np.abs(self.norm * ltc_density(m_inv, q.dirs) - self.target))) / self.norm
+        return Entry(tuple(float(x) for x in pp), m_inv, self.norm, self.fresnel, l1)
+
+
+def fit_problem(mu_v: float, alpha: float, init: tuple[float, ...] | None = None, n: int = 32) -> FitProblem:
+    """The data of :func:`fit_entry`: quadrature (:func:`fit_quadrature`), E, E_f, the frame of the lobe's
+    average direction, the start ``init`` or (α, α, 0, 0)."""
     q = fit_quadrature(mu_v, alpha, n)
     f = ggx_cos(q.dirs, mu_v, alpha)
     norm = float(np.sum(q.weights * f))
@@ -169,28 +201,72 @@ def fit_entry(mu_v: float, alpha: float, init: tuple[float, ...] | None = None, 
     h /= np.linalg.norm(h, axis=-1, keepdims=True)
     fres = float(np.sum(q.weights * f * (1.0 - np.clip(h @ v, 0.0, 1.0)) ** 5))
     avg = np.sum((q.weights * f)[:, None] * q.dirs, axis=0)
-    frame = _frame(avg)
     iso = mu_v > 1.0 - 1e-6
     p0 = np.asarray(init if init is not None else (alpha, alpha, 0.0, 0.0), dtype=np.float64)
+    return FitProblem(mu_v, alpha, q, f, norm, fres, _frame(avg), iso, p0[:1] if iso else p0)
 
-    def full(p: np.ndarray) -> np.ndarray:
-        return np.array([p[0], p[0], 0.0, 0.0]) if iso else p
 
-    def err(p: np.ndarray) -> float:
-        pp = full(p)
-        if pp[0] <= 1e-7 or pp[1] <= 1e-7:
-            return 1e30
-        d = ltc_density(np.linalg.inv(_matrix(frame, pp)), q.dirs)
-        return float(np.sum(q.weights * np.abs(norm * d - f) ** 3))
+def fit_entry(mu_v: float, alpha: float, init: tuple[float, ...] | None = None, n: int = 32) -> Entry:
+    """Fit M for one (cos θ_v, α): minimise ∫ |E·D_M − f cos|³ dω over (m11, m22, m13, φ) by Nelder–Mead, started
+    from ``init`` (the neighbouring entry's solution, [1]'s procedure) or (α, α, 0, 0); at normal incidence the
+    lobe is isotropic (m11 = m22, m13 = φ = 0: one parameter) as in [1]'s code. The table's path
+    (scripts/fit_ltc.py); :func:`fit_entry_ad` is the same fit by gradients."""
+    return fit_entry_scipy(fit_problem(mu_v, alpha, init, n))
 
-    x0 = p0[:1] if iso else p0
-    res = minimize(err, x0, method="Nelder-Mead", options={"xatol": 1e-5, "fatol": 0.0, "maxiter": 3000,
-                                                           "maxfev": 3000})
-    p = full(res.x)
-    m_inv = np.linalg.inv(_matrix(frame, p))
-    m_inv = m_inv / m_inv[2, 2]
-    l1 = float(np.sum(q.weights * np.abs(norm * ltc_density(m_inv, q.dirs) - f))) / norm
-    return Entry(tuple(float(x) for x in p), m_inv, norm, fres, l1)
+
+def fit_entry_scipy(prob: FitProblem) -> Entry:
+    """Nelder–Mead (scipy; xatol 10⁻⁵, at most 3000 evaluations) on :meth:`FitProblem.l3_error`."""
+    from scipy.optimize import minimize
+
+    res = minimize(prob.l3_error, prob.x0, method="Nelder-Mead",
+                   options={"xatol": 1e-5, "fatol": 0.0, "maxiter": 3000, "maxfev": 3000})
+    return prob.entry(res.x)
+
+
+def l3_error_ad(prob: FitProblem) -> Any:
+    """The objective ∫ |E·D_M − f cos|³ dω in drjit (:mod:`validate.adfit`): a function of the free parameters
+    (width-1 Float64 arrays). M⁻¹ = S⁻¹ R_y(φ)ᵀ [X Y Z]ᵀ in closed form, S = [[m11, 0, m13], [0, m22, 0], [0, 0, 1]]
+    (S⁻¹ = [[1/m11, 0, −m13/m11], [0, 1/m22, 0], [0, 0, 1]]), |det M⁻¹| = 1/(m11 m22) (the frame and R_y are
+    rotations); D as :func:`ltc_density`."""
+    import drjit as dr
+
+    from ... import adfit
+
+    local = prob.quad.dirs @ prob.frame  # [X Y Z]ᵀ l, per row
+    lx, ly, lz = (adfit.array(local[:, k]) for k in range(3))
+    w, f = adfit.array(prob.quad.weights), adfit.array(prob.target)
+    norm = prob.norm
+
+    def objective(p: list[Any]) -> Any:
+        if prob.iso:
+            m11, m22, m13, c, s = p[0], p[0], 0.0, 1.0, 0.0
+        else:
+            m11, m22, m13 = p[0], p[1], p[2]
+            c, s = dr.cos(p[3]), dr.sin(p[3])
+        a, e = c * lx - s * lz, s * lx + c * lz
+        ox, oy, oz = (a - m13 * e) / m11, ly / m22, e
+        r = dr.sqrt(ox * ox + oy * oy + oz * oz)
+        d = dr.maximum(oz / r, 0.0) / dr.pi / (m11 * m22) / (r * r * r)
+        return dr.sum(w * dr.abs(norm * d - f) ** 3)
+
+    return objective
+
+
+def fit_entry_ad(prob: FitProblem) -> Entry:
+    """:func:`l3_error_ad` minimised with drjit's reverse-mode gradient (:func:`validate.adfit.minimize`) from the
+    same start: L-BFGS-B with m11, m22 ≥ 10⁻⁷ (the Nelder–Mead objective's wall; m13 and φ free as there), then
+    BFGS from its result (the clamp max(0, z) of D_o makes the quadrature sum piecewise smooth — a kink where a
+    node crosses the transformed horizon — and L-BFGS-B's line search can stop short at one: 10⁻⁵ above
+    Nelder–Mead at r = 0.087, cos θ_v = 0.811); the lower of the two (:meth:`FitProblem.l3_error`, whose wall
+    rejects a BFGS step to m ≤ 10⁻⁷)."""
+    from ... import adfit
+
+    bounds = [(1e-7, None)] if prob.iso else [(1e-7, None), (1e-7, None), (None, None), (None, None)]
+    obj = l3_error_ad(prob)
+    first = adfit.minimize(obj, prob.x0, bounds=bounds)
+    polish = adfit.minimize(obj, first.x, method="BFGS", gtol=1e-12, maxiter=400, restarts=0)
+    best = min((first.x, polish.x), key=prob.l3_error)
+    return prob.entry(best)
 
 
 def table_axes(size: int) -> tuple[np.ndarray, np.ndarray]:
@@ -388,6 +464,7 @@ def ltc(light: Mapping[str, Any], brdf: Mapping[str, Any], points: np.ndarray, n
     return le * ff[:, None] * (f0[None, :] * norm[:, None] + (1.0 - f0[None, :]) * fres[:, None])
 
 
-__all__ = ["specular_arealight", "fit_entry", "fit_quadrature", "ggx_cos", "ltc_density", "table_axes", "alpha_of",
+__all__ = ["specular_arealight", "fit_entry", "fit_entry_ad", "fit_entry_scipy", "fit_problem", "FitProblem",
+           "l3_error_ad", "fit_quadrature", "ggx_cos", "ltc_density", "table_axes", "alpha_of",
            "pack", "load_table", "Table", "Entry", "clipped_form_factor", "light_polygon", "local_frames",
            "ltc_integral", "brdf_params", "tube_polygon"]

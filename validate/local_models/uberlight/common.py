@@ -98,6 +98,31 @@ def superellipse_shape_np(light: Mapping[str, Any], x: np.ndarray, y: np.ndarray
     return np.where(front & ~axis, 1.0 - sstep(inner, outer, 1.0), np.where(front, 1.0, 0.0))
 
 
+def superellipse_shape_ad(width: Any, height: Any, width_edge: Any, height_edge: Any, roundness: Any,
+                          x: Any, y: Any, z: Any) -> Any:
+    """The same A with every shape value a drjit array (width 1 or N: the AD fits differentiate through them,
+    :mod:`validate.adfit`); x, y, z drjit arrays of the light coordinates. |h p_x|, |w p_y| are floored at 10⁻³⁰
+    (a zero base has no derivative in its exponent; 10⁻³⁰ raised to e₁ ≥ 0.5 is below 10⁻¹⁵ of the other term)."""
+    import drjit as dr
+
+    front = z > 0
+    zs = dr.select(front, z, 1.0)
+    px, py = dr.abs(x / zs), dr.abs(y / zs)
+    ww, hh = width + width_edge, height + height_edge
+    e1, e2 = 2.0 / roundness, -roundness / 2.0
+    axis = (px == 0) & (py == 0)
+
+    def term(a: Any, b: Any) -> Any:
+        base = dr.power(dr.maximum(b * px, 1e-30), e1) + dr.power(dr.maximum(a * py, 1e-30), e1)
+        return a * b * dr.power(dr.select(axis, 1.0, base), e2)
+
+    inner, outer = term(width, height), term(ww, hh)
+    span = outer - inner
+    t = dr.clip((1.0 - inner) / dr.select(span > 0, span, 1.0), 0.0, 1.0)
+    step = dr.select(span > 0, t * t * (3.0 - 2.0 * t), dr.select(outer <= 1.0, 1.0, 0.0))
+    return dr.select(front & ~axis, 1.0 - step, dr.select(front, 1.0, 0.0))
+
+
 def distance_shape_np(light: Mapping[str, Any], z: np.ndarray) -> np.ndarray:
     """The same D in float64 numpy (twin of :func:`distance_shape`)."""
     def sstep(e0: float, e1: float, v: np.ndarray) -> np.ndarray:
