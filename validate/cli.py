@@ -1,11 +1,11 @@
-"""Command line: ``python -m validate {list, run NAME, all, compare OLD NEW, bench, docs}``.
+"""Command line: ``python -m validate {list, run NAME [NAME ...], all, compare OLD NEW, bench, docs}``.
 
 Outputs go to ``--out`` (default ``reports/``): ``index.html``, ``results.json``, ``figures/``.
 Work is staged in a temporary folder inside ``--out``; when every experiment succeeded, the new
 results.json and pages are written there too, and only then is everything renamed into place as one
 :class:`~validate.atomic.Transaction` (rolled back if any step fails). So a failure — bad input, a
 failed task, a full disk at any point, a signal — leaves the previous report byte for byte, and a
-fresh ``--out`` folder is removed again. ``run NAME`` updates that experiment's entry in an existing
+fresh ``--out`` folder is removed again. ``run NAME ...`` updates those experiments' entries in an existing
 ``results.json`` and re-renders the page; other entries are kept.
 
 ``--baseline OLD.json`` (``all``/``run``) compares the new results with an earlier run
@@ -112,8 +112,8 @@ def _parser() -> argparse.ArgumentParser:
     lp = sub.add_parser("list", help="list experiments, built-in environments and every technique family")
     lp.add_argument("--plugin", action="append", default=[], metavar="FILE|MODULE",
                     help="import a plug-in first so that its techniques are listed (repeatable)")
-    r = sub.add_parser("run", parents=[common], help="run one experiment and update the report")
-    r.add_argument("name", help="experiment name (see `list`)")
+    r = sub.add_parser("run", parents=[common], help="run some experiments and update the report in place")
+    r.add_argument("name", nargs="+", help="experiment name(s) (see `list`), run in the order given")
     sub.add_parser("all", parents=[common], help="run every experiment and write the report")
     c = sub.add_parser("compare", help="what changed between two runs (claims and technique metrics)",
                        description="For every claim and technique metric in either results.json: the change "
@@ -538,7 +538,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.command == "compare":
             return _cmd_compare(args.old, args.new, args.strict)
         if args.command == "run":
-            return _run(args, [args.name])
+            return _run(args, list(dict.fromkeys(args.name)))
         if args.command == "all":
             return _run(args, None)
         if args.command == "worst":

@@ -136,10 +136,11 @@ def test_quick_run_writes_report_and_keeps_other_experiments(tmp_path: Path) -> 
     (out / "results.json").write_text(json.dumps({"meta": {}, "experiments": {"other": {
         "title": "kept", "summary": "", "claims": [], "findings": [], "wall_time_s": 0, "settings": {},
         "report": {"sections": []}}}}))
-    r = run_cli("run", "sh9", "--quick", "--out", str(out), "--no-progress")
+    r = run_cli("run", "hemisphere", "listings", "--quick", "--out", str(out), "--no-progress")
     assert r.returncode == 0, r.stderr
     assert "backend: " in r.stdout
     res = json.loads((out / "results.json").read_text())
-    assert set(res["experiments"]) == {"sh9", "other"}
-    assert (out / "index.html").read_text().count("sh9.bound.max") >= 1
+    assert set(res["experiments"]) == {"hemisphere", "listings", "other"}
+    claim = res["experiments"]["hemisphere"]["claims"][0]["id"]
+    assert (out / "index.html").read_text().count(claim) >= 1
     assert not list(out.glob(".staging-*"))

@@ -178,6 +178,7 @@ def test_crosscheck_passes_on_sun_and_near_directional(name: str) -> None:
     assert CHI2_PER_DOF_RANGE[0] <= cc.chi2_per_dof <= CHI2_PER_DOF_RANGE[1], cc.summary()
 
 
+@pytest.mark.slow  # ~15 s idle; the procedural skies above cross-check the same code in the default run
 @pytest.mark.probes
 def test_crosscheck_passes_on_a_real_probe(load_probe) -> None:
     env = load_probe("grace_probe_latlong.exr")
