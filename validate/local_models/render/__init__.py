@@ -30,9 +30,12 @@ from ...gl import browser_page
 from ...scenes.render_scenes import RenderScene
 
 # engine → (page, entry point, options the page reads); "babylon_lambert" is Babylon with its diffuse model set to
-# Lambert (MATERIAL_DIFFUSE_MODEL_LAMBERT = 2) instead of its default energy-preserving Oren–Nayar.
+# Lambert (MATERIAL_DIFFUSE_MODEL_LAMBERT = 2) instead of its default energy-preserving Oren–Nayar; "three_probe" is
+# three.js with a hemisphere light given as a LightProbe whose SH is built as three's HemisphereLightProbe built it
+# (removed from three; three issue 26668) instead of a HemisphereLight.
 ENGINES = {"three": ("three.html", "renderThree", {}), "babylon": ("babylon.html", "renderBabylon", {}),
-           "babylon_lambert": ("babylon.html", "renderBabylon", {"diffuseModel": 2})}
+           "babylon_lambert": ("babylon.html", "renderBabylon", {"diffuseModel": 2}),
+           "three_probe": ("three.html", "renderThree", {"hemisphereProbe": True})}
 HALF_FLOAT_RTOL = 2.0**-11  # IEEE binary16: 10 explicit mantissa bits, unit roundoff 2⁻¹¹
 SWIFTSHADER_TRIG_ATOL = 2e-4  # measured sin/cos error (validate.gl.webgl docstring)
 
