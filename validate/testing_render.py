@@ -59,7 +59,8 @@ def _image(out: object, scene: rs.RenderScene) -> tuple[np.ndarray, np.ndarray]:
 def check_render(render_fn: Callable[[rs.RenderScene], object],
                  scenes: Sequence[tuple[rs.RenderScene, str]] | None = None, spp: int = 16, passes: int = 8,
                  seed: int = 0) -> list[RenderCheck]:
-    """Judge ``render_fn`` on each (scene, kind) (kind "furnace" or "directional"); see the module docstring."""
+    """Judge ``render_fn`` on each (scene, kind) (kind "furnace", "directional", "point", "spot" or "hemisphere",
+    as :func:`validate.experiments.renders.compute.scene_list` pairs them); see the module docstring."""
     out = []
     for scene, kind in scenes if scenes is not None else default_scenes():
         refs, hit = references(scene, kind, _Settings(spp, passes, seed))
@@ -77,6 +78,10 @@ class _Settings:
     spp: int
     passes: int
     seed: int
+
+    @property
+    def env_spp(self) -> int:
+        return self.spp
 
 
 __all__ = ["check_render", "RenderCheck", "default_scenes"]

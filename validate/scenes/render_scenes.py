@@ -153,6 +153,12 @@ class SpotLight:
         t = np.clip((np.asarray(cos_theta) - co) / (ci - co), 0.0, 1.0)
         return t * t if self.profile == "gltf" else t * t * (3.0 - 2.0 * t)
 
+    def flux(self) -> float:
+        """Luminous flux Φ = 2π I ∫_{cos θ_o}^1 f(c) dc in lm: with t linear in c, ∫ t² = (c_i − c_o)/3 (KHR) and
+        ∫ t²(3 − 2t) = (c_i − c_o)/2 (smoothstep), plus 1 − c_i inside the inner cone."""
+        ci, co = np.cos(np.radians(self.inner_deg)), np.cos(np.radians(self.outer_deg))
+        return float(2 * np.pi * self.intensity * ((1 - ci) + (ci - co) / (3.0 if self.profile == "gltf" else 2.0)))
+
     def to_json(self) -> dict[str, Any]:
         return {"type": "spot", "position": list(self.position), "direction": self.unit_direction().tolist(),
                 "target": list(self.target), "intensity": self.intensity, "inner_deg": self.inner_deg,

@@ -52,6 +52,7 @@ class EngineResult:
     version: str
     judgements: dict[str, PixelJudgement] = field(default_factory=dict)  # reference kind → judgement
     energy: float = float("nan")  # mean radiance over the interior mask
+    info: dict[str, Any] = field(default_factory=dict)  # the page's extra report (three: light.power in lm)
 
 
 @dataclass
@@ -145,7 +146,8 @@ def measure_scene(scene: rs.RenderScene, kind: str, s: Settings) -> SceneResult:
         except Exception as exc:  # an engine that cannot start is skipped with its reason, never a crash
             res.skipped[name] = " ".join(f"{type(exc).__name__}: {exc}".split())[:300]
             continue
-        out = EngineResult(er.image[..., :3].astype(np.float64), er.image[..., 3], er.frame_ms, er.wall_s, er.version)
+        out = EngineResult(er.image[..., :3].astype(np.float64), er.image[..., 3], er.frame_ms, er.wall_s, er.version,
+                           info=er.info)
         mask = interior_mask(hit, out.coverage)
         res.mask = mask
         for k, (m, se, dof) in truths.items():

@@ -22,7 +22,7 @@ SwiftShader's sin/cos are good to ~2e-4 absolute (:mod:`validate.gl.webgl`).
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -46,6 +46,7 @@ class EngineRender:
     frame_ms: float
     wall_s: float
     version: str
+    info: dict = field(default_factory=dict)  # what the page reports besides pixels (e.g. three's light.power)
 
 
 def render(engine: str, scene: RenderScene) -> EngineRender:
@@ -55,7 +56,8 @@ def render(engine: str, scene: RenderScene) -> EngineRender:
     r = browser_page.call(page, fn, dict(scene.engine_json(), options=options))
     n = scene.resolution
     img = browser_page.decode_f32(r["data"], (n, n, 4))[::-1].copy()  # readPixels row 0 = bottom
-    return EngineRender(img, float(r.get("frame_ms", np.nan)), time.perf_counter() - t0, str(r.get("version", "")))
+    return EngineRender(img, float(r.get("frame_ms", np.nan)), time.perf_counter() - t0, str(r.get("version", "")),
+                        dict(r.get("info") or {}))
 
 
 __all__ = ["ENGINES", "EngineRender", "render", "HALF_FLOAT_RTOL", "SWIFTSHADER_TRIG_ATOL"]

@@ -61,21 +61,23 @@ function hemisphere(l, probe) {
   return lp;
 }
 
+// returns the light's `power` getter (three's luminous power in lm) for point and spot lights, else null
 function addLight(scene, l, opts) {
-  if (l.type === 'hemisphere') { scene.add(hemisphere(l, opts.hemisphereProbe)); return; }
+  if (l.type === 'hemisphere') { scene.add(hemisphere(l, opts.hemisphereProbe)); return null; }
   if (l.type === 'point') {
     const light = new THREE.PointLight(rgb(l.color), l.intensity, 0, 2);
-    light.position.set(...l.position); scene.add(light); return;
+    light.position.set(...l.position); scene.add(light); return light.power;
   }
   if (l.type === 'spot') {
     const outer = l.outer_deg * Math.PI / 180, inner = l.inner_deg * Math.PI / 180;
     const light = new THREE.SpotLight(rgb(l.color), l.intensity, 0, outer, 1 - inner / outer, 2);
     light.position.set(...l.position); light.target.position.set(...l.target);
-    scene.add(light); scene.add(light.target); return;
+    scene.add(light); scene.add(light.target); return light.power;
   }
   const light = new THREE.DirectionalLight(rgb(l.color), l.intensity);
   light.position.set(-l.direction[0], -l.direction[1], -l.direction[2]);  // shines from position to target (origin)
   scene.add(light); scene.add(light.target);
+  return null;
 }
 
 function geometry(g) {
@@ -94,7 +96,7 @@ export async function renderThree(d) {
     scene.environment = pmremCache.get(key).texture;
   }
   const opts = d.options || {};
-  for (const l of d.lights) addLight(scene, l, opts);
+  const powers = d.lights.map((l) => addLight(scene, l, opts));
   const g = d.geometry || {type: 'sphere', radius: d.sphere.radius, segments: d.sphere.segments};
   const mesh = new THREE.Mesh(geometry(g), material(d.material));
   scene.add(mesh);
@@ -112,5 +114,5 @@ export async function renderThree(d) {
   const frame_ms = performance.now() - t0;
   r.setRenderTarget(null);
   target.dispose(); mesh.geometry.dispose(); mesh.material.dispose();
-  return {data: f32ToB64(out), frame_ms, prefilter_ms: pmrem_ms, version};
+  return {data: f32ToB64(out), frame_ms, prefilter_ms: pmrem_ms, version, info: {light_power_lm: powers}};
 }
