@@ -237,3 +237,14 @@ def test_hemisphere_light_equals_mitsuba(engine: str) -> None:
     j, j4pi = _judged(engine, rs.hemisphere_scene(DIRECT_RES), "hemisphere")["mitsuba"]
     assert j.fraction_accepted >= MIN_ACCEPTED, j
     assert j4pi.fraction_accepted < MIN_ACCEPTED
+
+
+def test_check_render_on_analytic_point_and_spot_lights() -> None:
+    from examples.check_my_renderer import my_renderer
+    from validate.testing_render import check_render
+
+    point, _, spot = rs.punctual_scenes(16)
+    checks = check_render(my_renderer, scenes=[(point, "point"), (spot, "spot")], spp=1, passes=4)
+    assert [c.reference for c in checks] == ["mitsuba", "mitsuba"] and all(c.passed for c in checks)
+    [bad] = check_render(lambda s: my_renderer(s) * 4 * np.pi, scenes=[(point, "point")], spp=1, passes=4)
+    assert not bad.passed  # power: lumens taken for candela
