@@ -150,7 +150,7 @@ def hemisphere_findings(m: Measurements) -> list[str]:
         if {"three", "three_probe"} <= set(sr.engines):
             r = np.pi * sr.engines["three_probe"].image[sr.mask] / sr.engines["three"].image[sr.mask]
             out.append(f"three issue 26668: HemisphereLightProbe(sky, ground, k) / HemisphereLight(sky, ground, k) = "
-                       f"{r.mean():.7f} ± {r.std(ddof=1) / np.sqrt(r.size):.1e} over {r.size} px × 3 channels "
+                       f"{r.mean():.7f} ± {r.std(ddof=1) / np.sqrt(r.size):.1e} over {r.shape[0]} px × 3 channels "
                        f"(π = {np.pi:.7f}): the probe reads its colours as radiance, the light as irradiance — a "
                        "units factor π, not a formula error.")
     return out
