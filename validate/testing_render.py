@@ -59,10 +59,13 @@ def _image(out: object, scene: rs.RenderScene) -> tuple[np.ndarray, np.ndarray]:
 def check_render(render_fn: Callable[[rs.RenderScene], object],
                  scenes: Sequence[tuple[rs.RenderScene, str]] | None = None, spp: int = 16, passes: int = 8,
                  seed: int = 0) -> list[RenderCheck]:
-    """Judge ``render_fn`` on each (scene, kind) (kind "furnace" or "directional"); see the module docstring."""
+    """Judge ``render_fn`` on each (scene, kind) (kind "furnace", "directional", "point", "spot" or "hemisphere",
+    as :func:`validate.experiments.renders.compute.scene_list` pairs them); see the module docstring."""
     out = []
     for scene, kind in scenes if scenes is not None else default_scenes():
         refs, hit = references(scene, kind, _Settings(spp, passes, seed))
+        if kind == "spot":  # KHR_lights_punctual's reference falloff; three's smoothstep is the experiment's second one
+            refs = {"mitsuba": refs["mitsuba"]}
         img, cov = _image(render_fn(scene), scene)
         mask = interior_mask(hit, cov)
         for name, ref in refs.items():
@@ -77,6 +80,10 @@ class _Settings:
     spp: int
     passes: int
     seed: int
+
+    @property
+    def env_spp(self) -> int:
+        return self.spp
 
 
 __all__ = ["check_render", "RenderCheck", "default_scenes"]

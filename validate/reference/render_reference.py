@@ -1,8 +1,9 @@
 """Mitsuba path-traced reference of a render scene, per pixel centre, with its standard error.
 
-For every pixel whose centre ray hits the unit sphere, Mitsuba's ``path`` integrator
-(``max_depth = 2``: camera ray, one bounce — exact for a lone convex sphere, which sees nothing but the
-lights and the environment; ``hide_emitters``) estimates the radiance along the *centre* ray
+For every pixel whose centre ray hits the geometry (the unit sphere, or the plane that fills the image),
+Mitsuba's ``path`` integrator
+(``max_depth = 2``: camera ray, one bounce — exact for a lone convex sphere or a lone plane, which see nothing
+but the lights and the environment; ``hide_emitters``) estimates the radiance along the *centre* ray
 (x, y, +5) → −z of the orthographic camera (:mod:`validate.scenes.render_scenes`). Pixel centres, not
 the pixel footprint: an engine without MSAA shades exactly one point per pixel, so this compares the
 same quantity and no reconstruction filter enters.
@@ -51,9 +52,9 @@ class RenderReference:
 
 
 def centre_rays(scene: RenderScene) -> tuple[np.ndarray, np.ndarray]:
-    """(N, 3) ray origins of the pixels whose centre ray hits the sphere, and the (R, R) hit mask."""
+    """(N, 3) ray origins of the pixels whose centre ray hits the geometry, and the (R, R) hit mask."""
     x, y = scene.pixel_centres()
-    hit = x**2 + y**2 < 1.0
+    hit = scene.hit_mask()
     o = np.stack([x[hit], y[hit], np.full(int(hit.sum()), CAMERA_POSITION[2])], axis=-1)
     return o, hit
 

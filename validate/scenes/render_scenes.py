@@ -14,8 +14,18 @@ Conventions
 * Material: glTF 2.0 metallic-roughness [1] — ``baseColor`` (linear), ``metallic``, ``roughness``
   (perceptual; α = roughness² [1, Appendix B.3.2]), ``specular`` (KHR_materials_specular's factor [2]:
   1 = the core model's F0 = 0.04 dielectric layer, 0 = no specular layer, i.e. Lambertian).
+* Geometry: ``sphere`` (above) or ``plane`` — the square z = 0 of half-size ``PLANE_HALF_SIZE`` facing the
+  camera (+z), filling the image.
 * Lights: KHR_lights_punctual [3] units — a directional light's ``intensity`` is illuminance in lux
-  (lm/m²) on a surface facing it; ``direction`` is the direction the light travels.
+  (lm/m²) on a surface facing it; ``direction`` is the direction the light travels. A point or spot light's
+  ``intensity`` is luminous intensity in candela (lm/sr), attenuated by the inverse square of the distance
+  with no range (KHR: "range undefined → infinite"). A spot's angular falloff between ``inner_deg`` and
+  ``outer_deg`` is KHR's reference formula [3, "Inner and Outer Cone Angles"]
+  f = clamp((cos θ − cos θ_o)/(cos θ_i − cos θ_o), 0, 1)²  (``profile = "gltf"``), or three.js's
+  smoothstep(cos θ_o, cos θ_i, cos θ) (``"smoothstep"``, lights_pars_begin.glsl getSpotAttenuation). The
+  suite, like KHR's renderers, reads photometric units as the radiometric ones (1 cd ↔ 1 W/sr).
+* Hemisphere light: an environment of radiance ``sky`` above the horizon (y > 0) and ``ground`` below
+  (:class:`HemisphereLight`); each engine page converts it to its own light's parameters.
 * Environment: constant radiance (the furnace) or an equirect probe (radiance, W/(sr·m²) per channel).
 
 Mapping to Mitsuba, written once (:func:`mitsuba_bsdf`), from glTF 2.0 Appendix B [1]:
@@ -35,7 +45,8 @@ References
 [1] Khronos, glTF 2.0 Specification, Appendix B "BRDF Implementation" (B.3.2 specular_brdf, B.3.4,
     B.3.5 fresnel_mix).
 [2] Khronos, KHR_materials_specular (specularFactor scales F0 and F90 of the dielectric layer).
-[3] Khronos, KHR_lights_punctual ("directional: intensity in lux (lm/m²)").
+[3] Khronos, KHR_lights_punctual ("directional: intensity in lux (lm/m²)"; point and spot: candela;
+    "Inner and Outer Cone Angles": the reference falloff above).
 [4] W. Jakob et al., Mitsuba 3 plugin reference, ``roughplastic``, ``roughconductor``, ``diffuse``.
 """
 
@@ -97,6 +108,86 @@ class DirectionalLight:
 
 
 @dataclass(frozen=True)
+class PointLight:
+    """KHR_lights_punctual point light: ``intensity`` candela at ``position``, inverse-square, no range."""
+
+    position: tuple[float, float, float]
+    intensity: float
+    color: tuple[float, float, float] = (1.0, 1.0, 1.0)
+
+    def to_json(self) -> dict[str, Any]:
+        return {"type": "point", "position": list(self.position), "intensity": self.intensity,
+                "color": list(self.color)}
+
+
+SPOT_PROFILES = ("gltf", "smoothstep")
+
+
+@dataclass(frozen=True)
+class SpotLight:
+    """KHR_lights_punctual spot light at ``position`` aimed at ``target``: ``intensity`` candela on the axis,
+    cone angles in degrees from the axis, falloff ``profile`` (module docstring)."""
+
+    position: tuple[float, float, float]
+    target: tuple[float, float, float]
+    intensity: float
+    inner_deg: float
+    outer_deg: float
+    color: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    profile: str = "gltf"
+
+    def __post_init__(self) -> None:
+        if not 0.0 <= self.inner_deg < self.outer_deg < 90.0:
+            raise ValidateError(f"spot light: need 0 <= inner_deg < outer_deg < 90, got {self.inner_deg}, "
+                                f"{self.outer_deg}")
+        if self.profile not in SPOT_PROFILES:
+            raise ValidateError(f"spot light: profile {self.profile!r} not one of {SPOT_PROFILES}")
+
+    def unit_direction(self) -> np.ndarray:
+        d = np.asarray(self.target, np.float64) - np.asarray(self.position, np.float64)
+        return d / np.linalg.norm(d)
+
+    def falloff(self, cos_theta: np.ndarray) -> np.ndarray:
+        """The angular falloff f(cos θ) of ``profile`` (module docstring)."""
+        ci, co = np.cos(np.radians(self.inner_deg)), np.cos(np.radians(self.outer_deg))
+        t = np.clip((np.asarray(cos_theta) - co) / (ci - co), 0.0, 1.0)
+        return t * t if self.profile == "gltf" else t * t * (3.0 - 2.0 * t)
+
+    def flux(self) -> float:
+        """Luminous flux Φ = 2π I ∫_{cos θ_o}^1 f(c) dc in lm: with t linear in c, ∫ t² = (c_i − c_o)/3 (KHR) and
+        ∫ t²(3 − 2t) = (c_i − c_o)/2 (smoothstep), plus 1 − c_i inside the inner cone."""
+        ci, co = np.cos(np.radians(self.inner_deg)), np.cos(np.radians(self.outer_deg))
+        return float(2 * np.pi * self.intensity * ((1 - ci) + (ci - co) / (3.0 if self.profile == "gltf" else 2.0)))
+
+    def to_json(self) -> dict[str, Any]:
+        return {"type": "spot", "position": list(self.position), "direction": self.unit_direction().tolist(),
+                "target": list(self.target), "intensity": self.intensity, "inner_deg": self.inner_deg,
+                "outer_deg": self.outer_deg, "color": list(self.color), "profile": self.profile}
+
+
+@dataclass(frozen=True)
+class HemisphereLight:
+    """A two-value environment: radiance ``sky`` for directions with y > 0, ``ground`` below (W/(sr·m²))."""
+
+    sky: tuple[float, float, float]
+    ground: tuple[float, float, float]
+
+    def to_json(self) -> dict[str, Any]:
+        return {"type": "hemisphere", "sky": list(self.sky), "ground": list(self.ground), "up": [0.0, 1.0, 0.0]}
+
+    def texels(self, height: int = 256) -> np.ndarray:
+        """(H, 2H, 3) lat-long map, row 0 = zenith; the horizon falls on a row boundary (H even)."""
+        rows = np.where((np.arange(height) < height // 2)[:, None], 1.0, 0.0)
+        img = rows[..., None] * np.asarray(self.sky) + (1.0 - rows[..., None]) * np.asarray(self.ground)
+        return np.repeat(img, 2 * height, axis=1)
+
+
+Light = DirectionalLight | PointLight | SpotLight | HemisphereLight
+GEOMETRIES = ("sphere", "plane")
+PLANE_HALF_SIZE = 3.0
+
+
+@dataclass(frozen=True)
 class Environment:
     """Constant radiance (``texels`` None) or an equirect (H, W, 3) radiance map, row 0 = zenith,
     column u ↔ azimuth as Mitsuba's ``envmap`` reads a lat-long bitmap."""
@@ -117,17 +208,23 @@ class RenderScene:
 
     name: str
     material: Material
-    lights: tuple[DirectionalLight, ...] = ()
+    lights: tuple[Light, ...] = ()
     environment: Environment | None = None
     resolution: int = 64
     segments: tuple[int, int] = (512, 256)  # engines' sphere tessellation (longitude, latitude)
+    geometry: str = "sphere"
+
+    def __post_init__(self) -> None:
+        if self.geometry not in GEOMETRIES:
+            raise ValidateError(f"render scene {self.name}: geometry {self.geometry!r} not one of {GEOMETRIES}")
 
     def key(self) -> dict[str, Any]:
         """Everything the reference depends on (for the cache)."""
         return {"name": self.name, "material": self.material.to_json(),
                 "lights": [li.to_json() for li in self.lights], "resolution": self.resolution,
                 "environment": None if self.environment is None else self.environment.digest(),
-                "camera": [CAMERA_POSITION, HALF_EXTENT]}
+                "camera": [CAMERA_POSITION, HALF_EXTENT], **({} if self.geometry == "sphere" else
+                                                                {"geometry": self.geometry})}
 
     def pixel_centres(self) -> tuple[np.ndarray, np.ndarray]:
         """Camera-space (x, y) of every pixel centre, each (R, R); row 0 top, column 0 left."""
@@ -135,13 +232,24 @@ class RenderScene:
         c = -HALF_EXTENT + (np.arange(r) + 0.5) * (2.0 * HALF_EXTENT / r)
         return np.broadcast_to(c[None, :], (r, r)), np.broadcast_to(-c[:, None], (r, r))
 
+    def hit_mask(self) -> np.ndarray:
+        """(R, R) bool: the pixel-centre ray hits the geometry (the plane fills the image)."""
+        x, y = self.pixel_centres()
+        return x**2 + y**2 < 1.0 if self.geometry == "sphere" else np.ones(x.shape, bool)
+
+    def surface_points(self) -> np.ndarray:
+        """(R, R, 3) world point seen at each pixel centre (NaN where the ray misses)."""
+        x, y = self.pixel_centres()
+        z = np.sqrt(np.clip(1.0 - x**2 - y**2, 0.0, None)) if self.geometry == "sphere" else np.zeros_like(x)
+        p = np.stack([x, y, z], axis=-1)
+        p[~self.hit_mask()] = np.nan
+        return p
+
     def mitsuba_dict(self) -> dict[str, Any]:
         """Mitsuba scene dict without sensor or integrator (the reference adds them)."""
-        d: dict[str, Any] = {"type": "scene", "sphere": {"type": "sphere", "center": [0.0, 0.0, 0.0], "radius": 1.0,
-                                                         "bsdf": mitsuba_bsdf(self.material)}}
+        d: dict[str, Any] = {"type": "scene", self.geometry: mitsuba_shape(self.geometry, self.material)}
         for k, li in enumerate(self.lights):
-            d[f"light{k}"] = {"type": "directional", "direction": li.unit_direction().tolist(),
-                              "irradiance": {"type": "rgb", "value": [li.intensity * c for c in li.color]}}
+            d[f"light{k}"] = mitsuba_light(li)
         if self.environment is not None:
             d["environment"] = mitsuba_environment(self.environment)
         return d
@@ -154,8 +262,45 @@ class RenderScene:
         return {"name": self.name, "image": {"width": self.resolution, "height": self.resolution},
                 "camera": {"half_extent": HALF_EXTENT, "position": list(CAMERA_POSITION), "target": [0, 0, 0],
                            "up": [0, 1, 0]},
-                "sphere": {"radius": 1.0, "segments": list(self.segments)}, "material": self.material.to_json(),
+                **({"sphere": {"radius": 1.0, "segments": list(self.segments)}} if self.geometry == "sphere" else {}),
+                "geometry": ({"type": "sphere", "radius": 1.0, "segments": list(self.segments)}
+                             if self.geometry == "sphere" else {"type": "plane", "size": 2.0 * PLANE_HALF_SIZE}),
+                "material": self.material.to_json(),
                 "lights": [li.to_json() for li in self.lights], "environment": env}
+
+
+def mitsuba_shape(geometry: str, m: Material) -> dict[str, Any]:
+    """The unit sphere, or the plane z = 0 (Mitsuba ``rectangle``: [−1, 1]², normal +z, scaled)."""
+    if geometry == "sphere":
+        return {"type": "sphere", "center": [0.0, 0.0, 0.0], "radius": 1.0, "bsdf": mitsuba_bsdf(m)}
+    import mitsuba as mi
+
+    return {"type": "rectangle", "to_world": mi.ScalarTransform4f().scale([PLANE_HALF_SIZE, PLANE_HALF_SIZE, 1.0]),
+            "bsdf": mitsuba_bsdf(m)}
+
+
+def mitsuba_light(li: Light) -> dict[str, Any]:
+    """KHR_lights_punctual → Mitsuba: ``directional`` (irradiance = lux), ``point`` (intensity = cd), ``spot``
+    with its linear-in-angle ramp disabled (beam_width = cutoff_angle = θ_o: a hard cone, src/emitters/spot.cpp
+    falloff_curve) times a projected texture that evaluates the KHR falloff exactly
+    (:mod:`validate.scenes.spot_profile`); a hemisphere light is the two-value ``envmap`` of
+    :meth:`HemisphereLight.texels`."""
+    import mitsuba as mi
+
+    if isinstance(li, HemisphereLight):
+        return {"type": "envmap", "bitmap": mi.Bitmap(np.ascontiguousarray(li.texels(), np.float32))}
+    rgb = {"type": "rgb", "value": [li.intensity * c for c in li.color]}
+    if isinstance(li, DirectionalLight):
+        return {"type": "directional", "direction": li.unit_direction().tolist(), "irradiance": rgb}
+    if isinstance(li, PointLight):
+        return {"type": "point", "position": list(li.position), "intensity": rgb}
+    from .spot_profile import texture_dict
+
+    p = np.asarray(li.position, np.float64)
+    up = [0.0, 1.0, 0.0] if abs(li.unit_direction()[1]) < 0.9 else [1.0, 0.0, 0.0]
+    return {"type": "spot", "to_world": mi.ScalarTransform4f().look_at(origin=p.tolist(), target=li.target, up=up),
+            "intensity": rgb, "cutoff_angle": li.outer_deg, "beam_width": li.outer_deg,
+            "texture": texture_dict(li.inner_deg, li.outer_deg, li.profile)}
 
 
 def mitsuba_bsdf(m: Material) -> dict[str, Any]:
@@ -241,6 +386,47 @@ def lambert_sun_scene(resolution: int = 64, lux: float = SUN_LUX) -> RenderScene
     """(c) a Lambertian sphere (roughness 1, metallic 0, no specular layer) under a directional light."""
     return RenderScene("lambert_directional", Material(metallic=0.0, roughness=1.0, specular=0.0),
                        lights=(DirectionalLight(SUN_DIRECTION, lux),), resolution=resolution)
+
+
+# (c) punctual lights, KHR units. The plane and the sphere are Lambertian (ρ = 1); each light delivers E ≈ 2–3 lux
+# at its brightest receiver, so radiance ρE/π ≈ 1 as in the directional scene.
+POINT_ON_PLANE = PointLight((0.3, 0.4, 1.2), 3.0)  # E = I h/d³ = 2.08 lux at the foot (0.3, 0.4, 0)
+POINT_ON_SPHERE = PointLight((1.5, 1.5, 2.5), 15.0)  # 2.28 m from the nearest surface point: E ≈ 2.9 lux there
+# on the plane 1.5 m below, aimed 0.14 m off the foot: inner cone radius ≈ 0.55 m, outer ≈ 0.87 m, E ≈ 1.8 lux
+SPOT_ON_PLANE = SpotLight((0.0, 0.0, 1.5), (0.1, -0.1, 0.0), 4.0, 20.0, 30.0)
+# (f) a warm sky over a dark blue-grey ground
+HEMISPHERE = HemisphereLight(sky=(1.0, 0.9, 0.8), ground=(0.2, 0.25, 0.3))
+LAMBERT = Material(metallic=0.0, roughness=1.0, specular=0.0)
+
+
+def punctual_scenes(resolution: int = 64) -> list[RenderScene]:
+    """(c) a point light over the Lambertian plane and beside the sphere, a spot light over the plane."""
+    return [RenderScene("point_plane", LAMBERT, lights=(POINT_ON_PLANE,), resolution=resolution, geometry="plane"),
+            RenderScene("point_sphere", LAMBERT, lights=(POINT_ON_SPHERE,), resolution=resolution),
+            spot_scene(resolution)]
+
+
+def spot_scene(resolution: int = 64, profile: str = "gltf", outer_offset_deg: float = 0.0) -> RenderScene:
+    """(c) the spot over the plane; ``profile`` and ``outer_offset_deg`` vary the reference (power checks)."""
+    from dataclasses import replace
+
+    li = replace(SPOT_ON_PLANE, profile=profile, outer_deg=SPOT_ON_PLANE.outer_deg + outer_offset_deg)
+    return RenderScene("spot_plane", LAMBERT, lights=(li,), resolution=resolution, geometry="plane")
+
+
+def spot_penumbra(scene: RenderScene) -> np.ndarray:
+    """(R, R) bool: pixels whose surface point lies between the inner and outer cone of the scene's spot light
+    (where the KHR and smoothstep profiles differ)."""
+    [li] = [x for x in scene.lights if isinstance(x, SpotLight)]
+    v = scene.surface_points() - np.asarray(li.position)
+    with np.errstate(invalid="ignore"):
+        cos = (v @ li.unit_direction()) / np.linalg.norm(v, axis=-1)
+        return (cos < np.cos(np.radians(li.inner_deg))) & (cos > np.cos(np.radians(li.outer_deg)))
+
+
+def hemisphere_scene(resolution: int = 64) -> RenderScene:
+    """(f) the Lambertian sphere under the hemisphere light."""
+    return RenderScene("hemisphere_sphere", LAMBERT, lights=(HEMISPHERE,), resolution=resolution)
 
 
 def describe(scene: RenderScene) -> str:

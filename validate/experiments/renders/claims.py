@@ -13,6 +13,19 @@ budget: 2 lookups × 2⁻¹¹ + SwiftShader trig 2e-4 = 1.2e-3, rounded up to 0.
 (three: a 16-bit float 2D LUT; Babylon: a 16-bit environment BRDF texture), i.e. 2 × 2⁻¹¹ more.
 Power: the same claim on the glTF single-scattering metal (Mitsuba ``roughconductor``, the engine
 model with its multiscatter term removed) must fail.
+
+(c) Point and spot lights in KHR_lights_punctual units, per engine and scene: the same ≥ 99.75 % rule against
+Mitsuba's ``point`` / ``spot`` (intensity in candela read as W/sr). Power (point): the intensity in lumens taken
+for candela — the engine image × 4π (Φ = 4π I for a point light) — must fail, else × 1/π. Spot: each engine is
+judged against the falloff profile it implements (``SPOT_PROFILE``: Babylon's FALLOFF_GLTF is KHR's reference
+formula, three.js's getSpotAttenuation is smoothstep); power: the same image against that profile with the outer
+cone 1° wider (a cone falloff off by a degree). three.js's difference from KHR's reference formula is stated
+as the regression it has (``SPOT_REGRESSIONS``); its power check is three.js with the KHR profile (its image
+× f_KHR/f_smoothstep per pixel), which must be accepted.
+
+(f) Hemisphere light, per engine: the same rule against Mitsuba's two-value environment (sky radiance above the
+horizon, ground below). Power: the light's colour read as radiance where it is irradiance (or the reverse) —
+the engine image × 1/π — must fail.
 """
 
 from __future__ import annotations
@@ -90,5 +103,85 @@ def furnace_claims(m: Measurements) -> list[Claim]:
             for e in engines]
 
 
+# The spot profile each engine implements, from its shader source: Babylon 9.35 falloffType FALLOFF_GLTF
+# (lightsFragmentFunctions computeDirectionalLightFalloff_GLTF: saturate(cd·scale + offset)², KHR's reference);
+# three.js 0.187 lights_pars_begin.glsl getSpotAttenuation = smoothstep(coneCos, penumbraCos, angleCos).
+SPOT_PROFILE = {"three": "smoothstep", "babylon": "mitsuba"}
+SPOT_REGRESSIONS = {"three": "spot penumbra is smoothstep in cos θ, not KHR_lights_punctual's reference "
+                             "clamp((cos θ − cos θ_o)/(cos θ_i − cos θ_o))²"}
+RULE = "Mitsuba 3 render tests: ≥ 99.75 % of pixels pass the Šidák-corrected z-test at α = 0.01"
+METRIC = "fraction of pixels accepted (Šidák α = 0.01)"
+
+
+def _accepted(sr: SceneResult, name: str, kind: str, what: str) -> Claim:
+    j = sr.engines[name].judgements[kind]
+    _, text = budget(sr.kind, sr.references[kind])
+    return Claim(f"renders.{name}.{sr.scene.name}.accepted", f"{name}: {what} equals Mitsuba per pixel (budget {text})",
+                 METRIC, MIN_ACCEPTED, j.fraction_accepted, 0.0, ">", "%", RULE)
+
+
+def _fraction(sr: SceneResult, image: np.ndarray, mean: np.ndarray, se: np.ndarray) -> float:
+    b, text = budget(sr.kind, mean)
+    return judge(image, mean, se, sr.dof, sr.mask, b, text).fraction_accepted
+
+
+def point_claims(m: Measurements) -> list[Claim]:
+    out = []
+    for sr in _scene(m, "point"):
+        ref, se = sr.references["mitsuba"], sr.stderrs["mitsuba"]
+        li = sr.scene.lights[0]
+        for name, er in sr.engines.items():
+            c = _accepted(sr, name, "mitsuba", f"Lambertian {sr.scene.geometry} under a {li.intensity:g} cd point "
+                                                  "light (KHR_lights_punctual, inverse square, no range)")
+            c.with_power("intensity in lumens taken for candela (engine image × 4π)",
+                         _fraction(sr, er.image * 4 * np.pi, ref, se))
+            if c.power is not None and not c.power.fails:
+                c.with_power("E/π units slip (engine image × 1/π)", _fraction(sr, er.image / np.pi, ref, se))
+            out.append(c)
+    return out
+
+
+def spot_claims(m: Measurements) -> list[Claim]:
+    out = []
+    for sr in _scene(m, "spot"):
+        li = sr.scene.lights[0]
+        for name, er in sr.engines.items():
+            kind = SPOT_PROFILE.get(name, "mitsuba")
+            profile = "smoothstep" if kind == "smoothstep" else "gltf"
+            c = _accepted(sr, name, kind, f"Lambertian plane under a {li.intensity:g} cd spot light (cone "
+                                             f"{li.inner_deg:g}°/{li.outer_deg:g}°, {profile} falloff)")
+            label = next(k for k in sr.power_refs if k.startswith(profile))
+            c.with_power(f"cone falloff off by a degree: Mitsuba {label}",
+                         _fraction(sr, er.image, *sr.power_refs[label]))
+            out.append(c)
+            if name in SPOT_REGRESSIONS:
+                out.append(_spot_regression(sr, name))
+    return out
+
+
+def _spot_regression(sr: SceneResult, name: str) -> Claim:
+    er, ref, se = sr.engines[name], sr.references["mitsuba"], sr.stderrs["mitsuba"]
+    c = Claim(f"renders.{name}.{sr.scene.name}.khr_falloff.regression", f"{name} keeps a known difference: "
+              f"{SPOT_REGRESSIONS[name]}", METRIC + " against the KHR reference falloff", MIN_ACCEPTED,
+              er.judgements["mitsuba"].fraction_accepted, 0.0, "<", "%",
+              RULE + "; below it the engine's penumbra is not KHR's")
+    smooth = sr.references[SPOT_PROFILE[name]]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(smooth > 0, ref / np.where(smooth > 0, smooth, 1.0), 0.0)
+    return c.with_power("corrected engine behaviour: the engine's image × f_KHR/f_smoothstep per pixel",
+                        _fraction(sr, er.image * ratio, ref, se))
+
+
+def hemisphere_claims(m: Measurements) -> list[Claim]:
+    out = []
+    for sr in _scene(m, "hemisphere"):
+        ref, se = sr.references["mitsuba"], sr.stderrs["mitsuba"]
+        for name, er in sr.engines.items():
+            c = _accepted(sr, name, "mitsuba", "Lambertian sphere under a hemisphere light (sky / ground radiance)")
+            out.append(c.with_power("colour read as irradiance where it is radiance (engine image × 1/π)",
+                                    _fraction(sr, er.image / np.pi, ref, se)))
+    return out
+
+
 def claims(m: Measurements) -> list[Claim]:
-    return furnace_claims(m) + directional_claims(m)
+    return furnace_claims(m) + directional_claims(m) + point_claims(m) + spot_claims(m) + hemisphere_claims(m)

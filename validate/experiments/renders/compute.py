@@ -1,10 +1,17 @@
-"""Numbers only: Mitsuba references and every engine's pixels for scenes (a) furnace and (c) directional.
+"""Numbers only: Mitsuba references and every engine's pixels for scenes (a) furnace, (c) directional, point and
+spot, and (f) hemisphere.
 
 Furnace (a): two references, kept apart — ``energy``: a white, non-absorbing surface in a uniform
 radiance-1 furnace returns exactly 1 (energy conservation; a convex sphere sees only the furnace), and
 ``model`` (metal only): Mitsuba's ``roughconductor``, glTF's single-scattering metal exactly
 (:func:`validate.scenes.render_scenes.mitsuba_bsdf`), whose own energy loss is the multiscatter deficit.
 Directional (c): Mitsuba's ``diffuse`` sphere under a ``directional`` emitter of the same lux.
+Point and spot (c): Mitsuba's ``point`` / ``spot`` emitters (candela read as W/sr) on the Lambertian plane and
+sphere; the spot's falloff is KHR_lights_punctual's reference formula exactly (``mitsuba``), and, kept apart,
+three.js's smoothstep profile (``smoothstep``) — :mod:`validate.scenes.spot_profile`. Power references: the
+same spot with its outer cone 1° wider (``SPOT_CONE_OFFSET_DEG``).
+Hemisphere (f): Mitsuba's ``envmap`` of radiance sky above / ground below the horizon, path-traced with
+``env_spp`` samples per pass (Monte Carlo noise, unlike the delta lights, whose passes are noise free).
 """
 
 from __future__ import annotations
@@ -28,6 +35,12 @@ FURNACE_BUDGET = 2 * engines.HALF_FLOAT_RTOL + engines.SWIFTSHADER_TRIG_ATOL
 # |engine − Mitsuba| over the 2336 interior pixels of the 64² image was 1.76e-3 = 0.18 % of the peak ρE/π =
 # 0.955 (rows 9–46, scattered, not at the outline); b = 0.25 % of the peak radiance ρE/π.
 DIRECT_BUDGET_OF_PEAK = 2.5e-3
+# Scenes judged with that budget: the same per-fragment Lambert shading of a tessellated sphere (on the plane, where
+# interpolated positions and normals are exact, the margin is generous).
+PEAK_BUDGET_KINDS = ("directional", "point", "spot", "hemisphere")
+SPOT_CONE_OFFSET_DEG = 1.0  # power: a cone falloff off by 1° (the outer angle 30° → 31°)
+# engines rendering only some kinds: three's LightProbe built as its removed HemisphereLightProbe did (issue 26668)
+KIND_ENGINES = {"hemisphere": {"three": ("three_probe",)}}
 
 
 @dataclass
@@ -39,18 +52,21 @@ class EngineResult:
     version: str
     judgements: dict[str, PixelJudgement] = field(default_factory=dict)  # reference kind → judgement
     energy: float = float("nan")  # mean radiance over the interior mask
+    info: dict[str, Any] = field(default_factory=dict)  # the page's extra report (three: light.power in lm)
 
 
 @dataclass
 class SceneResult:
     scene: rs.RenderScene
-    kind: str  # "furnace" | "directional"
+    kind: str  # "furnace" | "directional" | "point" | "spot" | "hemisphere"
     references: dict[str, np.ndarray]  # kind → (R, R, 3) truth image (NaN off the sphere)
     reference_energy: dict[str, tuple[float, float]]  # kind → mean ± standard error over the mask
     mask: np.ndarray
     stderrs: dict[str, np.ndarray] = field(default_factory=dict)  # kind → (R, R, 3) standard error
     engines: dict[str, EngineResult] = field(default_factory=dict)
     skipped: dict[str, str] = field(default_factory=dict)  # engine → reason
+    power_refs: dict[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)  # label → (mean, stderr)
+    dof: int = 7
 
 
 @dataclass
@@ -63,7 +79,9 @@ class Measurements:
 
 def scene_list(s: Settings) -> list[tuple[rs.RenderScene, str]]:
     out = [(sc, "furnace") for sc in rs.furnace_scenes(s.resolution, s.furnace_roughness)]
-    return out + [(rs.lambert_sun_scene(s.resolution, s.sun_lux), "directional")]
+    out += [(rs.lambert_sun_scene(s.resolution, s.sun_lux), "directional")]
+    out += [(sc, "spot" if sc.name.startswith("spot") else "point") for sc in rs.punctual_scenes(s.resolution)]
+    return out + [(rs.hemisphere_scene(s.resolution), "hemisphere")]
 
 
 def references(scene: rs.RenderScene, kind: str,
@@ -72,8 +90,14 @@ def references(scene: rs.RenderScene, kind: str,
     from ...reference.render_reference import centre_rays
 
     _, hit = centre_rays(scene)
-    if kind == "directional":
+    if kind in ("directional", "point"):
         return {"mitsuba": render_reference(scene, s.spp, s.passes, s.seed)}, hit
+    if kind == "hemisphere":
+        return {"mitsuba": render_reference(scene, s.env_spp, s.passes, s.seed)}, hit
+    if kind == "spot":
+        r = scene.resolution
+        return {"mitsuba": render_reference(rs.spot_scene(r), s.spp, s.passes, s.seed),
+                "smoothstep": render_reference(rs.spot_scene(r, "smoothstep"), s.spp, s.passes, s.seed)}, hit
     refs: dict[str, RenderReference | None] = {"energy": None}
     if scene.material.metallic == 1.0:
         refs["model"] = render_reference(scene, s.spp, s.passes, s.seed)
@@ -88,23 +112,42 @@ def truth(ref: RenderReference | None, hit: np.ndarray, passes: int) -> tuple[np
 
 
 def budget(kind: str, mean: np.ndarray) -> tuple[np.ndarray | float, str]:
-    if kind == "directional":
+    if kind in PEAK_BUDGET_KINDS:
         peak = float(np.nanmax(mean))
         return DIRECT_BUDGET_OF_PEAK * peak, f"{DIRECT_BUDGET_OF_PEAK:.2%} of the peak radiance (measured margin)"
     return FURNACE_BUDGET, f"{FURNACE_BUDGET:.2e} (2 half-float lookups 2·2⁻¹¹ + SwiftShader trig 2e-4)"
 
 
+def power_references(scene: rs.RenderScene, kind: str, s: Settings) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Spot: each profile's reference with the outer cone ``SPOT_CONE_OFFSET_DEG`` wider (a power check)."""
+    if kind != "spot":
+        return {}
+    out = {}
+    for profile in rs.SPOT_PROFILES:
+        r = render_reference(rs.spot_scene(scene.resolution, profile, SPOT_CONE_OFFSET_DEG), s.spp, s.passes, s.seed)
+        out[f"{profile} outer +{SPOT_CONE_OFFSET_DEG:g}°"] = (r.mean, r.stderr)
+    return out
+
+
+def engine_names(kind: str, s: Settings) -> list[str]:
+    """The settings' engines plus the variants that render only this kind (``KIND_ENGINES``)."""
+    extra = KIND_ENGINES.get(kind, {})
+    return [n for e in s.engines for n in (e, *extra.get(e, ()))]
+
+
 def measure_scene(scene: rs.RenderScene, kind: str, s: Settings) -> SceneResult:
     refs, hit = references(scene, kind, s)
     truths = {k: truth(r, hit, s.passes) for k, r in refs.items()}
-    res = SceneResult(scene, kind, {k: t[0] for k, t in truths.items()}, {}, hit, {k: t[1] for k, t in truths.items()})
-    for name in s.engines:
+    res = SceneResult(scene, kind, {k: t[0] for k, t in truths.items()}, {}, hit, {k: t[1] for k, t in truths.items()},
+                      power_refs=power_references(scene, kind, s), dof=max(s.passes - 1, 1))
+    for name in engine_names(kind, s):
         try:
             er = engines.render(name, scene)
         except Exception as exc:  # an engine that cannot start is skipped with its reason, never a crash
             res.skipped[name] = " ".join(f"{type(exc).__name__}: {exc}".split())[:300]
             continue
-        out = EngineResult(er.image[..., :3].astype(np.float64), er.image[..., 3], er.frame_ms, er.wall_s, er.version)
+        out = EngineResult(er.image[..., :3].astype(np.float64), er.image[..., 3], er.frame_ms, er.wall_s, er.version,
+                           info=er.info)
         mask = interior_mask(hit, out.coverage)
         res.mask = mask
         for k, (m, se, dof) in truths.items():

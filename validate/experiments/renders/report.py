@@ -7,13 +7,27 @@ from typing import Any
 
 import numpy as np
 
+from ...format import pm as fpm
+from ...metrics.pixel_z import PixelJudgement, judge
 from ..base import Figure, Section, Table
 from ..formatting import pct, pm
-from .compute import Measurements, SceneResult
+from .compute import Measurements, SceneResult, budget
 
 FILAMENT_NOTE = ("Filament is not rendered: its npm package (1.53) ships no IBL prefilter (cmgen) to turn the "
                  "scene's file into its own prefiltered environment, and no readPixels of a float target, so it "
                  "cannot render these scenes through its own pipeline with an exact read-back (issue 21).")
+PUNCTUAL_NOTE = ("Point and spot lights in KHR_lights_punctual units (candela, inverse square, no range) on a "
+                 "Lambertian plane and sphere, against Mitsuba's point and spot emitters (no Monte Carlo noise: delta "
+                 "lights with next-event estimation, so the judgement rests on the budget). Mitsuba's spot ramps "
+                 "linearly in angle (src/emitters/spot.cpp falloff_curve), KHR's reference falloff is "
+                 "clamp((cos θ − cos θ_o)/(cos θ_i − cos θ_o))²: the reference disables Mitsuba's ramp (beam width = "
+                 "cutoff) and projects an analytic texture with KHR's formula (reference 'mitsuba'); three.js's "
+                 "smoothstep profile is a second reference ('smoothstep'), kept apart.")
+HEMISPHERE_NOTE = ("Hemisphere light on a Lambertian sphere against Mitsuba's two-value environment (radiance sky "
+                   "above the horizon, ground below; path-traced, per-pixel standard error from 8 passes). three's "
+                   "HemisphereLight takes colour = irradiance (radiance L enters as intensity π), the LightProbe is "
+                   "built as three's removed HemisphereLightProbe built its SH (radiance, intensity 1), Babylon's "
+                   "HemisphericLight takes colour = radiance (its PBR term has no 1/π).")
 REFERENCE_NOTE = ("Two references, kept apart: 'energy' — a white non-absorbing sphere in a radiance-1 furnace "
                   "returns exactly 1 (what a physically complete multiple-scattering model gives); 'model' — "
                   "glTF 2.0's single-scattering metal (Appendix B) path-traced by Mitsuba (roughconductor), so the "
@@ -25,14 +39,16 @@ def scene_table(sr: SceneResult) -> Table:
     rows: list[list[Any]] = []
     for name, er in sr.engines.items():
         for kind, j in er.judgements.items():
-            rows.append([name, kind, j.n_pixels, pct(j.fraction_accepted), f"{j.max_abs_z:.2f} / {j.critical_z:.2f}",
-                         pm(j.mean_rel, j.mean_rel_unc), pm(j.max_rel, j.max_rel_unc), f"{j.mean_signed_rel:+.3%}",
+            rows.append([name, kind, j.n_pixels, f"{100 * j.fraction_accepted:.2f}",
+                         f"{j.max_abs_z:.2f} / {j.critical_z:.2f}", fpm(j.mean_rel, j.mean_rel_unc, scale=100),
+                         fpm(j.max_rel, j.max_rel_unc, scale=100), f"{100 * j.mean_signed_rel:+.3f}",
                          f"{er.energy:.5f}",
                          f"{sr.reference_energy[kind][0]:.5f} ± {sr.reference_energy[kind][1]:.1e}"])
     for name, why in sr.skipped.items():
         rows.append([name, "skipped", why, "", "", "", "", "", "", ""])
-    return Table(["engine", "reference", "pixels", "accepted", "max|z| / z*", "mean |rel|", "max |rel|",
-                  "mean rel (bias)", "engine mean", "reference mean"], rows, caption=sr.scene.name)
+    return Table(["engine", "reference", "pixels", "accepted (%)", "max|z| / z*", "mean rel. err. (%)",
+                  "max rel. err. (%)", "mean rel. bias (%)", "engine mean (W sr⁻¹ m⁻²)",
+                  "reference mean (W sr⁻¹ m⁻²)"], rows, caption=sr.scene.name)
 
 
 def scene_figure(sr: SceneResult, ctx: Any) -> Figure | None:
@@ -61,6 +77,7 @@ def findings(m: Measurements) -> list[str]:
                 out.append(f"{sr.scene.name}, {name} vs {kind}: {pct(j.fraction_accepted)} of {j.n_pixels} pixels "
                            f"accepted (z* = {j.critical_z:.2f}), mean |rel| {pm(j.mean_rel, j.mean_rel_unc)}, max "
                            f"{pm(j.max_rel, j.max_rel_unc)}, bias {j.mean_signed_rel:+.3%}.")
+    out += punctual_findings(m) + hemisphere_findings(m)
     metal = [s for s in m.scenes if "model" in s.reference_energy]
     if metal:
         loss = ", ".join(f"r {s.scene.material.roughness:g}: {s.reference_energy['model'][0]:.4f} ± "
@@ -70,13 +87,88 @@ def findings(m: Measurements) -> list[str]:
     return out
 
 
+def _bias(j: PixelJudgement) -> str:
+    return fpm(j.mean_signed_rel, j.mean_rel_unc, "%")
+
+
+def point_findings(sr: SceneResult) -> list[str]:
+    """KHR candela read as candela (three issue 24788): the engine/Mitsuba bias and three's light.power."""
+    li, out = sr.scene.lights[0], []
+    for name, er in sr.engines.items():
+        j = er.judgements["mitsuba"]
+        power = (er.info.get("light_power_lm") or [None])[0]
+        extra = (f"; three's PointLight.power = {power:.4g} lm = 4π × {li.intensity:g} cd" if power is not None else "")
+        out.append(f"{sr.scene.name}, {name} (three issue 24788, KHR candela vs lumens): with intensity = "
+                   f"{li.intensity:g} cd the engine/Mitsuba bias is {_bias(j)} over {j.n_pixels} px — the engine reads "
+                   f"candela; read as lumens (I/4π cd) the image would be × {1 / (4 * np.pi):.4f}{extra}.")
+    return out
+
+
+def spot_findings(sr: SceneResult) -> list[str]:
+    """Penumbra (inner < θ < outer) and the rest judged apart against KHR's falloff; three's SpotLight.power."""
+    from ...scenes.render_scenes import spot_penumbra
+
+    li, pen, out = sr.scene.lights[0], spot_penumbra(sr.scene), []
+    ref, se = sr.references["mitsuba"], sr.stderrs["mitsuba"]
+    b, text = budget(sr.kind, ref)
+    for name, er in sr.engines.items():
+        jp = judge(er.image, ref, se, sr.dof, sr.mask & pen, b, text)
+        jo = judge(er.image, ref, se, sr.dof, sr.mask & ~pen, b, text)
+        out.append(f"{sr.scene.name}, {name} vs KHR's reference falloff: penumbra ({li.inner_deg:g}°–"
+                   f"{li.outer_deg:g}°, {jp.n_pixels} px) {pct(jp.fraction_accepted)} accepted, mean rel. err. "
+                   f"{fpm(jp.mean_rel, jp.mean_rel_unc, '%')}, max {fpm(jp.max_rel, jp.max_rel_unc, '%')}, bias "
+                   f"{_bias(jp)}; outside it ({jo.n_pixels} px) {pct(jo.fraction_accepted)} accepted, max "
+                   f"{fpm(jo.max_rel, jo.max_rel_unc, '%')}.")
+        power = (er.info.get("light_power_lm") or [None])[0]
+        if power is not None:
+            from dataclasses import replace
+
+            out.append(f"three's SpotLight.power = {power:.4g} lm (π × {li.intensity:g} cd whatever the cone); the "
+                       f"flux it emits (smoothstep profile) is {replace(li, profile='smoothstep').flux():.4g} lm, "
+                       f"KHR's profile would emit {li.flux():.4g} lm: a spot given .power = Φ emits "
+                       f"{replace(li, profile='smoothstep').flux() / power:.3f} Φ.")
+    return out
+
+
+def punctual_findings(m: Measurements) -> list[str]:
+    out: list[str] = []
+    for sr in m.scenes:
+        out += point_findings(sr) if sr.kind == "point" else spot_findings(sr) if sr.kind == "spot" else []
+    return out
+
+
+def hemisphere_findings(m: Measurements) -> list[str]:
+    """Each engine's bias against the exact environment, and the LightProbe built as HemisphereLightProbe did against
+    HemisphereLight at the same arguments (three issue 26668): π · probe(L, 1) / light(L, π) over the judged pixels."""
+    out = []
+    for sr in (s for s in m.scenes if s.kind == "hemisphere"):
+        js = {name: er.judgements["mitsuba"] for name, er in sr.engines.items()}
+        biases = "; ".join(f"{name} {_bias(j)} ({pct(j.fraction_accepted)} accepted)" for name, j in js.items())
+        out.append(f"{sr.scene.name} vs Mitsuba's two-value environment, engine/Mitsuba bias: {biases}. "
+                   "mix(ground, sky, ½ + ½ n·up) is the exact irradiance of a two-value sky on a Lambertian receiver "
+                   "(sky view factor (1 + cos θ)/2), so for this receiver it is not an approximation.")
+        if {"three", "three_probe"} <= set(sr.engines):
+            r = np.pi * sr.engines["three_probe"].image[sr.mask] / sr.engines["three"].image[sr.mask]
+            out.append(f"three issue 26668: HemisphereLightProbe(sky, ground, k) / HemisphereLight(sky, ground, k) = "
+                       f"{r.mean():.7f} ± {r.std(ddof=1) / np.sqrt(r.size):.1e} over {r.shape[0]} px × 3 channels "
+                       f"(π = {np.pi:.7f}): the probe reads its colours as radiance, the light as irradiance — a "
+                       "units factor π, not a formula error.")
+    return out
+
+
+SECTIONS = (("furnace", "(a) White furnace", [REFERENCE_NOTE]),
+            ("directional", "(c) Directional light, Lambertian", []),
+            ("point", "(c) Point lights, KHR_lights_punctual units", [PUNCTUAL_NOTE]),
+            ("spot", "(c) Spot light, KHR_lights_punctual cone", []),
+            ("hemisphere", "(f) Hemisphere light", [HEMISPHERE_NOTE]))
+
+
 def sections(m: Measurements, ctx: Any) -> list[Section]:
     out = []
-    for kind, title in (("furnace", "(a) White furnace"), ("directional", "(c) Directional light, Lambertian")):
+    for kind, title, notes in SECTIONS:
         scenes = [s for s in m.scenes if s.kind == kind]
         figs = [f for f in (scene_figure(s, ctx) for s in scenes) if f is not None]
-        out.append(Section(title, [REFERENCE_NOTE] if kind == "furnace" else [], figures=figs,
-                           tables=[scene_table(s) for s in scenes]))
+        out.append(Section(title, list(notes), figures=figs, tables=[scene_table(s) for s in scenes]))
     out.append(Section("Engines not rendered", [FILAMENT_NOTE]))
     return out
 
@@ -84,7 +176,7 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
 def data(m: Measurements) -> dict:
     """results.json data: per scene and engine, frame times, energy and the per-pixel judgements."""
     return {"scenes": {s.scene.name: {"kind": s.kind, "skipped": s.skipped, "engines": {
-        e: {"frame_ms": r.frame_ms, "wall_s": r.wall_s, "version": r.version, "energy": r.energy,
+        e: {"frame_ms": r.frame_ms, "wall_s": r.wall_s, "version": r.version, "energy": r.energy, "info": r.info,
             "judgements": {k: j.to_json() for k, j in r.judgements.items()}} for e, r in s.engines.items()},
         "reference_energy": s.reference_energy} for s in m.scenes}, "startup": m.startup}
 
@@ -101,4 +193,5 @@ def summary(m: Measurements) -> str:
 def settings_json(m: Measurements) -> dict[str, Any]:
     """The settings the run used."""
     s = m.settings
-    return {"spp": s.spp, "passes": s.passes, "resolution": s.resolution, "engines": list(s.engines), "seed": s.seed}
+    return {"spp": s.spp, "passes": s.passes, "resolution": s.resolution, "engines": list(s.engines), "seed": s.seed,
+            "env_spp": s.env_spp}

@@ -22,7 +22,7 @@ SwiftShader's sin/cos are good to ~2e-4 absolute (:mod:`validate.gl.webgl`).
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -30,9 +30,12 @@ from ...gl import browser_page
 from ...scenes.render_scenes import RenderScene
 
 # engine → (page, entry point, options the page reads); "babylon_lambert" is Babylon with its diffuse model set to
-# Lambert (MATERIAL_DIFFUSE_MODEL_LAMBERT = 2) instead of its default energy-preserving Oren–Nayar.
+# Lambert (MATERIAL_DIFFUSE_MODEL_LAMBERT = 2) instead of its default energy-preserving Oren–Nayar; "three_probe" is
+# three.js with a hemisphere light given as a LightProbe whose SH is built as three's HemisphereLightProbe built it
+# (removed from three; three issue 26668) instead of a HemisphereLight.
 ENGINES = {"three": ("three.html", "renderThree", {}), "babylon": ("babylon.html", "renderBabylon", {}),
-           "babylon_lambert": ("babylon.html", "renderBabylon", {"diffuseModel": 2})}
+           "babylon_lambert": ("babylon.html", "renderBabylon", {"diffuseModel": 2}),
+           "three_probe": ("three.html", "renderThree", {"hemisphereProbe": True})}
 HALF_FLOAT_RTOL = 2.0**-11  # IEEE binary16: 10 explicit mantissa bits, unit roundoff 2⁻¹¹
 SWIFTSHADER_TRIG_ATOL = 2e-4  # measured sin/cos error (validate.gl.webgl docstring)
 
@@ -43,6 +46,7 @@ class EngineRender:
     frame_ms: float
     wall_s: float
     version: str
+    info: dict = field(default_factory=dict)  # what the page reports besides pixels (e.g. three's light.power)
 
 
 def render(engine: str, scene: RenderScene) -> EngineRender:
@@ -52,7 +56,8 @@ def render(engine: str, scene: RenderScene) -> EngineRender:
     r = browser_page.call(page, fn, dict(scene.engine_json(), options=options))
     n = scene.resolution
     img = browser_page.decode_f32(r["data"], (n, n, 4))[::-1].copy()  # readPixels row 0 = bottom
-    return EngineRender(img, float(r.get("frame_ms", np.nan)), time.perf_counter() - t0, str(r.get("version", "")))
+    return EngineRender(img, float(r.get("frame_ms", np.nan)), time.perf_counter() - t0, str(r.get("version", "")),
+                        dict(r.get("info") or {}))
 
 
 __all__ = ["ENGINES", "EngineRender", "render", "HALF_FLOAT_RTOL", "SWIFTSHADER_TRIG_ATOL"]

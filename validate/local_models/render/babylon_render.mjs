@@ -1,7 +1,9 @@
 // Babylon.js renders a validate render scene through its own pipeline: PBRMaterial (metallic-roughness;
 // metallicF0Factor = KHR_materials_specular's factor, 0 for a Lambertian), HDRCubeTexture on the scene's .hdr
 // file (its RGBE loader, panorama-to-cube, spherical polynomial for diffuse, HDRFiltering prefilter for
-// specular), DirectionalLight in lux, a TEXTURETYPE_FLOAT RenderTargetTexture read back with readPixels.
+// specular), DirectionalLight in lux, PointLight / SpotLight in candela with falloffType = FALLOFF_GLTF (inverse
+// square without range; a KHR spot as Babylon's glTF loader maps it: angle = 2·outer, innerAngle = 2·inner),
+// HemisphericLight, a TEXTURETYPE_FLOAT RenderTargetTexture read back with readPixels.
 // Image processing (tone mapping, exposure, gamma) is left to a post process that is never attached: linear radiance.
 import * as BABYLON from '../../../node_modules/@babylonjs/core/index.js';
 
@@ -38,6 +40,37 @@ function material(scene, m, opts) {
   return mat;
 }
 
+const rgb = (c) => new BABYLON.Color3(c[0], c[1], c[2]);
+const v3 = (v) => new BABYLON.Vector3(v[0], v[1], v[2]);
+
+// A hemisphere of radiance sky / ground: Babylon's PBR hemispheric term is mix(ground, sky, ½ + ½ n·up) times the
+// albedo with no 1/π (pbrDirectLightingFunctions computeHemisphericDiffuseLighting), so radiance L enters as colour
+// L with intensity 1; its specular colour is black (a hemisphere has no highlight).
+function addLight(scene, l) {
+  let light;
+  if (l.type === 'hemisphere') {
+    light = new BABYLON.HemisphericLight('hemi', v3(l.up), scene);
+    light.diffuse = rgb(l.sky); light.groundColor = rgb(l.ground); light.specular = new BABYLON.Color3(0, 0, 0);
+    light.intensity = 1; return;
+  }
+  if (l.type === 'point') light = new BABYLON.PointLight('point', v3(l.position), scene);
+  else if (l.type === 'spot') {
+    light = new BABYLON.SpotLight('spot', v3(l.position), v3(l.direction), 2 * l.outer_deg * Math.PI / 180, 1, scene);
+    light.innerAngle = 2 * l.inner_deg * Math.PI / 180;
+  } else light = new BABYLON.DirectionalLight('sun', v3(l.direction), scene);
+  if (l.type !== 'directional') light.falloffType = BABYLON.Light.FALLOFF_GLTF;
+  light.intensity = l.intensity; light.diffuse = rgb(l.color); light.specular = rgb(l.color);
+}
+
+function geometry(scene, g) {
+  if (g.type === 'plane') {
+    // CreatePlane's front face looks down −z in Babylon's left-handed default; drawn double-sided with two-sided
+    // lighting (the normal flipped towards the viewer) it faces the camera at +z in either handedness.
+    return BABYLON.MeshBuilder.CreatePlane('plane', {size: g.size, sideOrientation: BABYLON.Mesh.DOUBLESIDE}, scene);
+  }
+  return BABYLON.MeshBuilder.CreateSphere('s', {diameter: 2 * g.radius, segments: g.segments[1] - 2}, scene);
+}
+
 export async function renderBabylon(d) {
   const eng = getEngine();
   const {width, height} = d.image;
@@ -58,13 +91,11 @@ export async function renderBabylon(d) {
     // the texture belongs to the first scene that loaded it; later scenes share it
     scene.environmentTexture = e.tex; prefilter_ms = e.ms; e.ms = 0;
   }
-  for (const l of d.lights) {
-    const light = new BABYLON.DirectionalLight('sun', new BABYLON.Vector3(...l.direction), scene);
-    light.intensity = l.intensity; light.diffuse = new BABYLON.Color3(...l.color); light.specular = new BABYLON.Color3(...l.color);
-  }
-  const [su, sv] = d.sphere.segments;
-  const sphere = BABYLON.MeshBuilder.CreateSphere('s', {diameter: 2 * d.sphere.radius, segments: sv - 2}, scene);
+  for (const l of d.lights) addLight(scene, l);
+  const g = d.geometry || {type: 'sphere', radius: d.sphere.radius, segments: d.sphere.segments};
+  const sphere = geometry(scene, g);
   sphere.material = material(scene, d.material, opts);
+  if (g.type === 'plane') { sphere.material.backFaceCulling = false; sphere.material.twoSidedLighting = true; }
   const cam = new BABYLON.FreeCamera('c', new BABYLON.Vector3(...d.camera.position), scene);
   cam.upVector = new BABYLON.Vector3(...d.camera.up);
   cam.setTarget(new BABYLON.Vector3(...d.camera.target));

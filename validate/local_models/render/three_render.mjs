@@ -1,6 +1,8 @@
 // three.js renders a validate render scene through its own pipeline: MeshPhysicalMaterial (MeshStandardMaterial
 // plus KHR_materials_specular's specularIntensity, 0 for a Lambertian), PMREMGenerator.fromEquirectangular on a
-// float DataTexture, DirectionalLight in lux (physically based units, the default since r155), a FloatType
+// float DataTexture, DirectionalLight in lux, PointLight / SpotLight in candela (physically based units, the default
+// since r155; distance 0 = no range, decay 2 = inverse square; a KHR spot's cone as GLTFLoader maps it: angle =
+// outer, penumbra = 1 − inner/outer), HemisphereLight (or a LightProbe, options.hemisphereProbe), a FloatType
 // render target, NoToneMapping, LinearSRGBColorSpace; read back with readRenderTargetPixels (row 0 = bottom).
 import * as THREE from 'three';
 import {f32ToB64, environmentTexels} from './common.mjs';
@@ -42,6 +44,47 @@ function material(m) {
                                          specularIntensity: m.specular});
 }
 
+const rgb = (c) => new THREE.Color().setRGB(c[0], c[1], c[2], THREE.LinearSRGBColorSpace);
+
+// A hemisphere of radiance sky (y > 0) / ground (y < 0). HemisphereLight's colours are the *irradiance* a full sky
+// of them delivers (its shader adds mix(ground, sky, ½ + ½ n·up) · BRDF_Lambert, no π), so radiance L enters as
+// colour L with intensity π (three PR 16271: "that factor of PI"). The probe path builds the SH of the radiance as
+// three's HemisphereLightProbe did (r150 src/lights/HemisphereLightProbe.js: c0 = √π (sky + ground),
+// c1 = √π √¾ (sky − ground) on the y band), intensity 1.
+function hemisphere(l, probe) {
+  if (!probe) return new THREE.HemisphereLight(rgb(l.sky), rgb(l.ground), Math.PI);
+  const lp = new THREE.LightProbe();
+  const c0 = Math.sqrt(Math.PI), c1 = c0 * Math.sqrt(0.75);
+  const sky = new THREE.Vector3(...l.sky), ground = new THREE.Vector3(...l.ground);
+  lp.sh.coefficients[0].copy(sky).add(ground).multiplyScalar(c0);
+  lp.sh.coefficients[1].copy(sky).sub(ground).multiplyScalar(c1);
+  return lp;
+}
+
+// returns the light's `power` getter (three's luminous power in lm) for point and spot lights, else null
+function addLight(scene, l, opts) {
+  if (l.type === 'hemisphere') { scene.add(hemisphere(l, opts.hemisphereProbe)); return null; }
+  if (l.type === 'point') {
+    const light = new THREE.PointLight(rgb(l.color), l.intensity, 0, 2);
+    light.position.set(...l.position); scene.add(light); return light.power;
+  }
+  if (l.type === 'spot') {
+    const outer = l.outer_deg * Math.PI / 180, inner = l.inner_deg * Math.PI / 180;
+    const light = new THREE.SpotLight(rgb(l.color), l.intensity, 0, outer, 1 - inner / outer, 2);
+    light.position.set(...l.position); light.target.position.set(...l.target);
+    scene.add(light); scene.add(light.target); return light.power;
+  }
+  const light = new THREE.DirectionalLight(rgb(l.color), l.intensity);
+  light.position.set(-l.direction[0], -l.direction[1], -l.direction[2]);  // shines from position to target (origin)
+  scene.add(light); scene.add(light.target);
+  return null;
+}
+
+function geometry(g) {
+  if (g.type === 'plane') return new THREE.PlaneGeometry(g.size, g.size);  // z = 0, normal +z
+  return new THREE.SphereGeometry(g.radius, g.segments[0], g.segments[1]);
+}
+
 export async function renderThree(d) {
   const {width, height} = d.image;
   const r = getRenderer(width, height);
@@ -52,13 +95,10 @@ export async function renderThree(d) {
     if (!pmremCache.has(key)) { const t = performance.now(); pmremCache.set(key, environment(r, d.environment)); pmrem_ms = performance.now() - t; }
     scene.environment = pmremCache.get(key).texture;
   }
-  for (const l of d.lights) {
-    const light = new THREE.DirectionalLight(new THREE.Color().setRGB(...l.color, THREE.LinearSRGBColorSpace), l.intensity);
-    light.position.set(-l.direction[0], -l.direction[1], -l.direction[2]);  // shines from position to target (origin)
-    scene.add(light); scene.add(light.target);
-  }
-  const [su, sv] = d.sphere.segments;
-  const mesh = new THREE.Mesh(new THREE.SphereGeometry(d.sphere.radius, su, sv), material(d.material));
+  const opts = d.options || {};
+  const powers = d.lights.map((l) => addLight(scene, l, opts));
+  const g = d.geometry || {type: 'sphere', radius: d.sphere.radius, segments: d.sphere.segments};
+  const mesh = new THREE.Mesh(geometry(g), material(d.material));
   scene.add(mesh);
   const e = d.camera.half_extent;
   const cam = new THREE.OrthographicCamera(-e, e, e, -e, 0.1, 100);
@@ -74,5 +114,5 @@ export async function renderThree(d) {
   const frame_ms = performance.now() - t0;
   r.setRenderTarget(null);
   target.dispose(); mesh.geometry.dispose(); mesh.material.dispose();
-  return {data: f32ToB64(out), frame_ms, prefilter_ms: pmrem_ms, version};
+  return {data: f32ToB64(out), frame_ms, prefilter_ms: pmrem_ms, version, info: {light_power_lm: powers}};
 }
