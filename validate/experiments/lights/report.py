@@ -244,8 +244,8 @@ def lamp_finding(lamp: dict[str, Any]) -> str:
 def standin_receivers_text(st: dict[str, Any]) -> str:
     """The receiver set behind the stand-in figures, in words."""
     return ("polar angles " + ", ".join(f"{p:g}°" for p in st["polar_deg"]) + " from the light's normal, normals "
-            "tilted " + ", ".join(f"{t:+g}°" for t in st["tilt_deg"]) + " from the direction to the light in that "
-            "plane")
+            "tilted " + ", ".join(f"{t:+g}°" if t else "0°" for t in st["tilt_deg"])
+            + " from the direction to the light in that plane")
 
 
 def standin_finding(st: dict[str, Any], kind: str) -> str:
