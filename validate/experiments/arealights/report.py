@@ -180,10 +180,11 @@ def _sweep_findings(m: dict[str, Any]) -> list[str]:
     f = []
     for name, a in sw["crossing_5pct"].items():
         if a is not None:
+            beyond = max(e for x, e in zip(sw["alpha_deg"], sw["errors"][name], strict=True) if x > a)
             f.append(f"{name}: exceeds 5 % of Φ for sphere/disc half-angles below α = {a:.3f}° ± "
                      f"{sw['crossing_xtol_deg']:g}° (worst {_normals(m)}; the last fall through 5 % on the α grid "
                      f"{sw['alpha_deg'][0]:g}°…{sw['alpha_deg'][-1]:g}°, refined by Brent's method on the closed "
-                     "form).")
+                     f"form; at most {_pct(beyond)} at the grid's α above it).")
     f.append(f"The seed's disc SH formulas match a numerical projection to {sf['max_deviation']:.1e} (α = 20° "
              f"polynomial: {', '.join(f'{v:.7g}' for v in sf['alpha20_polynomial'])} vs the seed's "
              f"{', '.join(f'{v:g}' for v in sf['alpha20_seed'])}).")
