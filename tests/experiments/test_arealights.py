@@ -304,3 +304,14 @@ def test_declared_threshold_becomes_claim_with_power(quick_result) -> None:
         assert isinstance(c, Claim) and c.passed and c.power.fails  # 4.99 % < 6 %; × 1.5 = 7.5 % > 6 %
     finally:
         arealight.unregister("test_sh2_declared")
+
+
+def test_disc_axis_crossing_is_the_closed_form_root():
+    """Inverse square over a facing disc at normal incidence errs by r²/d²: 1 % at d/r = 10 exactly. The reported
+    crossing (Brent between the d/r grid nodes) is within its xtol of 10; power: the first grid node past it is
+    not, and neither is the crossing of the 2 % level."""
+    m = {"point_lights": ac.distance_sweep(exp.QUICK, np.array([0.0]), ac.POINT_THRESHOLD)}
+    (c,) = cl._crossing_claims(m)
+    assert c.passed and c.power.fails, (c.measured, c.power.measured)
+    assert abs(ac.distance_sweep(exp.QUICK, np.array([0.0]), 0.02)["crossing_inverse_square_disc_normal_incidence"]
+               - 10.0) > ac.RATIO_XTOL

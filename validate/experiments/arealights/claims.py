@@ -42,14 +42,23 @@ from ...local_models import arealight
 from ..base import Claim
 from ..techniques import Measured, technique_claims
 from . import specular as asp
-from .compute import ALPHA, ALPHA20, ALPHA_INSIDE, ALPHA_OUTSIDE, CAP_QUADRATURE_TOLERANCE, SH_THRESHOLD
+from .compute import (
+    ALPHA,
+    ALPHA20,
+    ALPHA_INSIDE,
+    ALPHA_OUTSIDE,
+    CAP_QUADRATURE_TOLERANCE,
+    POINT_THRESHOLD,
+    SH_THRESHOLD,
+)
 from .settings import NAME, SCALE_ERROR
 
 SEED_DIGITS = 1e-5  # one unit in the 6th significant digit of the seed's constants (π/2 printed 1.57079)
 
 
 def claims(m: dict[str, Any]) -> list[Claim]:
-    return [*_reference_claims(m), *_range_claims(m), *_technique_claims(m), *asp.claims(m["specular"])]
+    return [*_reference_claims(m), *_range_claims(m), *_technique_claims(m), *_crossing_claims(m),
+            *asp.claims(m["specular"])]
 
 
 def _reference_claims(m: dict[str, Any]) -> list[Claim]:
@@ -145,3 +154,22 @@ def _technique_claims(m: dict[str, Any]) -> list[Claim]:
 
 
 __all__ = ["claims", "technique_measured"]
+
+
+def _crossing_claims(m: dict[str, Any]) -> list[Claim]:
+    """The reported d/r crossing where it has a closed form: a facing disc at normal incidence, inverse square
+    over E(0) = π L r²/(r² + d²) errs by exactly r²/d², which is 1 % at d/r = 10."""
+    pts = m["point_lights"]
+    q = pts["crossing_inverse_square_disc_normal_incidence"]
+    if q is None:
+        return []
+    exact = POINT_THRESHOLD ** -0.5
+    node = min(r for r in pts["d_over_r"] if r > q)
+    return [Claim("arealights.point_lights.disc_axis_crossing",
+                  "the d/r below which inverse square errs by more than 1 % for a facing disc at normal incidence "
+                  "(Brent between the d/r grid nodes) = the closed form's d/r = 10", "|d/r − 10|", pts["crossing_xtol"],
+                  abs(q - exact), 0.0,
+                  source="(πL r²/d²) / (πL r²/(r² + d²)) − 1 = r²/d² (Lambert on the axis of a disc); the threshold is "
+                         "Brent's xtol, the figure's stated tolerance (float32 cap formula: ~10⁻⁷ of E, i.e. ~5·10⁻⁵ "
+                         "in d/r over the slope 2·10⁻³)")
+            .with_power("the first d/r grid node past the crossing (a grid-node answer)", abs(node - exact))]

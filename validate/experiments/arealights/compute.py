@@ -190,7 +190,7 @@ def alpha_crossing(fn: Callable[[float], float], alphas: np.ndarray, errs: np.nd
     if not idx:
         return None
     i = idx[-1]
-    return float(brentq(lambda a: fn(a) - level, alphas[i], alphas[i + 1], xtol=1e-3))
+    return float(brentq(lambda a: fn(a) - level, alphas[i], alphas[i + 1], xtol=ALPHA_XTOL_DEG))
 
 
 def seed_check(s: Settings, alpha20_deg: float) -> dict:
@@ -245,7 +245,7 @@ def distance_sweep(s: Settings, thetas_deg: np.ndarray, level: float) -> dict:
     """Every technique vs d/r on a sphere and a facing disc (max_θ |E′ − E| / E(0)); the disc's on-axis
     inverse-square error at normal incidence; a sphere replaced by a disc of the same radius (tan α = r/d)."""
     ratios = np.geomspace(1.1, 100.0, s.distance_ratios)
-    out: dict = {"d_over_r": ratios.tolist(), "techniques": {}}
+    out: dict = {"d_over_r": ratios.tolist(), "techniques": {}, "crossing_xtol": RATIO_XTOL}
     for tech in arealight:
         for shape in ("sphere", "disc"):
             if supports(tech, shape):
@@ -260,7 +260,8 @@ def distance_sweep(s: Settings, thetas_deg: np.ndarray, level: float) -> dict:
     def crossing(values: list[float], fn: Callable[[float], float]) -> float | None:
         v = np.asarray(values)
         idx = [i for i in range(len(ratios) - 1) if v[i] > level >= v[i + 1]]
-        return float(brentq(lambda q: fn(q) - level, ratios[idx[-1]], ratios[idx[-1] + 1], xtol=1e-4)) if idx else None
+        return (float(brentq(lambda q: fn(q) - level, ratios[idx[-1]], ratios[idx[-1] + 1], xtol=RATIO_XTOL)) if idx
+                else None)
 
     inv = out["techniques"].get("inverse_square (sphere)")
     out["crossing_inverse_square_sphere"] = None if inv is None else crossing(
@@ -301,6 +302,9 @@ SH_THRESHOLD = 0.05  # [2]'s order-2 "maximum error < 5 %", in R&H's flux normal
 
 
 POINT_THRESHOLD = 0.01  # "off by more than 1 %": the level at which the d/r crossing is reported (finding)
+# The crossings' root tolerances (Brent's xtol, stated with each figure): α in degrees, d/r dimensionless.
+ALPHA_XTOL_DEG = 1e-3
+RATIO_XTOL = 1e-4
 
 
 ALPHA20 = 20.0  # [1]'s worked example; the lower end of the α range the 5 % statement holds on
@@ -350,7 +354,8 @@ def alpha_sweep(s: Settings, thetas: np.ndarray) -> dict[str, Any]:
     """max_θ |E′ − E| / Φ vs α for every technique that handles a sphere (sin α = r/d), and the α at which
     each falls through 5 % (Brent between grid points)."""
     alphas = np.asarray(s.alphas_deg, dtype=np.float64)
-    out: dict[str, Any] = {"alpha_deg": alphas.tolist(), "errors": {}, "crossing_5pct": {}}
+    out: dict[str, Any] = {"alpha_deg": alphas.tolist(), "errors": {}, "crossing_5pct": {},
+                           "crossing_xtol_deg": ALPHA_XTOL_DEG}
     for tech in arealight:
         if supports(tech, "sphere"):
             errs = [sphere_alpha_error(tech, a, thetas) for a in alphas]
@@ -373,4 +378,4 @@ def alpha_range(s: Settings, thetas: np.ndarray) -> dict[str, Any]:
             "below_deg": float(below), "with_below_max": float(errs[alphas >= below - 1e-9].max()),
             "with_end_min": float(errs[alphas <= ALPHA20 + 1e-9].min()),
             "crossing_deg": alpha_crossing(lambda a: sphere_alpha_error("sh_order2", a, thetas),
-                                              alphas, errs, SH_THRESHOLD)}
+                                              alphas, errs, SH_THRESHOLD), "crossing_xtol_deg": ALPHA_XTOL_DEG}

@@ -159,7 +159,7 @@ def _reference_finding(c: dict[str, Any]) -> str:
 def _range_finding(m: dict[str, Any]) -> str:
     r, d = m["alpha_range"], m["decide"]
     x = r["crossing_deg"]
-    where = f"α ≥ {x:.2f}°" if x is not None else "no crossing on the grid"
+    where = f"α ≥ {x:.3f}° (± {r['crossing_xtol_deg']:g}°, Brent)" if x is not None else "no crossing on the grid"
     return (f"Order-2 SH of a disc light meets 5 % of Φ (max_θ |E_2 − E| / Φ, Φ = 2π(1 − cos α)) exactly for "
             f"{where} up to {m['settings']['range_deg'][1]:g}° (closed form): {_pct(r['inside_max'])} at α = "
             f"{ALPHA20:g}°, {_pct(r['outside_min'])} at {r['below_deg']:g}°; the worst normals are θ = 0° and 180° "
@@ -169,13 +169,22 @@ def _range_finding(m: dict[str, Any]) -> str:
             f"{ALPHA20:g}° itself the margin (0.012 % of Φ) is below what a meter can resolve at θ = 0°.")
 
 
+def _normals(m: dict[str, Any]) -> str:
+    """The receiver set behind the closed-form crossings, in words."""
+    return (f"normal over θ = 0°…180° from the direction to the light in {m['settings']['theta_step_deg']:g}° steps; "
+            "the sign of the tilt is immaterial, the cap being symmetric about its axis")
+
+
 def _sweep_findings(m: dict[str, Any]) -> list[str]:
     sw, pts, sf = m["alpha_sweep"], m["point_lights"], m["seed_formulas"]
     f = []
     for name, a in sw["crossing_5pct"].items():
         if a is not None:
-            f.append(f"{name}: exceeds 5 % of Φ for sphere/disc half-angles below α = {a:.1f}° (α grid "
-                     f"{sw['alpha_deg'][0]:g}°…{sw['alpha_deg'][-1]:g}°).")
+            beyond = max(e for x, e in zip(sw["alpha_deg"], sw["errors"][name], strict=True) if x > a)
+            f.append(f"{name}: exceeds 5 % of Φ for sphere/disc half-angles below α = {a:.3f}° ± "
+                     f"{sw['crossing_xtol_deg']:g}° (worst {_normals(m)}; the last fall through 5 % on the α grid "
+                     f"{sw['alpha_deg'][0]:g}°…{sw['alpha_deg'][-1]:g}°, refined by Brent's method on the closed "
+                     f"form; at most {_pct(beyond)} at the grid's α above it).")
     f.append(f"The seed's disc SH formulas match a numerical projection to {sf['max_deviation']:.1e} (α = 20° "
              f"polynomial: {', '.join(f'{v:.7g}' for v in sf['alpha20_polynomial'])} vs the seed's "
              f"{', '.join(f'{v:g}' for v in sf['alpha20_seed'])}).")
@@ -183,10 +192,12 @@ def _sweep_findings(m: dict[str, Any]) -> list[str]:
     if q is not None:
         f.append("Inverse-square point light for a sphere light (I = π r² L, the sphere's power / 4π): exact wherever "
                  "the sphere is wholly above the horizon; its worst-normal error relative to the normal-incidence "
-                 f"irradiance exceeds 1 % for d/r < {q:.1f}.")
+                 f"irradiance exceeds 1 % for d/r < {q:.4f} ± {pts['crossing_xtol']:g} (worst {_normals(m)}; "
+                 "Brent between the d/r grid nodes on the closed form).")
     if qd is not None:
         f.append(f"For a disc light facing the receiver, inverse square overestimates even at normal incidence, by "
-                 f"r²/d², which exceeds 1 % for d/r < {qd:.2f}; OpenGL's attenuation with (a, b, c) = (r², 0, 1) "
+                 f"r²/d², which exceeds 1 % for d/r < {qd:.4f} ± {pts['crossing_xtol']:g} (closed form: 10); "
+                 "OpenGL's attenuation with (a, b, c) = (r², 0, 1) "
                  "makes that case exact (on the axis, above the horizon).")
     f.append("Disc-for-sphere substitution: a sphere subtends exactly the cap with sin α = r/d, so the substitution is "
              "exact and only the SH truncation of that disc remains; tan α = r/d instead (a disc of the same radius) "

@@ -1,9 +1,11 @@
 """``lights`` claims: every technique's declared thresholds, Lambert's rectangle formula against Mitsuba, the
-grid's convergence order, and the linearity of the renders (each with a power check)."""
+grid's convergence order, the linearity of the renders, and where a point light starts to stand in for an area
+light (each with a power check)."""
 
 from __future__ import annotations
 
 from ...local_models import light as family
+from ...scenes import light_scenes as ls
 from ..base import Claim
 from ..techniques import technique_claims
 from .compute import SLOPE_FROM_N, Measurements
@@ -46,4 +48,26 @@ def claims(m: Measurements) -> list[Claim]:
         source="Kajiya 1986 eq. 1 (linearity); Šidák 1967 family-wise level 0.01 over the N pixels")
         .with_power("single renders without the rectangle's shape (its shadow on the other lights missed, the bug "
                     "this check caught while it was written)", lin["power_unblocked"]["max_abs_z"]))
+    return out + standin_claims(m)
+
+
+def standin_claims(m: Measurements) -> list[Claim]:
+    """Per area light: the reported 1 % crossing (Brent on the closed forms) agrees within its stated tolerance with
+    the same crossing located independently (bisection on a float64 Gauss–Legendre reference); power: the first
+    grid node past the crossing, the figure the finding reported before."""
+    st, out = m.data["standin"], []
+    for kind in ls.AREA_KINDS:
+        r, ind, c = st[kind]["ratio_within_1pct"], st[kind]["independent"], st[kind]["crossing"]
+        if r is None or ind["root"] is None:
+            continue
+        out.append(Claim(
+            f"{NAME}.standin.{kind}.crossing", f"the d/size beyond which one point light stands in for the {kind} "
+            "within 1 % (Brent on the closed form) = the same crossing bisected on an independent quadrature "
+            "reference (|difference| in d/size)", "abs_ratio_difference", st["xtol"], abs(r - ind["root"]), 0.0,
+            source=f"the figure's stated tolerance xtol = {st['xtol']:g} (Brent 1973 ch. 4: within xtol of a root); "
+                   f"the bisection's half-width {ind['xtol'] / 2:g} and the references' disagreement at the root "
+                   f"({ind['reference_disagreement']:.1e} of E, over the error's slope {c['slope']:.2g} per unit "
+                   f"d/size: {ind['reference_disagreement'] / abs(c['slope']):.1e}) fit inside it")
+            .with_power("the first grid node past the crossing (the figure reported before)", abs(c["grid_node"]
+                                                                                              - ind["root"])))
     return out

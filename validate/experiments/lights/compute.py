@@ -249,7 +249,7 @@ def compute(ctx: Context, s: Settings) -> Measurements:
     evaluate_techniques(frames, s, m)
     m.data["attenuation"] = attenuation(s, frames)
     m.data["standin"] = sw.standin_sweep({k: ls.STANDARD_LIGHTS[k] for k in ls.AREA_KINDS}, np.asarray(s.ratios),
-                                         s.polar_deg, s.tilt_deg)
+                                         s.polar_deg, s.tilt_deg, s.standin_xtol)
     m.data["grid"] = grid_unshadowed(frames, s)
     m.data["grid_shadowed"] = grid_shadowed(frames, s)
     m.data["closed_form"] = closed_form_check(frames)

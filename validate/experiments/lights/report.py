@@ -82,16 +82,19 @@ def standin_section(m: Any, ctx: Context, name: str) -> Section:
     plots.save_line_plot(path, x, {k: np.maximum(v, 1e-9) for k, v in series.items()}, "distance / light size",
                          "max relative error", "one point light for an area light", logx=True, logy=True,
                          percent=True, hlines={"1 %": 0.01})
-    rows = [[k, "n/a" if st[k]["ratio_within_1pct"] is None else f"{st[k]['ratio_within_1pct']:.3g}",
+    rows = [[k, "n/a" if st[k]["ratio_within_1pct"] is None else f"{st[k]['ratio_within_1pct']:.4f} ± {st['xtol']:g}",
+             "n/a" if st[k]["crossing"]["grid_node"] is None else f"{st[k]['crossing']['grid_node']:.4g}",
              f"{st[k]['extent']:.3g} m", st[k]["skipped_receivers"]] for k in ("rectangle", "disk", "sphere")]
     return Section("When a point light stands in for an area light", [
-        "Worst relative error over receivers at polar angles " + ", ".join(f"{p:g}°" for p in st["polar_deg"])
-        + " from the light's normal and normals tilted " + ", ".join(f"{t:g}°" for t in st["tilt_deg"])
-        + " from the light. Rectangle and disc: a cosine-lobe point I = L·A·cos ψ at the centre (the n = 1 grid); "
-        "sphere: an isotropic point I = π r² L. References: Lambert's formula (rectangle; receivers whose horizon cuts "
-        "the rectangle skipped), the cap formula (sphere), a 64×64 grid (disc)."],
+        "Worst relative error over receivers at " + standin_receivers_text(st) + ". Rectangle and disc: a "
+        "cosine-lobe point I = L·A·cos ψ at the centre (the n = 1 grid); sphere: an isotropic point I = π r² L. "
+        "References: Lambert's formula (rectangle), the cap formula (sphere), the coaxial-disc configuration factors "
+        "(disc); receivers whose horizon cuts a flat light are skipped. The crossing is the last root of the "
+        "max-over-receivers error − 1 % (continuous, not smooth), bracketed on the grid and refined by Brent's "
+        f"method on the closed forms to ± {st['xtol']:g} in d/size; the grid node is the first swept ratio past it."],
         figures=[Figure(rel, "max relative error vs distance / size", 520)],
-        tables=[Table(["light", "d/size for ≤ 1 %", "size", "receivers skipped"], rows)])
+        tables=[Table(["light", "d/size for ≤ 1 %", "first grid node past it", "size", "receivers skipped"],
+                      rows)])
 
 
 def grid_section(m: Any, ctx: Context, name: str) -> Section:
@@ -238,14 +241,32 @@ def lamp_finding(lamp: dict[str, Any]) -> str:
             f"(pooled z {z['pooled_z']:+.2f}).")
 
 
+def standin_receivers_text(st: dict[str, Any]) -> str:
+    """The receiver set behind the stand-in figures, in words."""
+    return ("polar angles " + ", ".join(f"{p:g}°" for p in st["polar_deg"]) + " from the light's normal, normals "
+            "tilted " + ", ".join(f"{t:+g}°" if t else "0°" for t in st["tilt_deg"])
+            + " from the direction to the light in that plane")
+
+
+def standin_finding(st: dict[str, Any], kind: str) -> str:
+    c, ind = st[kind]["crossing"], st[kind]["independent"]
+    head = f"A single point light stands in for the {kind} within 1 % (worst of the receivers at "
+    if c["root"] is None:
+        where = (f"≤ {c['grid_node']:.3g} (the first ratio swept)" if c["below_grid"]
+                 else "> the largest ratio swept")
+        return head + standin_receivers_text(st) + f") beyond d/size {where} (size = largest dimension)."
+    return (head + standin_receivers_text(st) + f") beyond d/size = {c['root']:.4f} ± {c['xtol']:g} (size = largest "
+            f"dimension; the last root of the max-over-receivers error − 1 %, which is continuous but not smooth, "
+            f"bracketed on the sweep's grid in [{c['bracket'][0]:.4f}, {c['bracket'][1]:.4f}] and refined by Brent's "
+            f"method on the closed form; beyond it the error stays ≤ {c['max_beyond']:.2%} at every grid node; the "
+            f"first grid node past it is {c['grid_node']:.4g}; a bisection on an independent quadrature reference "
+            f"puts it at {ind['root']:.4f}).")
+
+
 def findings(m: Measurements) -> list[str]:
     out = attenuation_findings(m)
     st = m.data["standin"]
-    for kind in ls.AREA_KINDS:
-        r = st[kind]["ratio_within_1pct"]
-        out.append(f"A single point light stands in for the {kind} within 1 % (worst receiver, polar ≤ "
-                   f"{max(st['polar_deg']):g}°, tilt ≤ {max(st['tilt_deg']):g}°) beyond d/size = "
-                   + (f"{r:.3g}" if r is not None else "> the largest ratio swept") + " (size = largest dimension).")
+    out += [standin_finding(st, kind) for kind in ls.AREA_KINDS]
     out += grid_findings(m)
     sp, tech = m.data["spot"], m.data["techniques"]
     cos_f = tech.get("spot_cos_f", {}).get("metrics", {}).get("spot", {})

@@ -32,8 +32,12 @@ class Settings:
     seed: int
     ratios: tuple[float, ...]  # stand-in sweep: distance / light size
     distances: tuple[float, ...]  # attenuation curves (m)
-    polar_deg: tuple[float, ...]
-    tilt_deg: tuple[float, ...]
+    polar_deg: tuple[float, ...]  # stand-in receivers: polar angles from the light's normal, in one plane
+    tilt_deg: tuple[float, ...]  # and normals tilted in that plane from the direction to the light, both ways
+    # The stand-in crossing's tolerance in d/size (Brent's xtol): the stand-ins evaluate in float32, whose rounding
+    # (~3·10⁻⁷ of E) moves the root by ~1·10⁻⁴ (the error's slope there is ~3·10⁻³ per unit d/size; measured:
+    # Brent on the closed forms and a bisection on the float64 quadrature differ by up to 1.1·10⁻⁴), so 10⁻³.
+    standin_xtol: float
 
     def to_json(self) -> dict[str, Any]:
         d = asdict(self)
@@ -45,9 +49,9 @@ QUICK = Settings(width=64, height=48, delta_spp=1, delta_passes=2, area_spp=16, 
                  grid_reference=24, visibility_side=12, range=10.0, seed=1234,
                  ratios=tuple(np.geomspace(0.75, 40.0, 24).tolist()),
                  distances=tuple(np.geomspace(0.25, 20.0, 40).tolist()), polar_deg=(0.0, 30.0, 60.0),
-                 tilt_deg=(0.0, 30.0, 60.0))
+                 tilt_deg=(-60.0, -30.0, 0.0, 30.0, 60.0), standin_xtol=1e-3)
 FULL = replace(QUICK, width=160, height=120, area_spp=64, area_passes=16, sum_spp=256, sum_passes=16, ground_spp=256,
                ground_passes=16, grid_ns=(1, 2, 3, 4, 5, 6, 8, 10, 12, 16), grid_reference=32, visibility_side=16,
                ratios=tuple(np.geomspace(0.75, 40.0, 48).tolist()),
                distances=tuple(np.geomspace(0.25, 20.0, 80).tolist()), polar_deg=(0.0, 15.0, 30.0, 45.0, 60.0),
-               tilt_deg=(0.0, 15.0, 30.0, 45.0, 60.0))
+               tilt_deg=(-60.0, -45.0, -30.0, -15.0, 0.0, 15.0, 30.0, 45.0, 60.0))

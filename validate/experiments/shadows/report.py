@@ -301,9 +301,12 @@ def _radius_finding(m: Measurements) -> str:
     if x is None:
         return (f"Light radius ({d}²): hard shadows' penumbra error stays below {pct(PENUMBRA_SHARE_X, 0)} of the "
                 f"mean lit radiance (image average) up to r = {m.r_max:g} m; {others}.")
-    return (f"Light radius ({d}²): above r ≈ {x:.2g} m (r/d ≈ {x / light_distance():.2g}) hard shadows' penumbra "
-            f"error exceeds {pct(PENUMBRA_SHARE_X, 0)} of the mean lit radiance averaged over the image; at "
-            f"r = {m.r_max:g} m it is {pct(share['hard'][-1])} ({others}).")
+    lo = max((r for r in m.radii if r <= x), default=m.radii[0])
+    hi = min((r for r in m.radii if r >= x), default=m.radii[-1])
+    return (f"Light radius ({d}²): above r ≈ {x:.2g} m (r/d ≈ {x / light_distance():.2g}; log-linear interpolation "
+            f"between the swept radii {lo:g} and {hi:g} m, not a refined root: every point is a path-traced "
+            f"reference) hard shadows' penumbra error exceeds {pct(PENUMBRA_SHARE_X, 0)} of the mean lit radiance "
+            f"averaged over the image; at r = {m.r_max:g} m it is {pct(share['hard'][-1])} ({others}).")
 
 
 def _pcss_finding(m: Measurements) -> str:
