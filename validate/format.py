@@ -28,7 +28,6 @@ References
 from __future__ import annotations
 
 import math
-import re
 from numbers import Integral, Real
 from typing import Any
 
@@ -225,7 +224,6 @@ LABEL_COLUMNS = frozenset({
     "listing", "section", "file", "engine", "reference", "method", "metric", "setting", "step", "comparison",
     "kind", "probe", "material", "seed", "reading", "accepted", "linear", "verdict",
 })
-_UNIT_SUFFIX = re.compile(r"\((?P<unit>[^()]*)\)\s*$")
 
 
 def col(name: str, unit: str) -> str:
@@ -239,10 +237,10 @@ def col(name: str, unit: str) -> str:
 def header_unit(header: str) -> str | None:
     """The unit a column header ends with, "" for a :data:`LABEL_COLUMNS` column, None when it has neither
     (no final parentheses, or parentheses that hold no unit of :data:`UNITS`: "E (red)")."""
-    if header.strip() in LABEL_COLUMNS:
+    h = header.strip()
+    if h in LABEL_COLUMNS:
         return ""
-    m = _UNIT_SUFFIX.search(header)
-    return m["unit"] if m and m["unit"] in UNITS else None
+    return next((u for u in UNITS if h.endswith(f" ({u})")), None)
 
 
 def missing_units(headers: list[str]) -> list[str]:

@@ -74,7 +74,9 @@ class _Headers:
         if isinstance(e, ast.BinOp) and isinstance(e.op, ast.Add):
             return self.columns(e.left, depth + 1) + self.columns(e.right, depth + 1)
         if isinstance(e, ast.ListComp | ast.GeneratorExp):
-            return [self.column(e.elt)]
+            loop = next((g.iter for g in e.generators if isinstance(e.elt, ast.Name)
+                         and isinstance(g.target, ast.Name) and g.target.id == e.elt.id), None)
+            return self.columns(loop, depth + 1) if isinstance(loop, ast.List | ast.Tuple) else [self.column(e.elt)]
         if isinstance(e, ast.Call) and isinstance(e.func, ast.Name) and e.func.id in ("list", "tuple") and e.args:
             return self.columns(e.args[0], depth + 1)
         if isinstance(e, ast.Name):
@@ -141,12 +143,13 @@ def test_the_scan_reads_the_forms_the_reports_use(tmp_path: Path) -> None:
         "def s(m, names):\n"
         "    extra = [f'{n} max (%)' for n in names]\n"
         "    return [Table(['β (°)', 'max |z|', col('z', '–')] + extra, []), Table(HEAD, []),\n"
-        "            Table(['technique'] + names, []), Table([*(f'W (F₀ = {x:g})' for x in m)], [])]\n",
+        "            Table(['technique'] + names, []), Table([*(f'W (F₀ = {x:g})' for x in m)], []),\n"
+        "            Table([h for n in names for h in (f'{n} max (%)', f'{n} at')], [])]\n",
         encoding="utf-8")
     got = [(c.header if isinstance(c.header, str) else c.source, c.ok) for c in table_columns(f, tmp_path)]
     assert got == [("β (°)", True), ("max |z|", False), ("z (–)", True), ("{…} max (%)", True),
                    ("environment", True), ("E (W/m²)", True), ("technique", True), ("names", False),
-                   ("W (F₀ = {…})", False)]
+                   ("W (F₀ = {…})", False), ("{…} max (%)", True), ("{…} at", False)]
 
 
 @pytest.mark.parametrize(("header", "unit"), [
