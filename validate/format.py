@@ -196,8 +196,8 @@ def fmt_quantity(value: Any, unit: str = "", sigma: Any = None, digits: int = DE
 
 # --- table column headers -------------------------------------------------------------------------------------
 # Every column of a report table says what its numbers are in: the header ends with its unit in parentheses,
-# "max |z| (–)", "β (°)", "E (W/m²)", written by :func:`col`; a column of words (names, verdicts) is one of
-# :data:`LABEL_COLUMNS` and carries none. :func:`missing_units` finds the headers that do neither
+# "max |z| (–)", "β (°)", "E (W/m²)", written by :func:`col`; a column of words carries none: names and verdicts
+# (:data:`LABEL_COLUMNS`), or the answers to a header that asks a question ("faces > 65504?"). :func:`missing_units` finds the headers that do neither
 # (``tests/infra/test_table_units.py`` runs it over every table the experiments build).
 #
 # Radiometric units take the emitters' and the environment maps' values as radiance in W·m⁻²·sr⁻¹ (Mitsuba's
@@ -235,10 +235,11 @@ def col(name: str, unit: str) -> str:
 
 
 def header_unit(header: str) -> str | None:
-    """The unit a column header ends with, "" for a :data:`LABEL_COLUMNS` column, None when it has neither
-    (no final parentheses, or parentheses that hold no unit of :data:`UNITS`: "E (red)")."""
+    """The unit a column header ends with; "" for a column of words: one of :data:`LABEL_COLUMNS`, or a question
+    ("texels > 65504?") whose cells answer it; None otherwise (no final parentheses, or parentheses that hold no
+    unit of :data:`UNITS`: "E (red)")."""
     h = header.strip()
-    if h in LABEL_COLUMNS:
+    if h in LABEL_COLUMNS or h.endswith("?"):
         return ""
     return next((u for u in UNITS if h.endswith(f" ({u})")), None)
 
