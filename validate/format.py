@@ -197,8 +197,9 @@ def fmt_quantity(value: Any, unit: str = "", sigma: Any = None, digits: int = DE
 # --- table column headers -------------------------------------------------------------------------------------
 # Every column of a report table says what its numbers are in: the header ends with its unit in parentheses,
 # "max |z| (–)", "β (°)", "E (W/m²)", written by :func:`col`; a column of words carries none: names and verdicts
-# (:data:`LABEL_COLUMNS`), or the answers to a header that asks a question ("faces > 65504?"). :func:`missing_units` finds the headers that do neither
-# (``tests/infra/test_table_units.py`` runs it over every table the experiments build).
+# (:data:`LABEL_COLUMNS`), or the answers to a header that asks a question ("faces > 65504?").
+# :func:`missing_units` finds the headers that do neither (``tests/infra/test_table_units.py`` checks every table
+# the experiments build).
 #
 # Radiometric units take the emitters' and the environment maps' values as radiance in W·m⁻²·sr⁻¹ (Mitsuba's
 # convention: it renders radiance and integrates it over solid angle and area, so irradiance is in W/m²).

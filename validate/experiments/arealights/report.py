@@ -10,8 +10,8 @@ from ...local_models import arealight
 from ...metrics.irradiance_error import WORST_CASE_MAX
 from ...report import plots
 from ..base import Context, Figure, Section, Table
-from ..formatting import pct as _pct
 from ..formatting import col, pm
+from ..formatting import pct as _pct
 from ..techniques import technique_entry
 from . import specular as asp
 from .claims import technique_measured

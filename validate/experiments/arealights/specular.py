@@ -444,7 +444,8 @@ def section(m: dict[str, Any], ctx: Any) -> Section:
                     else:
                         cells.append("—")
                 rows.append([shape, f"{a:g}", f"{sg:g}°", *cells])
-    table = Table(["shape", "α (–)", "σ (°)", *(col(t, "%") for t in techs)], rows, "Σ|L − L_ref| / Σ L_ref over the configurations (θ_v, θ_l, Δφ) "
+    table = Table(["shape", "α (–)", "σ (°)", *(col(t, "%") for t in techs)], rows,
+                  "Σ|L − L_ref| / Σ L_ref over the configurations (θ_v, θ_l, Δφ) "
                   f"= {', '.join(str(c) for c in CONFIGS)}; ± the reference quadrature. A tube's σ is the half-angle "
                   f"of its length (ℓ = 2 tan σ; radius {TUBE_RADIUS:.3f}), both axis orientations pooled.")
     rtab = Table(["shape", "α (–)", "(θ_v, θ_l, Δφ) (°)", "Mitsuba render (W/(m²·sr))", "quadrature (W/(m²·sr))",

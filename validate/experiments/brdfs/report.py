@@ -8,8 +8,8 @@ import numpy as np
 
 from ...report import plots
 from ..base import Context, Figure, Section, Table, fields_json
-from ..formatting import pct as _pct
 from ..formatting import col, pm_entry
+from ..formatting import pct as _pct
 from ..techniques import technique_entry
 from .claims import vgroove_sigmas
 from .compute import Measurements

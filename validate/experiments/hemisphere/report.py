@@ -63,7 +63,8 @@ def _formula_section(m: dict[str, Any], ctx: Context) -> Section:
                  f"{r['formulas']['red_book']['worst_beta_deg']:g}°", _pct(r["convergence"])]
                 for n, r in m["skies"].items() if n.startswith("sunsky")]
     sky_table = Table(["environment", "peak E, Y (W/m²)", "exact-weight max (%)", "at β (°)", "Red Book max (%)",
-                       "at β (°)", "ref. convergence (%)"], sky_rows, "sunsky: max over tilts and azimuths of |E′ − E| / max E.")
+                       "at β (°)", "ref. convergence (%)"], sky_rows,
+                      "sunsky: max over tilts and azimuths of |E′ − E| / max E.")
     return Section("Hemisphere lighting: which formula is exact", [
         "For a sky of radiance L_s above the horizon and L_g below it, the view factor of the upper hemisphere from a "
         "plane tilted by β is (1 + cos β)/2, so E = π(L_s(1 + cos β)/2 + L_g(1 − cos β)/2): the cosine blend is exact. "
