@@ -224,7 +224,7 @@ LABEL_COLUMNS = frozenset({
     "technique", "environment", "light", "model", "scene", "shape", "side", "check", "case", "result", "status",
     "listing", "section", "file", "engine", "reference", "method", "metric", "setting", "step", "comparison",
     "kind", "probe", "material", "seed", "reading", "accepted", "linear", "verdict", "BSDF", "parameter",
-    "power check",
+    "power check", "table row",
 })
 
 
