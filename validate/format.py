@@ -210,6 +210,7 @@ UNITS = frozenset({
     "°",          # an angle in degrees
     "m",          # a length in metres
     "px",         # pixels (a length or an area in pixels, or a count of them)
+    "texels",     # the side of a texture (shadow map, cube face, lat-long map) in texels
     "s",          # seconds
     "B",          # bytes
     "count",      # a number of things (samples, triangles, levels, restarts, texels)

@@ -82,7 +82,7 @@ def sweep_section(m: Measurements, ctx: Context) -> Section:
             rows.append([size, f"{s['max_face_texel'][i]:.4g}", pct(s["clamp_share"][i])]
                         + [f"{pct(t['mean'][i])} / {pct(t['max'][i])} ({t['faces_deviation'][i]:.2g})"
                            for t in s["techniques"].values()])
-        tables.append(Table(["face size N (px)", "largest texel (W/(m²·sr))", "clamped flux (%)"]
+        tables.append(Table(["face size N (texels)", "largest texel (W/(m²·sr))", "clamped flux (%)"]
                             + [col(n, "%") for n in s["techniques"]], rows,
                             f"{env}: flux-normalised luminance error mean / max "
                             "(departure from the faces' exact SH9)."))

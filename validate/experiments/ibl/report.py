@@ -175,7 +175,8 @@ def map_section(m: IblMeasurements, figs: Figures) -> Section:
         f"quasi-uniform normals; the claim re-checks the chosen size on {st.claim_normals} rotated normals.",
         "SH9-derived maps differ from the convolution maps by at most: "
         + "; ".join(f"{k} {pct(v[0])} of Φ" for k, v in mp.sh.items()) + " (bound 9.375 %)."],
-        tables=[Table(["environment", "smallest cube face < 1 % (px)", "smallest lat-long height < 1 % (px)",
+        tables=[Table(["environment", "smallest cube face < 1 % (texels)",
+                       "smallest lat-long height < 1 % (texels)",
                        f"cube {st.faces[0]}² max (%)", f"cube {st.faces[-1]}² max (%)",
                        f"lat-long {st.heights[-1]} max (%)"],
                       rows, "Max error relative to the peak irradiance.")])

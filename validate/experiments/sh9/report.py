@@ -14,8 +14,8 @@ from ...metrics.published import PUBLISHED_TOLERANCE
 from ...reference import pathtrace
 from ...report import plots
 from ..base import Context, Figure, Section, Table
-from ..formatting import pct as _pct
 from ..formatting import col, pm
+from ..formatting import pct as _pct
 from ..techniques import technique_entry
 from .claims import ATTAINS_BOUND, CMGEN, PAPER_MAX, PAPER_MEAN, ZH3_COMPARED, foreign_thresholds
 from .compute import Measurements
