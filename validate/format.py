@@ -224,7 +224,7 @@ UNITS = frozenset({
 LABEL_COLUMNS = frozenset({
     "technique", "environment", "light", "model", "scene", "shape", "side", "check", "case", "result", "status",
     "listing", "section", "file", "engine", "reference", "method", "metric", "setting", "step", "comparison",
-    "kind", "probe", "material", "seed", "reading", "verdict", "BSDF", "parameter",
+    "kind", "probe", "seed", "reading", "BSDF", "parameter",
     "power check", "table row",
 })
 
