@@ -18,6 +18,9 @@ Rules
   are multiplied by 100 before rounding; ``scale`` multiplies both for any other display unit.
 * **Scientific**: when σ's decimal place is below 10⁻⁴, or |value| ≥ 10⁶, value and σ share one
   exponent: "(2.3 ± 1.1)e-6".
+* **Units on every column** (:func:`col`, :func:`missing_units`): a table header ends with its unit,
+  one of :data:`UNITS`, in parentheses ("max |z| (–)", "E (W/m²)"); a column of words is one of
+  :data:`LABEL_COLUMNS` or asks a question ("linear?").
 
 References
 ----------
@@ -213,7 +216,7 @@ UNITS = frozenset({
     "texels",     # the side of a texture (shadow map, cube face, lat-long map) in texels
     "s",          # seconds
     "B",          # bytes
-    "count",      # a number of things (samples, triangles, levels, restarts, texels)
+    "count",      # a number of things (samples per normal, receivers, texels over a limit)
     "W/m²",       # irradiance
     "W/(m²·sr)",  # radiance
     "W/sr",       # radiant intensity
@@ -239,7 +242,7 @@ def col(name: str, unit: str) -> str:
 
 def header_unit(header: str) -> str | None:
     """The unit a column header ends with; "" for a column of words: one of :data:`LABEL_COLUMNS`, or a question
-    ("texels > 65504?") whose cells answer it; None otherwise (no final parentheses, or parentheses that hold no
+    ("faces > 65504?") whose cells answer it; None otherwise (no final parentheses, or parentheses that hold no
     unit of :data:`UNITS`: "E (red)")."""
     h = header.strip()
     if h in LABEL_COLUMNS or h.endswith("?"):

@@ -42,19 +42,15 @@ class Column:
         return isinstance(self.header, str) and header_unit(self.header) is not None
 
 
-def _bindings(tree: ast.Module) -> dict[ast.AST, dict[str, ast.expr]]:
-    """For each function (and the module): the value last assigned to each plain name in its own body."""
-    scopes: dict[ast.AST, dict[str, ast.expr]] = {}
-    for scope in [tree, *(n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef | ast.AsyncFunctionDef))]:
-        names: dict[str, ast.expr] = {}
-        body = scope.body if isinstance(scope, ast.Module) else list(ast.walk(scope))
-        for node in body:
-            if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Name):
-                names[node.targets[0].id] = node.value
-            elif isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name) and node.value is not None:
-                names[node.target.id] = node.value
-        scopes[scope] = names
-    return scopes
+def _bindings(body: list[ast.AST]) -> dict[str, ast.expr]:
+    """The value last assigned to each plain name among ``body`` (statements, or a function's nodes)."""
+    names: dict[str, ast.expr] = {}
+    for node in body:
+        if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Name):
+            names[node.targets[0].id] = node.value
+        elif isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name) and node.value is not None:
+            names[node.target.id] = node.value
+    return names
 
 
 class _Headers:
@@ -101,23 +97,26 @@ class _Headers:
         return Column(self.where, UNKNOWN, ast.get_source_segment(self.src, e) or ast.dump(e))
 
 
+def _is_table(node: ast.AST) -> bool:
+    return isinstance(node, ast.Call) and getattr(node.func, "id", getattr(node.func, "attr", None)) == "Table"
+
+
 def table_columns(path: Path, root: Path = ROOT) -> list[Column]:
-    """Every column of every ``Table(...)`` call in one source file."""
+    """Every column of every ``Table(...)`` call in one source file; a name in ``headers`` is looked up in the
+    innermost enclosing function, then in the module."""
     src = path.read_text(encoding="utf-8")
+    if "Table(" not in src:
+        return []
     tree = ast.parse(src)
-    scopes, inner = _bindings(tree), {}
-    # the innermost function wins: walk outer functions first so inner ones overwrite
-    for scope in sorted((s for s in scopes if s is not tree), key=lambda s: s.lineno):
-        for node in ast.walk(scope):
-            inner[node] = scope
+    module = _bindings(tree.body)
+    functions = [f for f in ast.walk(tree) if isinstance(f, ast.FunctionDef | ast.AsyncFunctionDef)]
     out = []
-    for node in ast.walk(tree):
-        if not (isinstance(node, ast.Call) and getattr(node.func, "id", getattr(node.func, "attr", None)) == "Table"):
-            continue
+    for node in (n for n in ast.walk(tree) if _is_table(n)):
         headers = node.args[0] if node.args else next((k.value for k in node.keywords if k.arg == "headers"), None)
         if headers is None:
             continue
-        names = [scopes[inner[node]], scopes[tree]] if node in inner else [scopes[tree]]
+        around = [f for f in functions if f.lineno <= node.lineno <= (f.end_lineno or f.lineno)]
+        names = [_bindings(list(ast.walk(max(around, key=lambda f: f.lineno)))), module] if around else [module]
         out += _Headers(src, f"{path.relative_to(root).as_posix()}:{node.lineno}", names).columns(headers)
     return out
 
