@@ -18,6 +18,9 @@ Rules
   are multiplied by 100 before rounding; ``scale`` multiplies both for any other display unit.
 * **Scientific**: when σ's decimal place is below 10⁻⁴, or |value| ≥ 10⁶, value and σ share one
   exponent: "(2.3 ± 1.1)e-6".
+* **Units on every column** (:func:`col`, :func:`missing_units`): a table header ends with its unit,
+  one of :data:`UNITS`, in parentheses ("max |z| (–)", "E (W/m²)"); a column of words is one of
+  :data:`LABEL_COLUMNS` or asks a question ("linear?").
 
 References
 ----------
@@ -192,3 +195,61 @@ def fmt_quantity(value: Any, unit: str = "", sigma: Any = None, digits: int = DE
     if unit == "%":
         return pct(v * scale, digits)
     return sig(v * scale, digits) + _unit_suffix(unit)
+
+
+# --- table column headers -------------------------------------------------------------------------------------
+# Every column of a report table says what its numbers are in: the header ends with its unit in parentheses,
+# "max |z| (–)", "β (°)", "E (W/m²)", written by :func:`col`; a column of words carries none: names and verdicts
+# (:data:`LABEL_COLUMNS`), or the answers to a header that asks a question ("faces > 65504?").
+# :func:`missing_units` finds the headers that do neither (``tests/infra/test_table_units.py`` checks every table
+# the experiments build).
+#
+# Radiometric units take the emitters' and the environment maps' values as radiance in W·m⁻²·sr⁻¹ (Mitsuba's
+# convention: it renders radiance and integrates it over solid angle and area, so irradiance is in W/m²).
+UNITS = frozenset({
+    "%",          # a fraction shown as per cent (0.0086 → "0.86 %"), relative errors included
+    "–",          # a dimensionless number shown as it is: z scores, p-values, χ²/d.o.f., a ratio such as E′/E
+    "×",          # a factor that multiplies (a scale, a ratio written "1.02×")
+    "°",          # an angle in degrees
+    "m",          # a length in metres
+    "px",         # pixels (a length or an area in pixels, or a count of them)
+    "texels",     # the side of a texture (shadow map, cube face, lat-long map) in texels
+    "s",          # seconds
+    "B",          # bytes
+    "count",      # a number of things (samples per normal, receivers, texels over a limit)
+    "W/m²",       # irradiance
+    "W/(m²·sr)",  # radiance
+    "W/sr",       # radiant intensity
+    "sr⁻¹",       # a BRDF value or a lobe's density over solid angle
+    "sr",         # a solid angle
+})
+# Columns that hold words, not quantities: names of things and verdicts.
+LABEL_COLUMNS = frozenset({
+    "technique", "environment", "light", "model", "scene", "shape", "side", "check", "case", "result", "status",
+    "listing", "section", "file", "engine", "reference", "method", "metric", "setting", "step", "comparison",
+    "kind", "probe", "seed", "reading", "BSDF", "parameter",
+    "power check", "table row",
+})
+
+
+def col(name: str, unit: str) -> str:
+    """A table column header: ``name`` and its ``unit`` (one of :data:`UNITS`) in parentheses:
+    col("max |z|", "–") → "max |z| (–)". An empty or unknown unit is a :class:`ValidateError`."""
+    if unit not in UNITS:
+        raise ValidateError(f"table column {name!r}: unit {unit!r} is not one of {', '.join(sorted(UNITS))}")
+    return f"{name} ({unit})"
+
+
+def header_unit(header: str) -> str | None:
+    """The unit a column header ends with; "" for a column of words: one of :data:`LABEL_COLUMNS`, or a question
+    ("faces > 65504?") whose cells answer it; None otherwise (no final parentheses, or parentheses that hold no
+    unit of :data:`UNITS`: "E (red)")."""
+    h = header.strip()
+    if h in LABEL_COLUMNS or h.endswith("?"):
+        return ""
+    return next((u for u in UNITS if h.endswith(f" ({u})")), None)
+
+
+def missing_units(headers: list[str]) -> list[str]:
+    """The headers of a table that name no unit (see :func:`header_unit`), in order."""
+    return [h for h in headers if header_unit(str(h)) is None]

@@ -16,6 +16,7 @@ from validate.errors import ValidateError
 from validate.experiments import Context
 from validate.experiments import hemisphere as exp
 from validate.experiments.hemisphere.compute import red_book_prediction
+from validate.format import missing_units
 from validate.local_models import irradiance
 from validate.local_models.irradiance import hemisphere as hm
 from validate.reference import area_irradiance as ai
@@ -179,6 +180,9 @@ def test_quick_experiment_end_to_end(quick_result) -> None:
     assert res.data["skies"]["two_tone"]["hemisphere"]["relative"]["max"] < 1e-3
     figs = [f.path for s in res.sections for f in s.figures]
     assert figs and all((out / p).is_file() for p in figs)
+    # units on every column of the tables a real run builds (tests/infra/test_table_units.py reads the source)
+    tables = [t for s in res.sections for t in s.tables]
+    assert len(tables) == 3 and not [h for t in tables for h in missing_units(t.headers)]
     json.dumps(res.to_json())
 
 

@@ -1,12 +1,12 @@
 """The experiments' per-cent ± forms for findings and section tables, on top of :mod:`validate.format`
-(the one number-formatting module: :func:`~validate.format.pct`, :func:`~validate.format.pct_fixed` are
-re-exported from it)."""
+(the one number-formatting module: :func:`~validate.format.pct`, :func:`~validate.format.pct_fixed` and the
+table-header form :func:`~validate.format.col` are re-exported from it)."""
 
 from __future__ import annotations
 
 import math
 
-from ..format import pct, pct_fixed
+from ..format import col, pct, pct_fixed
 
 
 def _missing(x: float | None) -> bool:
@@ -28,4 +28,4 @@ def pm_entry(entry: dict[str, float] | None) -> str:
     return f"{100 * entry['value']:.3g} ± {100 * entry['uncertainty']:.2g} %"
 
 
-__all__ = ["pct", "pct_fixed", "pm", "pm_entry"]
+__all__ = ["col", "pct", "pct_fixed", "pm", "pm_entry"]

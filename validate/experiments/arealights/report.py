@@ -10,8 +10,8 @@ from ...local_models import arealight
 from ...metrics.irradiance_error import WORST_CASE_MAX
 from ...report import plots
 from ..base import Context, Figure, Section, Table
+from ..formatting import col, pm
 from ..formatting import pct as _pct
-from ..formatting import pm
 from ..techniques import technique_entry
 from . import specular as asp
 from .claims import technique_measured
@@ -44,8 +44,8 @@ def _reference_section(m: dict[str, Any], ctx: Context) -> Section:
         rows.append([c["name"], f"{c['sigma_deg']:.2f}°", f"{c['samples_per_normal']:,}", f"{t['max_abs_z']:.2f}",
                      f"{c['unclipped_test']['max_abs_z']:.1f}", f"{c['scaled_test']['max_abs_z']:.1f}",
                      f"{t['critical_z']:.2f}", f"{t['max_abs_deviation']:.2e}"])
-    table = Table(["scene", "σ", "samples / normal", "max |z| closed form", "max |z| unclipped", "max |z| ×1.02",
-                   "critical |z|", "max |E_Mitsuba − E_closed|"], rows,
+    table = Table(["scene", "σ (°)", "samples / normal (count)", "max |z| closed form (–)", "max |z| unclipped (–)",
+                   "max |z| ×1.02 (–)", "critical |z| (–)", "max |E_Mitsuba − E_closed| (W/m²)"], rows,
                   f"Šidák-corrected two-sided test at α = {ALPHA:g} over the normals of each scene.")
     return Section("The reference: Mitsuba's irradiance meter vs the exact cap irradiance", [
         "A sphere light of radius r at distance d and a disc light of radius r facing the receiver on its axis are "
@@ -70,7 +70,7 @@ def _technique_section(m: dict[str, Any]) -> Section:
             row += [pm(v["flux.max"], v["flux.uncertainty"]),
                     pm(mit["value"], mit["uncertainty"]) if mit else "—"]
         rows.append(row)
-    headers = ["technique"] + [h for sc in scenes for h in (f"{sc}: closed form", f"{sc}: Mitsuba")]
+    headers = ["technique"] + [h for sc in scenes for h in (f"{sc}: closed form (%)", f"{sc}: Mitsuba (%)")]
     return Section("Every arealight technique on the three scenes", [
         "Error = max over the receiver's normals (θ = 0°…180° from the light) of |E′ − E| / Φ, Φ = 2π(1 − cos σ) L "
         "the cap's flux: against the validated closed form on a dense θ grid (± its float32 tolerance), and against "
@@ -108,8 +108,9 @@ def _alpha_section(m: dict[str, Any], ctx: Context) -> Section:
         "coefficients rotated with Y_lm(d), then Σ Â_l L_lm Y_lm(n))."],
         figures=[Figure(r_a, "error vs α, every technique", 420), Figure(r_r, "order 2 vs α (closed form)", 420),
                  Figure(r_e, "SH error vs light elevation", 420)],
-        tables=[Table(["α"] + list(sw["errors"]), rows, "max_θ |E′ − E| / Φ (closed form)."),
-                Table(["side", "α", "samples / normal", "max_n |E_2 − m_n| / Φ", "bounds (family-wise 1 %)"], dec,
+        tables=[Table(["α (°)"] + [col(n, "%") for n in sw["errors"]], rows, "max_θ |E′ − E| / Φ (closed form)."),
+                Table(["side", "α (°)", "samples / normal (count)", "max_n |E_2 − m_n| / Φ (%)",
+                       "family-wise 1 % bounds (%)"], dec,
                       "Order-2 SH against long Mitsuba runs either side of the range's end.")])
 
 

@@ -49,6 +49,7 @@ from ...reference import area_specular_render as asr
 from ...report import plots
 from ...stats import sidak_critical
 from ..base import Claim, Figure, Section, Table
+from ..formatting import col
 from ..techniques import Measured, technique_claims, technique_entry
 from .settings import NAME, SpecularSettings
 
@@ -443,10 +444,12 @@ def section(m: dict[str, Any], ctx: Any) -> Section:
                     else:
                         cells.append("—")
                 rows.append([shape, f"{a:g}", f"{sg:g}°", *cells])
-    table = Table(["shape", "α", "σ", *techs], rows, "Σ|L − L_ref| / Σ L_ref over the configurations (θ_v, θ_l, Δφ) "
+    table = Table(["shape", "α (–)", "σ (°)", *(col(t, "%") for t in techs)], rows,
+                  "Σ|L − L_ref| / Σ L_ref over the configurations (θ_v, θ_l, Δφ) "
                   f"= {', '.join(str(c) for c in CONFIGS)}; ± the reference quadrature. A tube's σ is the half-angle "
                   f"of its length (ℓ = 2 tan σ; radius {TUBE_RADIUS:.3f}), both axis orientations pooled.")
-    rtab = Table(["shape", "α", "(θ_v, θ_l, Δφ)", "Mitsuba render", "quadrature", "z"],
+    rtab = Table(["shape", "α (–)", "(θ_v, θ_l, Δφ) (°)", "Mitsuba render (W/(m²·sr))", "quadrature (W/(m²·sr))",
+                  "z (–)"],
                  [[r["shape"], f"{r['alpha']:g}", str(tuple(r["config"])), f"{r['render']:.5f} ± {r['se']:.5f}",
                    f"{r['quadrature']:.5f}", f"{(r['render'] - r['quadrature']) / max(r['se'], 1e-300):+.2f}"]
                   for r in m.get("render_check", [])],

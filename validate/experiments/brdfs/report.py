@@ -8,8 +8,8 @@ import numpy as np
 
 from ...report import plots
 from ..base import Context, Figure, Section, Table, fields_json
+from ..formatting import col, pm_entry
 from ..formatting import pct as _pct
-from ..formatting import pm_entry
 from ..techniques import technique_entry
 from .claims import vgroove_sigmas
 from .compute import Measurements
@@ -18,7 +18,7 @@ from .settings import NAME
 
 def _metric_table(m: Measurements, metric: str, mats: list[str], caption: str) -> Table:
     rows = [[t.name] + [pm_entry(m.metrics.get(t.name, {}).get(f"{metric}.{n}")) for n in mats] for t in m.techniques]
-    return Table(["technique"] + mats, rows, caption)
+    return Table(["technique"] + [col(n, "%") for n in mats], rows, caption)
 
 
 def sections(m: Measurements, ctx: Context) -> list[Section]:
@@ -33,7 +33,7 @@ def _plane_section(m: Measurements, ctx: Context) -> Section:
     keys = ["mitsuba"] + [t.name for t in m.techniques]
     plots.save_image_grid(p, [m.plane["images"][k] for k in keys], keys)
     el = m.plane["elongation"]
-    table = Table(["model", "elongation (x/y)", "plane_rel_l1"],
+    table = Table(["model", "elongation x/y (–)", "plane_rel_l1 (%)"],
                   [[k, f"{el[k]:.3f}" if k in el else "—",
                     pm_entry(m.metrics.get(k, {}).get("plane_rel_l1.mirror_beckmann_a0.2")) if k != "mitsuba" else "—"]
                    for k in keys], "Highlight widths at half maximum along / across the view azimuth, on the plane.")
@@ -77,7 +77,7 @@ def _gouraud_section(m: Measurements, ctx: Context) -> Section:
                          title="Modified Phong: per-vertex vs per-fragment", logx=True, logy=True, percent=True)
     rows = [[t] + [f"{100 * a:.3g} % / {100 * b:.3g} %" for a, b in zip(r["gouraud"], r["fragment"], strict=True)]
             for t, r in g["techniques"].items()]
-    table = Table(["technique"] + [f"{int(t)} triangles" for t in tris], rows,
+    table = Table(["technique"] + [f"{int(t)} triangles (%)" for t in tris], rows,
                   "Gouraud / per-fragment error against the same technique at the smooth sphere's exact normals "
                   "(mixed material: ρ = 0.3, k_s = 0.7, s = 20, σ = 0.3 rad).")
     return Section("Gouraud vs per-fragment shading", [
@@ -97,7 +97,7 @@ def _mitsuba_section(m: Measurements, ctx: Context) -> Section:
                        "white-furnace albedo W(v) = ∫ q(l, v) dω_l (absolute).")
     rows = [[step] + [f"{100 * r['rel_l1']:.3g} %  (energy × {r['energy_ratio']:.3g})" for r in col]
             for step, *col in zip(m.terms.get("steps", []), *m.terms.get("materials", {}).values(), strict=False)]
-    t4 = Table(["step"] + list(m.terms.get("materials", {})), rows,
+    t4 = Table(["step"] + [col(n, "%") for n in m.terms.get("materials", {})], rows,
                "From the corrected microfacet form to Ganovelli's printed Cook–Torrance, one term at a time "
                "(rel_l1 vs Mitsuba roughconductor, Beckmann; energy = reflected light / Mitsuba's).")
     figs = []
@@ -130,7 +130,7 @@ def _energy_section(m: Measurements, ctx: Context) -> Section:
     rows = [[f"{a:g}", f"{s:.3g}", f"{mw[0]:.4f} / {mw[1]:.4f}"]
             + [f"{sw['techniques'][t][i][0]:.4f} / {sw['techniques'][t][i][1]:.4f}" for t in sw["techniques"]]
             for i, (a, s, mw) in enumerate(zip(sw["alpha"], sw["blinn_exponent"], sw["mitsuba"], strict=True))]
-    table = Table(["α", "s_b", "Mitsuba"] + list(sw["techniques"]), rows,
+    table = Table(["α (–)", "s_b (–)", "Mitsuba (–)"] + [col(t, "–") for t in sw["techniques"]], rows,
                   "Furnace albedo W at θ_v = 0° / 60° (luminance; k_s = 1, F = 1).")
     return Section("Energy: white-furnace albedo vs exponent", [
         "W(v) = ∫ q(l, v) dω_l under a unit white sky, Gauss–Legendre quadrature, the same for every model."],

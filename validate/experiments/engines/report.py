@@ -8,7 +8,7 @@ from ...local_models import irradiance
 from ...local_models.irradiance.engines.worker import package_version
 from ...report import plots
 from ..base import Context, Figure, Section, Table
-from ..formatting import pct
+from ..formatting import col, pct
 from ..techniques import technique_entry
 from .claims import K_MAX, eligible
 from .compute import BABYLON_CLAMP, Measurements, engine_techniques
@@ -35,7 +35,8 @@ def metric_tables(m: Measurements) -> list[Table]:
             unc = max((st["max_uncertainty"] for st in sts if st), default=0.0)
             rows.append([env, f"{r['max_face_texel']:.4g}", f"± {pct(unc)}"]
                         + ["—" if st is None else f"{pct(st['mean'])} / {pct(st['max'])}" for st in sts])
-        tables.append(Table(["environment", "largest face texel", "reference ±"] + names, rows,
+        tables.append(Table(["environment", "largest face texel (W/(m²·sr))", "reference ± (%)"]
+                            + [col(n, "%") for n in names], rows,
                             f"{metric}: mean / max over normals; every registered irradiance technique."))
     return tables
 
@@ -48,8 +49,8 @@ def decomposition_table(m: Measurements) -> Table:
                     + [f"{r['techniques'][n]['faces_deviation']:.3g}" if n in r["techniques"] else "—" for n in names]
                     + [f"{r['polynomial_double_lobe_deviation']:.3g}" if "polynomial_double_lobe_deviation" in r
                        else "—"])
-    return Table(["environment", "face flux error", f"faces > {BABYLON_CLAMP:g}"]
-                 + [f"{n}: |E − E_SH9(faces)|/Φ" for n in names] + ["polynomial vs lobe-twice model"], rows,
+    return Table(["environment", "face flux error (–)", f"faces > {BABYLON_CLAMP:g}?"]
+                 + [f"{n}: |E − E_SH9(faces)|/Φ (–)" for n in names] + ["polynomial vs lobe-twice model (–)"], rows,
                  "Each engine against the exact-solid-angle SH9 of the very faces it received (max over normals and "
                  "channels, fraction of Φ).")
 
@@ -66,9 +67,9 @@ def clamp_table(m: Measurements) -> Table:
                      f"{r['half_overflow_texels']}" if "half_overflow_texels" in r else "—",
                      ("finite" if r["half_finite"] else "NOT finite") if "half_finite" in r else "—",
                      f"{r['half_deviation']:.3g}" if r.get("half_deviation") is not None else "—"])
-    return Table(["environment", "largest map texel", "largest face texel", "flux removed by the clamp",
-                  "babylon_sh (clamp)", "babylon_sh (no clamp)", "texels > 65504", "three_sh half-float",
-                  "half vs float32 |ΔE|/Φ"], rows,
+    return Table(["environment", "largest map texel (W/(m²·sr))", "largest face texel (W/(m²·sr))",
+                  "flux removed by the clamp (%)", "babylon_sh, clamp (%)", "babylon_sh, no clamp (%)",
+                  "texels > 65504 (count)", "three_sh half-float finite?", "half vs float32 |ΔE|/Φ (–)"], rows,
                  f"Babylon's per-channel clamp at {BABYLON_CLAMP:g} (flux-normalised luminance error, mean / max) and "
                  "three.js with half-float faces.")
 
@@ -81,7 +82,8 @@ def sweep_section(m: Measurements, ctx: Context) -> Section:
             rows.append([size, f"{s['max_face_texel'][i]:.4g}", pct(s["clamp_share"][i])]
                         + [f"{pct(t['mean'][i])} / {pct(t['max'][i])} ({t['faces_deviation'][i]:.2g})"
                            for t in s["techniques"].values()])
-        tables.append(Table(["face size N", "largest texel", "clamped flux"] + list(s["techniques"]), rows,
+        tables.append(Table(["face size N (texels)", "largest texel (W/(m²·sr))", "clamped flux (%)"]
+                            + [col(n, "%") for n in s["techniques"]], rows,
                             f"{env}: flux-normalised luminance error mean / max "
                             "(departure from the faces' exact SH9)."))
         path, rel = ctx.figure_path("engines", f"{env}_face_size.png")

@@ -10,6 +10,7 @@ from ...local_models import irradiance
 from ...local_models.irradiance import hemisphere as hm
 from ...report import plots
 from ..base import Context, Figure, Section, Table
+from ..formatting import col
 from ..formatting import pct as _pct
 from ..techniques import technique_entry
 from .compute import EXACT_TOLERANCE, technique_measured
@@ -53,15 +54,17 @@ def _formula_section(m: dict[str, Any], ctx: Context) -> Section:
     rows = [[f"{beta:g}", f"{mean:.5f} ± {se:.5f}", f"{t['exact']['predicted'][i]:.5f}", f"{t['exact']['z'][i]:+.2f}",
              f"{t['red_book']['predicted'][i]:.5f}", f"{t['red_book']['z'][i]:+.1f}"]
             for i, (beta, mean, se) in enumerate(zip(mt["beta_deg"], mt["mean"], mt["stderr"], strict=True))]
-    meter_table = Table(["β (°)", "Mitsuba E (red) ± s.e.", "exact π·C", "z", "Red Book π·C", "z"], rows,
+    meter_table = Table(["β (°)", "Mitsuba E, red ± s.e. (W/m²)", "exact π·C (W/m²)", "z (–)", "Red Book π·C (W/m²)",
+                         "z (–)"], rows,
                         f"Irradiance meter: {mt['passes']} passes × {mt['film']}² pixels × {mt['spp']} spp per tilt; "
                         f"critical |z| = {t['exact']['critical_z']:.2f} (Šidák, α = 0.01).")
     sky_rows = [[n, f"{r['peak_irradiance_luminance']:.4g}", _pct(r["formulas"]["exact"]["max"]),
                  f"{r['formulas']['exact']['worst_beta_deg']:g}°", _pct(r["formulas"]["red_book"]["max"]),
                  f"{r['formulas']['red_book']['worst_beta_deg']:g}°", _pct(r["convergence"])]
                 for n, r in m["skies"].items() if n.startswith("sunsky")]
-    sky_table = Table(["environment", "peak E (Y)", "exact-weight max", "at β", "Red Book max", "at β",
-                       "ref. convergence"], sky_rows, "sunsky: max over tilts and azimuths of |E′ − E| / max E.")
+    sky_table = Table(["environment", "peak E, Y (W/m²)", "exact-weight max (%)", "at β (°)", "Red Book max (%)",
+                       "at β (°)", "ref. convergence (%)"], sky_rows,
+                      "sunsky: max over tilts and azimuths of |E′ − E| / max E.")
     return Section("Hemisphere lighting: which formula is exact", [
         "For a sky of radiance L_s above the horizon and L_g below it, the view factor of the upper hemisphere from a "
         "plane tilted by β is (1 + cos β)/2, so E = π(L_s(1 + cos β)/2 + L_g(1 − cos β)/2): the cosine blend is exact. "
@@ -89,7 +92,7 @@ def _technique_section(m: dict[str, Any]) -> Section:
         "from the map itself, exact for a two-tone sky; SH of order 1, 2, 4; plug-ins) on the tilt × azimuth normals, "
         "flux-normalised luminance error |Y(E′) − Y(E)| / Φ_Y (mean / max ± the reference's uncertainty); every metric "
         "of validate.metrics.irradiance_error is in results.json."],
-        tables=[Table(["technique"] + skies, rows, "flux_luminance mean / max per sky.")])
+        tables=[Table(["technique"] + [col(sky, "%") for sky in skies], rows, "flux_luminance mean / max per sky.")])
 
 
 def _rel_at(tt: dict, formula: str, beta: float) -> float:

@@ -141,7 +141,8 @@ def comparison_row(c: Comparison) -> list[Any]:
             pct(c.bands[0].mean), fnum(c.flip.mean)]
 
 
-COMPARISON_HEADERS = ["BSDF", "parameter", "technique", "mean |ΔY|/Y ± MC", "p95", "bias ± σ", "θ_v < 10°", "FLIP mean"]
+COMPARISON_HEADERS = ["BSDF", "parameter", "technique", "mean |ΔY|/Y ± MC (%)", "p95 (%)", "bias ± σ (%)",
+                      "θ_v < 10° (%)", "FLIP mean (–)"]
 
 
 def sections(m: IblMeasurements, ctx: Context) -> list[Section]:
@@ -174,8 +175,10 @@ def map_section(m: IblMeasurements, figs: Figures) -> Section:
         f"quasi-uniform normals; the claim re-checks the chosen size on {st.claim_normals} rotated normals.",
         "SH9-derived maps differ from the convolution maps by at most: "
         + "; ".join(f"{k} {pct(v[0])} of Φ" for k, v in mp.sh.items()) + " (bound 9.375 %)."],
-        tables=[Table(["environment", "smallest cube face < 1 %", "smallest lat-long height < 1 %",
-                       f"cube {st.faces[0]}² max", f"cube {st.faces[-1]}² max", f"lat-long {st.heights[-1]} max"],
+        tables=[Table(["environment", "smallest cube face < 1 % (texels)",
+                       "smallest lat-long height < 1 % (texels)",
+                       f"cube {st.faces[0]}² max (%)", f"cube {st.faces[-1]}² max (%)",
+                       f"lat-long {st.heights[-1]} max (%)"],
                       rows, "Max error relative to the peak irradiance.")])
 
 
@@ -269,7 +272,8 @@ def concave_section(m: IblMeasurements, figs: Figures) -> Section:
     return Section(SEC_E, ["Local IBL shades every point as if it saw the whole hemisphere. The exact unoccluded "
                            "irradiance (quadrature at the G-buffer normals) isolates the occlusion error from the "
                            "map's own; AO is Mitsuba-ray-cast cosine-weighted visibility."],
-                   tables=[Table(["comparison", "mean (all pixels)", "mean (crater)", "bias (crater)", "FLIP"], rows)])
+                   tables=[Table(["comparison", "mean, all pixels (%)", "mean, crater (%)", "bias, crater (%)",
+                                  "FLIP (–)"], rows)])
 
 
 def data(m: IblMeasurements) -> dict[str, Any]:

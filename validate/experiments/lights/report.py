@@ -50,7 +50,7 @@ def techniques_section(m: Any, ctx: Context, name: str) -> Section:
             "differently). Area lights use the n = "
             f"{m.settings['technique_grid']} grid; the spot's cos^f uses the fitted f = "
             f"{m.data['spot']['fitted_exponent']:.1f}; windowed falloffs use range = {m.settings['range']:g} m."]
-    table = Table(["technique", "light", "mean", "max", "bias", "mismatch"], rows)
+    table = Table(["technique", "light", "mean (%)", "max (%)", "bias (%)", "mismatch (%)"], rows)
     return Section("Techniques against Mitsuba", text, tables=[table],
                    gallery=[figs[i:i + 3] for i in range(0, len(figs), 3)])
 
@@ -70,7 +70,8 @@ def attenuation_section(m: Any, ctx: Context, name: str) -> Section:
         f"so their error is scale and shape); best scale: the one intensity factor minimising the max error over the "
         f"scene's distances {lo:.2f}–{hi:.2f} m, and that max error."],
         figures=[Figure(rel, "relative error of each attenuation vs distance", 520)],
-        tables=[Table(["technique", "0.5 m", "1 m", "2 m", "5 m", "10 m", "best scale", "max error after scale"],
+        tables=[Table(["technique", "at 0.5 m (%)", "at 1 m (%)", "at 2 m (%)", "at 5 m (%)", "at 10 m (%)",
+                       "best scale (×)", "max error after scale (%)"],
                       rows)])
 
 
@@ -93,8 +94,8 @@ def standin_section(m: Any, ctx: Context, name: str) -> Section:
         "max-over-receivers error − 1 % (continuous, not smooth), bracketed on the grid and refined by Brent's "
         f"method on the closed forms to ± {st['xtol']:g} in d/size; the grid node is the first swept ratio past it."],
         figures=[Figure(rel, "max relative error vs distance / size", 520)],
-        tables=[Table(["light", "d/size for ≤ 1 %", "first grid node past it", "size", "receivers skipped"],
-                      rows)])
+        tables=[Table(["light", "d/size for ≤ 1 % (–)", "first grid node past it (–)", "size (m)",
+                       "receivers skipped (count)"], rows)])
 
 
 def grid_section(m: Any, ctx: Context, name: str) -> Section:
@@ -125,8 +126,9 @@ def grid_section(m: Any, ctx: Context, name: str) -> Section:
         "the visible fraction of the light (as in the shadows experiment); the fine grid itself is tested against "
         "Mitsuba's render (pooled z / max |z|)."],
         figures=[Figure(rel, "unshadowed convergence", 520), Figure(rel2, "shadowed convergence", 520)],
-        tables=[Table(["light", "lit", "penumbra", "umbra", "total", "penumbra slope", "penumbra px",
-                       "fine grid vs Mitsuba: pooled z / max |z|"], rows, f"errors at n = {gs['n'][-1]}")])
+        tables=[Table(["light", "lit (%)", "penumbra (%)", "umbra (%)", "total (%)", "penumbra slope (–)",
+                       "penumbra area (px)", "fine grid vs Mitsuba: pooled z / max |z| (–)"], rows,
+                      f"errors at n = {gs['n'][-1]}")])
 
 
 def spot_section(m: Any, ctx: Context, name: str) -> Section:
@@ -170,7 +172,7 @@ def lamp_section(m: Any, ctx: Context, name: str) -> Section:
         "fitted to it (least squares, solid-angle weighted) placed at the mouth with I₀ = L π r², and the 16×16 "
         "grid over the disc with the tube's shadow rays, against Mitsuba's render."],
         figures=[Figure(rel, "lamp profile and fitted spots", 520), Figure(rel2, "render and models", 720)],
-        tables=[Table(["model", "mean", "max", "bias", "pooled z"], rows)])
+        tables=[Table(["model", "mean (%)", "max (%)", "bias (%)", "pooled z (–)"], rows)])
 
 
 def linearity_section(m: Any, ctx: Context, name: str) -> Section:

@@ -166,17 +166,17 @@ def sections(m: Measurements, ctx: Context) -> list[Section]:
                for k, v in d.items()]
     pt_rows = [[k, f"{v['ratio_min']:.4g}", f"{v['ratio_max']:.4g}", f"{v['rel_l1']:.3g}"]
                for k, v in m.point.items() if isinstance(v, dict)]
-    head = ["model", "max |Δ|/peak", "mean |Δ|/peak", "scaled max", "scale", "±"]
+    head = ["model", "max |Δ|/peak (–)", "mean |Δ|/peak (–)", "scaled max (–)", "scale (×)", "± (–)"]
     return [
         Section("Listing index", [f"GL: {m.gl.get('renderer') or m.gl.get('reason')}"],
-                tables=[Table(["seed", "section", "listing", "status", "technique", "GLSL vs Python (rel.)",
-                               "error vs Mitsuba"],
+                tables=[Table(["seed", "section", "listing", "status", "technique", "GLSL vs Python, relative (–)",
+                               "error vs Mitsuba (–)"],
                               _index_rows(m), "every lighting listing of the seeds; edits in docs/listings.md")]),
         Section("Cook–Torrance as printed (Ganovelli eq. 6.60–6.66)", tables=[
-            Table(["α", "reading", "energy vs Mitsuba", "rel. L1 error"], ct_rows,
+            Table(["α (–)", "reading", "energy vs Mitsuba (–)", "rel. L1 error (–)"], ct_rows,
                   "± = |grid n − grid n/2|; Mitsuba roughconductor (Beckmann)")]),
         Section("Point lights as printed", tables=[
-            Table(["technique", "min E/E_ref", "max E/E_ref", "rel. L1"], pt_rows,
+            Table(["technique", "min E/E_ref (–)", "max E/E_ref (–)", "rel. L1 (–)"], pt_rows,
                   f"{m.point['receivers']} receivers on y = 0; reference: {m.point['reference']}")]),
         Section("Überlight listings against the projector", tables=[
             Table(head, _model_rows(m.uberlight_book), "Fore June's listing, Figure 20-17's values, sphere pixels"),

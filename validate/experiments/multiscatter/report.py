@@ -8,6 +8,7 @@ import numpy as np
 
 from ...report import plots
 from ..base import Context, Figure, Section, Table, fields_json
+from ..formatting import col
 from ..techniques import technique_entry
 from .compute import Measurements, metric, metrics
 from .settings import NAME
@@ -89,8 +90,8 @@ def sections(m: Measurements, ctx: Context) -> list[Section]:
         rows.append([t.name, *(f"{100 * d[k]['value']:.3g} ± {100 * d[k]['uncertainty']:.2g} %" if k in d else "—"
                                for k in ("furnace_error.f0_1", "furnace_error.metalness")),
                      *(f"{d[f'albedo.f0_{f:g}']['value']:.4f}" for f in s.f0s)])
-    table = Table(["technique", "furnace_error.f0_1", "furnace_error.metalness",
-                   *(f"W (F₀ = {f:g}, α = 1, μ_v = 0.5)" for f in s.f0s)], rows,
+    table = Table(["technique", "furnace_error.f0_1 (%)", "furnace_error.metalness (%)",
+                   *(f"W, F₀ = {f:g}, α = 1, μ_v = 0.5 (–)" for f in s.f0s)], rows,
                   "Max |W − 1| of the white-furnace albedo W(v) = ∫ q dω_l over the α × μ_v (× metalness) grids; "
                   "± = |Δ| between n and n/2 quadrature nodes.")
     j = s.mus.index(0.5) if 0.5 in s.mus else 0
@@ -103,11 +104,12 @@ def sections(m: Measurements, ctx: Context) -> list[Section]:
     p, rel = ctx.figure_path(NAME, "furnace_vs_alpha.png")
     plots.save_line_plot(p, list(s.alphas), series, xlabel="GGX α", ylabel=f"W at μ_v = {s.mus[j]:g}",
                          title="White furnace (F = 1; base colour 1)", hlines={"target": 1.0})
-    pub = Table(["roughness", "α", "NoV", "three.js 33983", "this table"],
+    pub = Table(["roughness (–)", "α (–)", "NoV (–)", "three.js 33983 (–)", "this table (–)"],
                 [[q["roughness"], q["alpha"], q["nov"], q["published"], f"{q['table']:.4f}"] for q in m.published],
                 "Single-scattering GGX albedo E(μ) (F = 1) against three.js PR 33983's published furnace column.")
-    walk = Table(["α", "F₀", "walk W (Heitz 2016)", *[t.name for t in m.techniques if t.name == "cook_torrance"
-                                                       or t.meta.get("compensation")]],
+    walk = Table(["α (–)", "F₀ (–)", "walk W, Heitz 2016 (–)", *[col(t.name, "–") for t in m.techniques
+                                                                 if t.name == "cook_torrance"
+                                                                 or t.meta.get("compensation")]],
                  [[w["alpha"], f, f"{a:.4f} ± {e:.4f}", *[f"{w['techniques'][t.name][k]:.4f}" for t in m.techniques
                                                           if t.name == "cook_torrance" or t.meta.get("compensation")]]
                   for w in m.walk for k, (f, a, e) in enumerate(zip(w["f0s"], w["albedo"], w["albedo_se"],
@@ -118,14 +120,15 @@ def sections(m: Measurements, ctx: Context) -> list[Section]:
     tables = [table, pub, walk]
     if m.bsdf and "skipped" not in m.bsdf:
         b = m.bsdf
-        tables.append(Table(["α", "θ_i", "X² / d.o.f.", "p", "harness-only p", "p, sampler α × 1.1"],
+        tables.append(Table(["α (–)", "θ_i (°)", "X² / d.o.f. (–)", "p (–)", "harness-only p (–)",
+                             "p, sampler α × 1.1 (–)"],
                             [[r["alpha"], r["theta_i"], f"{r['chi2']:.0f} / {r['dof']}", f"{r['p_value']:.3g}",
                               f"{r['harness_p_value']:.2g}", f"{q['p_value']:.2g}"]
                              for r, q in zip(b["chi2"], b["chi2_power"], strict=True)],
                             "The random walk as a Mitsuba BSDF (microsurface_walk): χ² of sample() against pdf() "
                             "(Mitsuba's ChiSquareTest histogram; expected counts from pdf() on the harness's grid "
                             "with their Monte Carlo variance added; 'harness-only' treats them as exact)."))
-        tables.append(Table(["α", "F₀", "max |z| reciprocity", "distant-G₁ NEE"],
+        tables.append(Table(["α (–)", "F₀ (–)", "max |z| reciprocity (–)", "max |z| distant-G₁ NEE (–)"],
                             [[r["alpha"], r["f0"], f"{r['max_abs_z']:.2f}", f"{q['max_abs_z']:.1f}"]
                              for r, q in zip(b["reciprocity"], b["reciprocity_power"], strict=True)],
                             "Reciprocity of the one-sided stochastic eval: z = (f̂(a→b) − f̂(b→a))/se over direction "

@@ -46,9 +46,9 @@ def scene_table(sr: SceneResult) -> Table:
                          f"{sr.reference_energy[kind][0]:.5f} ± {sr.reference_energy[kind][1]:.1e}"])
     for name, why in sr.skipped.items():
         rows.append([name, "skipped", why, "", "", "", "", "", "", ""])
-    return Table(["engine", "reference", "pixels", "accepted (%)", "max|z| / z*", "mean rel. err. (%)",
-                  "max rel. err. (%)", "mean rel. bias (%)", "engine mean (W sr⁻¹ m⁻²)",
-                  "reference mean (W sr⁻¹ m⁻²)"], rows, caption=sr.scene.name)
+    return Table(["engine", "reference", "pixels (px)", "accepted (%)", "max|z| / z* (–)", "mean rel. err. (%)",
+                  "max rel. err. (%)", "mean rel. bias (%)", "engine mean (W/(m²·sr))", "reference mean (W/(m²·sr))"],
+                 rows, caption=sr.scene.name)
 
 
 def scene_figure(sr: SceneResult, ctx: Any) -> Figure | None:

@@ -14,8 +14,8 @@ from ...metrics.published import PUBLISHED_TOLERANCE
 from ...reference import pathtrace
 from ...report import plots
 from ..base import Context, Figure, Section, Table
+from ..formatting import col, pm
 from ..formatting import pct as _pct
-from ..formatting import pm
 from ..techniques import technique_entry
 from .claims import ATTAINS_BOUND, CMGEN, PAPER_MAX, PAPER_MEAN, ZH3_COMPARED, foreign_thresholds
 from .compute import Measurements
@@ -91,8 +91,9 @@ def metric_section(m: Measurements) -> Section:
                      _pct(e["flux_rgb"]["max"]),
                      _pct(e["relative"]["mean"]), _pct(e["relative"]["max"]), _pct(e["peak"]["mean"]),
                      _pct(e["peak"]["max"])])
-    table = Table(["environment", "kind", "Φ_Y", "ref. convergence", "flux mean", "flux max", "flux max (worst RGB)",
-                   "relative mean", "relative max", "peak mean", "peak max"], rows,
+    table = Table(["environment", "kind", "Φ_Y (W/m²)", "ref. convergence (%)", "flux mean (%)", "flux max (%)",
+                   "flux max, worst RGB (%)", "relative mean (%)", "relative max (%)", "peak mean (%)",
+                   "peak max (%)"], rows,
                   "SH9 error under every metric (definitions in README § Metrics).")
     return Section("Which metric reproduces the paper", [
         "R&H 2001 state that SH9 irradiance has average error < 1 % and maximum error < 5 % on their "
@@ -112,7 +113,8 @@ def published_section(m: Measurements) -> Section:
         "Coefficients of the paper's probes computed in R&H's angular-map convention and compared with "
         "the published table after fitting one exposure factor per probe by least squares "
         f"(threshold ±{PUBLISHED_TOLERANCE})."] + notes,
-        tables=[Table(["file", "table row", "exposure factor", "max |c/s − table|", "±0.01"], rows)] if rows else [])
+        tables=[Table(["file", "table row", "exposure factor (×)", "max |c/s − table| (W/(m²·sr))", "within ±0.01?"],
+                      rows)] if rows else [])
 
 
 def technique_section(m: Measurements) -> Section:
@@ -131,7 +133,7 @@ def technique_section(m: Measurements) -> Section:
         "plug-in, evaluated on every environment through the family's output contract: flux-normalised "
         "luminance error, mean / max, ± the reference's uncertainty. Declared thresholds become claims "
         "sh9.technique.<name>.<metric>, judged on the worst environment in the technique's scope."],
-        tables=[Table(["technique"] + envs, rows)])
+        tables=[Table(["technique"] + [col(e, "%") for e in envs], rows)])
 
 
 def cmgen_section(m: Measurements) -> Section | None:
@@ -154,8 +156,8 @@ def cmgen_section(m: Measurements) -> Section | None:
         "by sinc⁴(πl/c) and bisects the cut-off c in [3, 13] per channel for the widest window whose windowed "
         "irradiance stays ≥ 0 on the whole sphere. Minima are over 20 000 normals, as fractions of Φ (worst "
         "channel); the error bound is the Hölder bound of the chosen window's kernel."],
-        tables=[Table(["environment", "cut-off c", "(w1, w2)", "kernel bound", "flux max (worst RGB)",
-                       "min E′ / Φ", "rejected c (min)", "min without window"], rows)])
+        tables=[Table(["environment", "cut-off c (–)", "(w1, w2) (–)", "kernel bound (%)", "flux max, worst RGB (%)",
+                       "min E′ / Φ (%)", "rejected c (–)", "min without window (%)"], rows)])
 
 
 def crosscheck_section(m: Measurements, ctx: Context) -> Section | None:
@@ -171,8 +173,8 @@ def crosscheck_section(m: Measurements, ctx: Context) -> Section | None:
         "quadrature averaged over the pixel's footprint, z = (render − quadrature)/standard error. The relative "
         f"difference is taken only where the quadrature is ≥ {pathtrace.REL_FLOOR:g} of its mean over the tested "
         "pixels (a near-zero denominator measures nothing); 'masked' is the share of pixel-channels left out."],
-        tables=[Table(["environment", "pixels", "max |z|", "critical z", "mean z", "χ²/dof", "max rel. diff",
-                       "masked", "result"], rows)],
+        tables=[Table(["environment", "pixels (px)", "max |z| (–)", "critical z (–)", "mean z (–)", "χ²/dof (–)",
+                       "max rel. diff (%)", "masked (%)", "result"], rows)],
         gallery=[crosscheck_figures(n, d, ctx) for n, d in m.crosschecks.items()])
 
 
@@ -184,7 +186,8 @@ def sections(m: Measurements, ctx: Context) -> list[Section]:
         metric_section(m), published_section(m), technique_section(m),
         *[x for x in [cmgen_section(m)] if x is not None],
         Section("SH9 coefficients (Mitsuba frame: y up, −z forward; L00, L1m1, L10, L11, L2m2, L2m1, L20, "
-                "L21, L22)", tables=[Table(["environment"] + list(shm.SH9_NAMES), coeff_rows)]),
+                "L21, L22)", tables=[Table(["environment"] + [col(n, "W/(m²·sr)") for n in shm.SH9_NAMES],
+                                           coeff_rows)]),
         Section("Environments", ["Per environment: the environment, the reference sphere and the SH9 sphere "
                                  "(front view from +z, same exposure), the error over all normals and the "
                                  "error against SH order."],

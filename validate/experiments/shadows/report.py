@@ -181,8 +181,8 @@ def comparison_table(m: Measurements) -> Table:
                          cell["false_shadow"], cell["false_light"], cell["leak"],
                          f"{v['flip'][0]:.4f} ± {v['flip'][1]:.4f}" if np.isfinite(v["flip"][0]) else "—",
                          str(t.meta.get("memory_bytes_per_texel", "—"))])
-    return Table(["r (m)", "technique", "total", "lit", "penumbra", "umbra", "false shadow (acne)",
-                  "false light (peter-panning)", "light leak", "FLIP", "bytes/texel"], rows,
+    return Table(["r (m)", "technique", "total (%)", "lit (%)", "penumbra (%)", "umbra (%)", "false shadow, acne (%)",
+                  "false light, peter-panning (%)", "light leak (%)", "FLIP (–)", "memory per texel (B)"], rows,
                  f"Every registered shadow technique at {m.settings.default_resolution}², per light radius (|ΔY| / "
                  "L_norm ± the reference's mean σ / L_norm; false shadow: share of the lit area with V′ < ½; false "
                  "light: share of the umbra with V′ > ½, ± binomial standard error; light leak: mean V′ over the "
@@ -195,8 +195,9 @@ def resolution_table(m: Measurements) -> Table:
     names = [t.name for t in m.techniques]
     rows = [[str(q)] + [pct(m.sweep[q][m.r_pt][n].total.mean, 3) for n in names] +
             [pct(m.sweep[q][m.r_max][n].regions["penumbra"].mean) for n in names] for q in ress]
-    return Table(["resolution"] + [f"{n} total, r = {m.r_pt:g}" for n in names] +
-                 [f"{n} penumbra, r = {m.r_max:g}" for n in names], rows, "Every technique vs shadow-map resolution.")
+    return Table(["resolution (texels)"] + [f"{n} total, r = {m.r_pt:g} m (%)" for n in names] +
+                 [f"{n} penumbra, r = {m.r_max:g} m (%)" for n in names], rows,
+                 "Every technique vs shadow-map resolution.")
 
 
 def _bias_table(m: Measurements) -> list[Table]:
@@ -205,7 +206,8 @@ def _bias_table(m: Measurements) -> list[Table]:
         return []
     rows = [[f"({f:g}, {u:g})", pct(t, 3), pct(a), pct(pp)] for f, u, t, a, pp in
             zip(b["factor"], b["units"], b["total"], b["false_shadow"], b["false_light"], strict=True)]
-    return [Table(["glPolygonOffset(factor, units)", "total error", "false shadow (lit area)", "false light (umbra)"],
+    return [Table(["glPolygonOffset factor, units (–)", "total error (%)", "false shadow, lit area (%)",
+                   "false light, umbra (%)"],
                   rows, f"Hard shadows, {b['resolution']}², r = {b['radius']:g} m")]
 
 
@@ -216,7 +218,8 @@ def _bleeding_table(m: Measurements) -> list[Table]:
         return []
     rows = [[t.name] + [f"{pct(b[c][t.name]['leak'], 3)} / {pct(b[c][t.name]['leak_area'], 1)}" for c in cases]
             for t in m.techniques if all(t.name in b[c] for c in cases)]
-    return [Table(["technique"] + [f"{c}: occluders at {b[c]['depths'][0]:g} / {b[c]['depths'][1]:g} m" for c in cases],
+    return [Table(["technique"] + [f"{c}: occluders at {b[c]['depths'][0]:g} / {b[c]['depths'][1]:g} m (%)"
+                                   for c in cases],
                   rows, f"Light bleeding on a synthetic {b['resolution']}² map: mean V′ / share of receivers with "
                         f"V′ > 0.1, receivers at {b['receiver_depth']:g} m behind both occluders (exact V = 0).")]
 

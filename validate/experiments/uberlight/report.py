@@ -9,6 +9,7 @@ import numpy as np
 from ...local_models import uberlight as family
 from ...report import plots
 from ..base import Context, Figure, Section, Table
+from ..formatting import col
 from ..techniques import technique_entry
 from .compute import Measurements
 from .settings import NAME
@@ -37,8 +38,8 @@ def projector_section(m: Any, ctx: Context) -> Section:
         f"{m.settings['texture']}² texels); edge widths 0, roundness 1. Errors are |L − L_ref|/peak over "
         f"{p['compared_pixels']} receiver pixels ({p['edge_pixels']} within one texel of the hard edge excluded). "
         "Power columns: the same metric with the width 1 % too large, and with the light rolled 1°."],
-        figures=[fig], tables=[Table(["technique", "max_rel", "mean_rel", "after best scale", "power: width +1 %",
-                                      "power: roll 1°"], rows)])
+        figures=[fig], tables=[Table(["technique", "max_rel (–)", "mean_rel (–)", "after best scale (–)",
+                                      "power: width +1 % (–)", "power: roll 1° (–)"], rows)])
 
 
 def barndoor_section(m: Any, ctx: Context) -> Section:
@@ -56,16 +57,17 @@ def barndoor_section(m: Any, ctx: Context) -> Section:
                           f"fitted überlight − barn door, {key}"))
     trows = [[name] + [f"{v['rms_rel']:.4f} ± {v['uncertainty']:.4f}" for v in per.values()]
              for name, per in m.data["barndoor_techniques"].items()]
-    heads = ["technique"] + list(next(iter(m.data["barndoor_techniques"].values())))
+    heads = ["technique"] + [col(k, "–") for k in next(iter(m.data["barndoor_techniques"].values()))]
     return Section("Against a barn-door luminaire (path-traced penumbra)", [
         "A Lambertian disc of radius r in a black housing (depth h) behind a rectangular "
         "aperture (or a superellipse one of the überlight's own roundness); the überlight's "
         "shape and I₀ are fitted by least squares (origin at the disc centre, 1/d² applied). "
         "edge_rms: RMS error of the beam fraction over the penumbra band, Monte Carlo variance removed; "
         "budget: the claim's threshold."],
-        figures=figs, tables=[Table(["r (m)", "hole roundness", "width", "height", "width edge", "height edge",
-                                     "roundness", "I₀",
-                                     "predicted edge", "edge_rms", "budget", "edges × 1.5", "hard edge"], rows),
+        figures=figs, tables=[Table(["r (m)", "hole roundness (–)", "width (–)", "height (–)", "width edge (–)",
+                                     "height edge (–)", "roundness (–)", "I₀ (W/sr)",
+                                     "predicted edge (–)", "edge_rms (–)", "budget (–)", "edges × 1.5 (–)",
+                                     "hard edge (–)"], rows),
                               Table(heads, trows, "RMS of (L − L_ref)/peak per technique with the fitted shape")])
 
 
@@ -79,7 +81,7 @@ def sweep_section(m: Any, ctx: Context) -> Section:
     return Section("Roundness and edge sweeps (Orange Book Fig. 12.3)", [
         "The inverse-square überlight against the projector for each roundness (edges 0) and each edge width "
         "(roundness 1); soft edges are smooth textures, so they compare everywhere but the one-texel band."],
-        figures=figs, tables=[Table(["setting", "max_rel", "mean_rel"], rows)])
+        figures=figs, tables=[Table(["setting", "max_rel (–)", "mean_rel (–)"], rows)])
 
 
 def falloff_section(m: Any, ctx: Context) -> Section:

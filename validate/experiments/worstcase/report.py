@@ -80,15 +80,16 @@ def _figure(m: Measurements, ctx: Context, name: str) -> Figure:
 
 
 def sections(m: Measurements, ctx: Context) -> list[Section]:
-    lin = Table(["technique", "linearity defect / Φ", "channel crosstalk / Φ", "linear"],
+    lin = Table(["technique", "linearity defect / Φ (–)", "channel crosstalk / Φ (–)", "linear?"],
                 [[n, f"{v['defect']:.3g}", f"{v['crosstalk']:.3g}", "yes" if v["linear"] else "no"]
                  for n, v in m.linearity.items()], "f(aL₁ + bL₂) vs a f(L₁) + b f(L₂), random HDR maps + sun/sky")
-    cert = Table(["technique", "certificate (max)", "±", "levels", "mean certificate"],
+    cert = Table(["technique", "certificate, max (%)", "± (%)", "levels (%)", "mean certificate (%)"],
                  [[n, pct4(c["flux_luminance.max"].value), pct4(c["flux_luminance.max"].uncertainty),
                    "; ".join(f"H={h}: {pct4(v)}" for h, v in c["flux_luminance.max"].levels),
                    pct4(c["flux_luminance.mean"].value) if "flux_luminance.mean" in c else "—"]
                   for n, c in m.certificates.items()], "sup over all non-negative lighting, flux-normalised")
-    srch = Table(["technique", "metric", "method", "worst found", "± (2H)", "restarts", "random search", "probe"],
+    srch = Table(["technique", "metric", "method", "worst found (%)", "± 2H (%)", "restarts (%)", "random search (%)",
+                  "probe"],
                  [[n, r.metric, r.method, pct4(r.value), pct4(r.uncertainty),
                    ", ".join(pct4(v) for v in r.restart_values),
                    pct4(r.random_value) if r.random_value == r.random_value else "—", m.probes.get(f"{n}:{met}", "")]
