@@ -74,3 +74,17 @@ def test_builtin_environment_by_name() -> None:
     assert procedural.builtin_environment("two_tone", quick=True).height == 128
     with pytest.raises(ValidateError, match="unknown built-in environment 'nope'"):
         procedural.builtin_environment("nope")
+
+
+def test_cell_average_on_the_caps_rows_equals_every_row() -> None:
+    """The row restriction of a cap's cell average (theta_support) gives the same texels, bit for bit."""
+    from validate.scenes.procedural import _cell_average, cap, direction_from_elevation
+
+    for elevation, half in ((40.0, 3.0), (88.0, 5.0), (-30.0, 2.0)):
+        inside = cap(direction_from_elevation(elevation, -60.0), half)
+        polar = np.radians(90.0 - elevation)
+        support = (polar - np.radians(half), polar + np.radians(half))
+        full = _cell_average(64, 128, inside, 4)
+        assert full.any() and np.array_equal(_cell_average(64, 128, inside, 4, support), full)
+    # a wrong support (the cap's mirror image) loses the cap: the check can fail
+    assert not _cell_average(64, 128, inside, 4, (np.pi - support[1], np.pi - support[0])).any()

@@ -301,10 +301,11 @@ class Context:
         a scanned directory that failed validation. Explicitly named files raise instead.
         """
         if "envs" not in self._env_cache:
-            envs = list(procedural.builtin_environments(self.quick))
             only = set(probes.read_aliases()) if self.quick else None  # quick: the paper's probes only
+            # probes first: a bad probe file is refused before seconds of built-in maps are made
             found, skipped = probes.load_probes(self.probes_dir, self.probe_files, self.layout,
                                                 self.clamp_negative, log=self.log, only_stems=only)
+            envs = list(procedural.builtin_environments(self.quick))
             self._env_cache["envs"] = (envs + found, skipped)
         return self._env_cache["envs"]
 

@@ -62,20 +62,32 @@ BANDLIMITED_SH = np.array([
 ])
 
 
-def _cell_average(height: int, width: int, fn: Callable[[np.ndarray], np.ndarray], s: int) -> np.ndarray:
-    """Mean of fn over s×s stratified points in each texel cell (cells clipped at the poles)."""
+def _cell_average(height: int, width: int, fn: Callable[[np.ndarray], np.ndarray], s: int,
+                  theta_support: tuple[float, float] | None = None) -> np.ndarray:
+    """Mean of fn over s×s stratified points in each texel cell (cells clipped at the poles).
+
+    ``theta_support = (θ_lo, θ_hi)``: fn is exactly 0 at every direction whose polar angle lies outside it (a
+    cap of half-angle a about polar angle θ_c has support θ_c ± a, since the angle between two directions is at
+    least the difference of their polar angles); only the rows whose cells meet it (one row of margin either
+    side) are evaluated, the others are 0 — the same numbers, bit for bit, as evaluating every row."""
     out = np.zeros((height, width, 3), dtype=np.float64)
     e = latlong.row_cell_edges(height)
+    lo, hi = 0, height
+    if theta_support is not None:
+        meets = np.flatnonzero((e[1:] >= theta_support[0]) & (e[:-1] <= theta_support[1]))
+        if meets.size == 0:
+            return out.astype(np.float32)
+        lo, hi = max(int(meets[0]) - 1, 0), min(int(meets[-1]) + 2, height)
     ph = latlong.col_phi(width)
     dph = 2 * np.pi / width
     for a in range(s):
         # stratify in cos θ between the cell edges so samples are area-uniform
-        c0, c1 = np.cos(e[:-1]), np.cos(e[1:])
+        c0, c1 = np.cos(e[lo:hi]), np.cos(e[lo + 1:hi + 1])
         ct = c0 + (c1 - c0) * (a + 0.5) / s
         th = np.arccos(np.clip(ct, -1, 1))
         for b in range(s):
             tt, pp = np.meshgrid(th, ph + ((b + 0.5) / s - 0.5) * dph, indexing="ij")
-            out += fn(latlong.spherical_to_direction(tt, pp))
+            out[lo:hi] += fn(latlong.spherical_to_direction(tt, pp))
     return (out / (s * s)).astype(np.float32)
 
 
@@ -124,7 +136,9 @@ def near_directional(height: int = NEAR_DIRECTIONAL_HEIGHT, half_angle_deg: floa
                      elevation_deg: float = NEAR_DIRECTIONAL_ELEVATION_DEG) -> Environment:
     inside = cap(direction_from_elevation(elevation_deg, NEAR_DIRECTIONAL_AZIMUTH_DEG), half_angle_deg)
     fn = lambda d: inside(d) * np.array([1.0, 1.0, 1.0])  # noqa: E731
-    return Environment("near_directional", _cell_average(height, 2 * height, fn, 6),
+    polar = np.radians(90.0 - elevation_deg)
+    support = (polar - np.radians(half_angle_deg), polar + np.radians(half_angle_deg))
+    return Environment("near_directional", _cell_average(height, 2 * height, fn, 6, support),
                        description=f"{half_angle_deg:g}° disc on black: the directional worst case of SH9",
                        layout="procedural")
 
