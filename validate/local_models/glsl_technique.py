@@ -117,7 +117,7 @@ def parse_glsl(path: str | Path, text: str | None = None) -> GLSLSource:
     src.description = fields.pop("description", "")
     src.source = fields.pop("source", "")
     src.thresholds = _thresholds(where, fields.pop("thresholds", ""))
-    for key in ("lights", "shapes"):  # the light types / area shapes a light or arealight technique models
+    for key in ("lights", "shapes", "brdf"):  # light types / area shapes / BRDF models the technique handles
         if key in fields:
             src.meta[key] = tuple(s.strip() for s in fields.pop(key).split(",") if s.strip())
     src.meta.update({k: _meta_value(v) for k, v in fields.items()})  # seed=…, memory_bytes_per_texel=4, …
@@ -253,11 +253,17 @@ def evaluate(src: GLSLSource, inputs: list[np.ndarray], uniforms: Mapping[str, A
     n = len(inputs[0])
     w, h = layout(n)
     packed = {f"u_in{k}": pack(a, w, h) for k, a in enumerate(inputs)}
-    if src.runtime == "webgl2":
-        out = _runtime("webgl2").run(prog, (w, h), packed, dict(textures or {}), dict(uniforms))
+    if src.runtime == "webgl2":  # a lazy (callable) texture or uniform is built here: every one is bound
+        out = _runtime("webgl2").run(prog, (w, h), packed, {k: _value(a) for k, a in (textures or {}).items()},
+                                     {k: _value(a) for k, a in uniforms.items()})
     else:
         out = _run_egl(_runtime(src.runtime), prog, (w, h), packed, dict(textures or {}), uniforms)
     return out.reshape(-1, 4)[:n]
+
+
+def _value(value: Any) -> Any:
+    """A texture or uniform value; a callable one (the specular family's prefiltered map) is built on use."""
+    return value() if callable(value) else value
 
 
 def _run_egl(rt: Any, prog: Any, size: tuple[int, int], packed: dict[str, np.ndarray],
@@ -268,14 +274,14 @@ def _run_egl(rt: Any, prog: Any, size: tuple[int, int], packed: dict[str, np.nda
         made = []
         bound = list(packed.items()) + [(k, a) for k, a in textures.items() if k in prog]  # unused: not uploaded
         for unit, (name, arr) in enumerate(bound):
-            tex = rt.float_texture(arr)  # NEAREST; read with texelFetch (bilinear: env_radiance, in float32)
+            tex = rt.float_texture(_value(arr))  # NEAREST; read with texelFetch (bilinear: env_radiance, in float32)
             tex.use(location=unit)
             made.append(tex)
             if name in prog:
                 prog[name].value = unit
         for name, value in uniforms.items():
             if name in prog:
-                prog[name].write(glsl_families.uniform_bytes(value))
+                prog[name].write(glsl_families.uniform_bytes(_value(value)))
         fbo = rt.float_target(*size)
         rt.render_fullscreen(prog, fbo)
         out = egl.read_rgba32f(fbo)
@@ -290,12 +296,30 @@ def make_fn(src: GLSLSource) -> Callable[..., np.ndarray]:
     spec = glsl_families.SPECS[src.family]
 
     def fn(*args: Any, **kwargs: Any) -> np.ndarray:
+        _check_handled(src, args, kwargs)
         return spec.call(lambda inputs, uniforms, textures=None: evaluate(src, inputs, uniforms, textures),
                          *args, **kwargs)
     fn.__module__ = f"validate.local_models.{src.family}" if src.meta.get("builtin") else "glsl_plugin"
     fn.__qualname__ = fn.__name__ = src.name
     fn.__doc__ = src.description or f"GLSL technique {src.path}"
     return fn
+
+
+HANDLED = {"specular": ("brdf", 1, "model", "BRDF model"), "specular_arealight": ("light", 0, "shape", "light shape")}
+
+
+def _check_handled(src: GLSLSource, args: tuple, kwargs: Mapping[str, Any]) -> None:
+    """A specular (specular_arealight) file whose header lists ``brdf=`` (``shapes=``) refuses another BRDF model
+    (light shape), one line naming the file, as the Python techniques refuse what they do not model."""
+    if src.family not in HANDLED:
+        return
+    arg, pos, key, what = HANDLED[src.family]
+    listed = src.meta.get("brdf" if src.family == "specular" else "shapes")
+    given = kwargs.get(arg, args[pos] if len(args) > pos else None)
+    value = given.get(key) if isinstance(given, Mapping) else None
+    if listed and value not in listed:
+        raise ValidateError(f"technique '{src.name}' ({src.family}, {src.path}): {what} {value!r}; the file's header "
+                            f"lists {', '.join(listed)}")
 
 
 def technique_from_file(path: str | Path, family_name: str | None = None, *, runtime: str | None = None,
