@@ -22,6 +22,7 @@ from validate.local_models import glsl_technique as gt
 
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "examples" / "my_brdf.glsl"
+SPECULAR_EXAMPLES = (REPO / "examples" / "my_specular.glsl", REPO / "examples" / "my_sphere_light.glsl")
 EPS = 2.0 ** -24  # float32 unit roundoff
 OK, WHY = runtime.available("llvmpipe")
 needs_gl = pytest.mark.skipif(not OK, reason=f"no llvmpipe GL: {WHY}")
@@ -39,6 +40,16 @@ needs_gl = pytest.mark.skipif(not OK, reason=f"no llvmpipe GL: {WHY}")
 # * env_radiance(d) at texel centres: θ and φ to a few ε rad (Newton-refined atan; Mesa's raw acos errs
 #   1.6e-4 rad and would fail this by 100×), × (H − 1)/π texels per radian, × neighbour differences ≤ 1;
 #   measured 13.8ε on a 9 × 16 map.
+# * specular (split sum): the shader's float32 r = 2(n·v)n − v is within 8ε per component of the host's (inputs
+#   rounded, one dot product, two products); the face coordinate s/m_a (m_a ≥ 1/√3) moves by ≤ 16√3ε < 32ε, the
+#   texel coordinate by ≤ (N/2)·32ε = 16ε·N, and a bilinear lookup by that times the largest neighbour difference
+#   ΔP of the map, in each axis: 2N·ΔP·16ε, plus its own rounding (≤ 16ε·max P). The DFG factor S = F0 A + B
+#   likewise: μ moves by ≤ 16ε × n cells/unit × ΔS, plus rounding. |ΔL| ≤ 16ε [S(2NΔP + P) + P(nΔS + S)],
+#   maxima over the map and table (:func:`split_sum_bound`); measured 2.9 % of it (3.4ε at α = 0.3).
+# * specular_arealight (representative point): GGX D has condition number 4(1 − α²)/α² in n·h at the peak
+#   (d ln D/d cos θ_h at cos θ_h = 1), on the ≈ 16ε error of n·h, as brdf_rel(s) with s → 4/α²; the cosines
+#   n·l, n·v are absolute-error quantities where G1 → 0 at the horizon: + 16ε·max L (as for brdf). Measured
+#   ≤ 17 % of (4/α² + 8)·16ε|L| + 16ε max L over 20 000 receivers, α = 0.02…1.
 LIGHT_ULPS = 32.0
 ENV_LOOKUP_ULPS = 32.0
 SUM_ULPS = 16.0
@@ -46,6 +57,16 @@ SUM_ULPS = 16.0
 
 def brdf_rel(s: float) -> float:
     return (s + 8.0) * 16.0 * EPS
+
+
+def split_sum_bound(padded: np.ndarray, face: int, table: object, f0: float) -> float:
+    """16ε [S(2NΔP + P) + P(nΔS + S)] (the specular note above) from the map's padded faces and the DFG table."""
+    pad = np.asarray(padded, dtype=np.float64)
+    d_p = max(np.nanmax(np.abs(np.diff(pad, axis=1))), np.nanmax(np.abs(np.diff(pad, axis=2))))
+    p_max = np.nanmax(pad)
+    s = f0 * table.a + table.b  # type: ignore[attr-defined]
+    d_s = max(np.abs(np.diff(s, axis=0)).max(), np.abs(np.diff(s, axis=1)).max())
+    return 16 * EPS * (s.max() * (2 * face * d_p + p_max) + p_max * (s.shape[0] * d_s + s.max()))
 
 
 def _unit(a: np.ndarray) -> np.ndarray:
@@ -69,11 +90,14 @@ def unregister() -> Iterator[list[tuple[str, str]]]:
 @needs_gl
 def test_builtins_registered_with_their_file() -> None:
     for fam, name in (("brdf", "glsl_blinn_phong_normalized"), ("light", "glsl_point_inverse_square"),
-                      ("irradiance", "glsl_sh9"), ("shadow", "glsl_shadow_hard"), ("arealight", "glsl_inverse_square")):
+                      ("irradiance", "glsl_sh9"), ("shadow", "glsl_shadow_hard"), ("arealight", "glsl_inverse_square"),
+                      ("specular", "glsl_split_sum_ggx"), ("specular_arealight", "glsl_representative_point")):
         t = family(fam)[name]
         assert t.builtin and t.meta["runtime"] == "llvmpipe" and t.meta["glsl"].endswith(".glsl")
     assert family("light")["glsl_point_inverse_square"].meta["lights"] == ("point",)
     assert family("shadow")["glsl_shadow_hard"].meta["memory_bytes_per_texel"] == 4  # header values parse as JSON
+    assert family("specular")["glsl_split_sum_ggx"].meta["brdf"] == ("ggx",)
+    assert family("specular_arealight")["glsl_representative_point"].meta["shapes"] == ("sphere",)
 
 
 @needs_gl
@@ -116,6 +140,75 @@ def test_arealight_transcription(rng: np.random.Generator, shape: str) -> None:
     scale = np.pi * 0.3**2 * 4.0 / np.sum((light["center"] - pts) ** 2, axis=1)
     assert (p > 0).sum() > 1000 and fam["glsl_inverse_square"].meta["shapes"] == ("sphere", "disc")
     assert np.all(np.abs(g - p) <= LIGHT_ULPS * EPS * scale)
+
+
+@needs_gl
+def test_specular_transcription(rng: np.random.Generator) -> None:
+    """glsl_split_sum_ggx vs split_sum_ggx on random and on axis / edge / corner reflection vectors (face seams),
+    within :func:`split_sum_bound`; the harness's sparse map covers the shader's r (no NaN read)."""
+    from validate.local_models.specular import split_sum as ss
+    from validate.local_models.specular.common import reflect
+
+    n, v = _unit(rng.standard_normal((2000, 3))), _unit(rng.standard_normal((2000, 3)))
+    v = np.where(np.sum(n * v, axis=1, keepdims=True) < 0, -v, v)
+    axes = _unit(np.array([[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 0], [0, 1, 1], [1, 0, 1], [1, 1, 1]], float))
+    n, v = np.r_[n, axes, -axes], np.r_[v, axes, -axes]
+    rad = rng.uniform(0.0, 2.0, (16, 32, 3))
+    fam = family("specular")
+    for alpha in (0.3, 0.6):
+        brdf = {"model": "ggx", "alpha": alpha, "f0": 0.7}
+        g, p = fam.call("glsl_split_sum_ggx", rad, brdf, n, v), fam.call("split_sum_ggx", rad, brdf, n, v)
+        cube = ss.cached_ggx_cube(rad, alpha, reflect(n, v))
+        assert np.all(np.isfinite(g)) and p.min() > 0.1  # lit everywhere: the bound is not met by zeros
+        assert np.all(np.abs(g - p) <= split_sum_bound(cube.padded, cube.face_size, ss.default_dfg_table(), 0.7))
+    with pytest.raises(ValidateError, match=r"glsl_split_sum_ggx.*split_sum\.glsl.*BRDF model 'phong'"):
+        fam.call("glsl_split_sum_ggx", rad, {"model": "phong", "exponent": 10.0}, n, v)
+
+
+@needs_gl
+def test_specular_arealight_transcription(rng: np.random.Generator) -> None:
+    n, v = _unit(rng.standard_normal((20000, 3))), _unit(rng.standard_normal((20000, 3)))
+    pts = rng.uniform(-2.0, 2.0, (20000, 3))
+    light = {"shape": "sphere", "center": np.array([0.1, 2.5, 0.2]), "radius": 0.4, "radiance": 3.0}
+    fam = family("specular_arealight")
+    for alpha in (0.1, 0.3, 1.0):
+        brdf = {"alpha": alpha, "f0": [0.9, 0.5, 0.04]}
+        g = fam.call("glsl_representative_point", light, brdf, pts, n, v)
+        p = fam.call("representative_point", light, brdf, pts, n, v)
+        assert (p > 0).sum() > 10000
+        assert np.all(np.abs(g - p) <= (4 / alpha**2 + 8) * 16 * EPS * p + 16 * EPS * p.max())
+    with pytest.raises(ValidateError, match=r"glsl_representative_point.*light shape 'disc'"):
+        fam.call("glsl_representative_point", dict(light, shape="disc", normal=(0, -1, 0)), brdf, pts, n, v)
+
+
+@needs_gl
+@pytest.mark.parametrize("path", SPECULAR_EXAMPLES, ids=lambda p: p.name)
+def test_specular_example_plugins(path: Path, rng: np.random.Generator) -> None:
+    """The two example plug-ins compile and give finite, non-negative, non-zero radiance (their accuracy is
+    what `run ibl` / `run arealights` measure)."""
+    tech = gt.technique_from_file(path)
+    n = _unit(rng.standard_normal((500, 3)))
+    v = _unit(n + 0.5 * _unit(rng.standard_normal((500, 3))))
+    if tech.family == "specular":
+        out = family("specular").call(tech, rng.uniform(0.0, 1.0, (8, 16, 3)), {"model": "ggx", "alpha": 0.6}, n, v)
+    else:
+        light = {"shape": "sphere", "center": np.array([0.0, 3.0, 0.0]), "radius": 0.5, "radiance": 2.0}
+        out = family("specular_arealight").call(tech, light, {"alpha": 0.5}, np.zeros((500, 3)), n, v)
+    assert np.all(np.isfinite(out)) and out.min() >= 0.0 and out.max() > 0.0
+
+
+@needs_gl
+@pytest.mark.parametrize("fam", ["specular", "specular_arealight"])
+def test_specular_families_compile_error_is_one_line(fam: str, tmp_path: Path) -> None:
+    """A compile error is one line naming file:line (the CLI prints it as `validate: error: ...`, exit 2: the
+    brdf test above runs that path)."""
+    f = tmp_path / "broken.glsl"
+    entry = "vec3 specular(vec3 n, vec3 v)" if fam == "specular" else "vec3 shade(vec3 p, vec3 n, vec3 v)"
+    f.write_text(f"// validate: family={fam}\n// validate: name=t_broken\n{entry} {{\n    return prefiltered(n)\n}}\n")
+    with pytest.raises(ValidateError) as exc:
+        gt.load_glsl(f)
+    assert str(exc.value).startswith(f"{f}:5: syntax error") and "\n" not in str(exc.value), str(exc.value)
+    assert "t_broken" not in family(fam)
 
 
 @needs_gl
