@@ -378,7 +378,8 @@ def specular_call(run: Run, radiance: np.ndarray, brdf: Mapping[str, Any], norma
         t = ss.default_dfg_table()
         return np.stack([t.a, t.b, np.zeros_like(t.a), np.ones_like(t.a)], axis=-1)
     uniforms.update({"u_sh": lambda: project_environment(rad, 2), "u_prefiltered_face": np.int32(face),
-                     "u_dfg_size": np.int32(ss.DFG_SIZE), "u_radiance_size": np.array(rad.shape[1::-1], dtype=np.int32)})
+                     "u_dfg_size": np.int32(ss.DFG_SIZE),
+                     "u_radiance_size": np.array(rad.shape[1::-1], dtype=np.int32)})
     tex = np.concatenate([rad[..., :3], np.ones(rad.shape[:2] + (1,))], axis=-1)
     out = run([n, v], uniforms, {"u_radiance": tex, "u_prefiltered": pre, "u_dfg": dfg})
     return out[:, :3].astype(np.float64)

@@ -2,7 +2,7 @@
 
 A file starts with header lines ``// validate: key=value``:
 
-``family``       brdf | irradiance | light | arealight | shadow (required)
+``family``       brdf | irradiance | specular | light | arealight | specular_arealight | shadow (required)
 ``name``         the technique's name (default: the file's stem)
 ``description``  one line
 ``thresholds``   JSON object ``{"metric": limit, ...}`` (the family's metric names, as for Python techniques)
@@ -10,7 +10,8 @@ A file starts with header lines ``// validate: key=value``:
 ``runtime``      ``llvmpipe`` (default, desktop GLSL 4.50 core) or ``webgl2`` (GLSL ES 3.00, SwiftShader)
 ``seed``         optional: the seed text and section the shader transcribes (shown by ``validate list``)
 ``lights``       light family only: the light types modelled, comma-separated (point, spot, directional)
-``shapes``       arealight family only: the shapes modelled, comma-separated (disc, sphere, rectangle)
+``shapes``       arealight / specular_arealight: the shapes modelled, comma-separated (disc, sphere, rectangle, tube)
+``brdf``         specular family only: the BRDF models handled, comma-separated (phong, ggx, ggx_plastic)
 
 Entry points and the uniforms the harness declares (do not redeclare them; see docs/glsl.md):
 
@@ -39,6 +40,17 @@ Entry points and the uniforms the harness declares (do not redeclare them; see d
   light; uniforms ``int u_area_shape`` (0 disc, 1 sphere, 2 rectangle), ``vec3 u_area_center, u_area_normal``
   (the emitting side's normal), ``u_area_tangent``, ``float u_area_radius``, ``vec2 u_area_size``,
   ``float u_area_radiance`` (W/(m² sr)); no shadowing (the family's scenes have no occluders).
+* specular:   ``vec3 specular(vec3 n, vec3 v)`` → outgoing radiance L_o (RGB) toward unit v. The environment
+  as for irradiance (``u_sh``, ``u_radiance``, ``u_radiance_size``, ``env_radiance``); the BRDF mapping as
+  ``int u_brdf_model`` (0 phong, 1 ggx, 2 ggx_plastic), ``float u_exponent, u_reflectance, u_alpha, u_f0, u_eta,
+  u_rho``; ``sampler2D u_prefiltered``, ``int u_prefiltered_face``: the model's prefiltered cube map (GGX P_α of
+  split_sum, Phong P_{s+1} of phong_prefiltered; padded faces stacked, face f texel (x, f(N+2) + y)) with the
+  helper ``vec3 prefiltered_radiance(vec3 d)`` (CubeMap.lookup in float32); ``sampler2D u_dfg``, ``int
+  u_dfg_size``: the DFG table (.rg = A, B at μ_i, α_j) with ``vec2 env_brdf(float mu, float alpha)``
+  (DFGTable.lookup). Both are built only when the program reads them.
+* specular_arealight: ``vec3 shade(vec3 p, vec3 n, vec3 v)`` → outgoing radiance (RGB) of a GGX BRDF; the
+  arealight uniforms with ``u_area_shape`` 3 = tube, ``vec3 u_area_axis``, ``float u_area_length``; ``float
+  u_alpha`` (GGX α), ``vec3 u_f0``.
 * shadow:     ``float visibility(vec3 p, vec3 n, vec4 w)`` → V′ ∈ [0, 1]; w = (x, y, z_w, z), the receiver's
   continuous texel coordinates (texel (i, j) covers [i, i+1) × [j, j+1)), window depth clamped to [0, 1] and
   view depth (:meth:`~validate.local_models.shadow.shadow_map.ShadowMap.window_coords`). Uniforms ``sampler2D
