@@ -328,17 +328,18 @@ def prefiltered_map(radiance: np.ndarray, model: str, brdf: Mapping[str, Any], r
     from .specular import prefiltered_specular as ps  # noqa: PLC0415
     from .specular import split_sum as ss  # noqa: PLC0415
 
-    dirs = footprint_directions(r)
+    r = np.asarray(r, dtype=np.float64)
+    rkey = spec_common.array_digest(r)  # the footprint directions are a function of r: r keys the map
     if model == "phong":
         s = ps.map_exponent_for_brdf(float(brdf["exponent"]))
         face = ps.phong_face_size(s)
-        key = ("glsl phong", spec_common.array_digest(radiance), s, spec_common.array_digest(dirs))
-        build = lambda: ps.prefilter_phong_cube(radiance, s, needed=dirs)  # noqa: E731
+        key = ("glsl phong", spec_common.array_digest(radiance), s, rkey)
+        build = lambda: ps.prefilter_phong_cube(radiance, s, needed=footprint_directions(r))  # noqa: E731
     else:
         alpha = float(brdf["alpha"])
         face = ss.ggx_face_size(alpha)  # checks α ∈ [1e-3, 1] as split_sum_ggx does
-        key = ("glsl ggx", spec_common.array_digest(radiance), alpha, spec_common.array_digest(dirs))
-        build = lambda: ss.prefilter_ggx_cube(radiance, alpha, needed=dirs)  # noqa: E731
+        key = ("glsl ggx", spec_common.array_digest(radiance), alpha, rkey)
+        build = lambda: ss.prefilter_ggx_cube(radiance, alpha, needed=footprint_directions(r))  # noqa: E731
 
     def texture() -> np.ndarray:
         pad = spec_common.cached(key, build).padded  # type: ignore[attr-defined]
