@@ -45,7 +45,7 @@ needs_gl = pytest.mark.skipif(not OK, reason=f"no llvmpipe GL: {WHY}")
 #   texel coordinate by ≤ (N/2)·32ε = 16ε·N, and a bilinear lookup by that times the largest neighbour difference
 #   ΔP of the map, in each axis: 2N·ΔP·16ε, plus its own rounding (≤ 16ε·max P). The DFG factor S = F0 A + B
 #   likewise: μ moves by ≤ 16ε × n cells/unit × ΔS, plus rounding. |ΔL| ≤ 16ε [S(2NΔP + P) + P(nΔS + S)],
-#   maxima over the map and table (:func:`split_sum_bound`); measured 2.9 % of it (3.4ε at α = 0.3).
+#   maxima over the map and table (:func:`split_sum_bound`); measured ≤ 2.9 % of it (3.1ε, α = 0.3, 0.6).
 # * specular_arealight (representative point): GGX D has condition number 4(1 − α²)/α² in n·h at the peak
 #   (d ln D/d cos θ_h at cos θ_h = 1), on the ≈ 16ε error of n·h, as brdf_rel(s) with s → 4/α²; the cosines
 #   n·l, n·v are absolute-error quantities where G1 → 0 at the horizon: + 16ε·max L (as for brdf). Measured
