@@ -2,7 +2,7 @@
 
 A file starts with header lines ``// validate: key=value``:
 
-``family``       brdf | irradiance | specular | light | arealight | specular_arealight | shadow (required)
+``family``       brdf | irradiance | specular | light | arealight | specular_arealight | shadow | uberlight (required)
 ``name``         the technique's name (default: the file's stem)
 ``description``  one line
 ``thresholds``   JSON object ``{"metric": limit, ...}`` (the family's metric names, as for Python techniques)
@@ -51,6 +51,12 @@ Entry points and the uniforms the harness declares (do not redeclare them; see d
 * specular_arealight: ``vec3 shade(vec3 p, vec3 n, vec3 v)`` → outgoing radiance (RGB) of a GGX BRDF; the
   arealight uniforms with ``u_area_shape`` 3 = tube, ``vec3 u_area_axis``, ``float u_area_length``; ``float
   u_alpha`` (GGX α), ``vec3 u_f0``.
+* uberlight:  ``vec3 shade(vec3 p, vec3 n, vec3 v, float albedo)`` → the unshadowed outgoing radiance (.r read; the
+  host multiplies by ``shadow``); every light key as ``u_light_<key>`` (``vec3 u_light_position``, the ``axes`` rows
+  ``vec3 u_light_x, u_light_y, u_light_z``; ``float u_light_intensity, u_light_width, u_light_height,
+  u_light_width_edge, u_light_height_edge, u_light_roundness, u_light_near, u_light_far, u_light_near_edge,
+  u_light_far_edge, u_light_d0, u_light_alpha, u_light_max_intensity``), the material's ``float u_ks,
+  u_specular_exponent``; helper ``vec3 light_coordinates(vec3 p)``.
 * shadow:     ``float visibility(vec3 p, vec3 n, vec4 w)`` → V′ ∈ [0, 1]; w = (x, y, z_w, z), the receiver's
   continuous texel coordinates (texel (i, j) covers [i, i+1) × [j, j+1)), window depth clamped to [0, 1] and
   view depth (:meth:`~validate.local_models.shadow.shadow_map.ShadowMap.window_coords`). Uniforms ``sampler2D
