@@ -26,6 +26,9 @@ PAIRS = (  # (family, GLSL technique, its Python original)
     ("irradiance", "glsl_sh9", "sh9"),
     ("shadow", "glsl_shadow_hard", "hard"),
     ("arealight", "glsl_inverse_square", "inverse_square"),
+    ("specular", "glsl_split_sum_ggx", "split_sum_ggx"),
+    ("specular_arealight", "glsl_representative_point", "representative_point"),
+    ("uberlight", "glsl_uberlight_inverse_square", "uberlight_inverse_square"),
 )
 
 
@@ -86,6 +89,24 @@ def _inputs(fam: str, n: int) -> tuple[Any, ...]:
         pts = np.c_[rng.uniform(-2, 2, n), rng.uniform(-2, 0.5, n), rng.uniform(-2, 2, n)]
         return ({"shape": "disc", "center": np.array([0.1, 1.5, 0.2]), "normal": np.array([0.0, -1.0, 0.0]),
                  "radius": 0.3, "radiance": 4.0}, pts, normals)
+    if fam == "specular_arealight":  # the sphere above a ground patch, views toward the upper hemisphere
+        pts = np.c_[rng.uniform(-2, 2, n), np.zeros(n), rng.uniform(-2, 2, n)]
+        return ({"shape": "sphere", "center": np.array([0.1, 2.5, 0.2]), "radius": 0.4, "radiance": 3.0},
+                {"alpha": 0.3, "f0": 1.0}, pts, np.tile([0.0, 1.0, 0.0], (n, 1)),
+                unit(np.abs(rng.standard_normal((n, 3)))))
+    if fam == "uberlight":  # a downward überlight over a ground patch, soft edges, no distance shaping
+        from .local_models.uberlight.common import NO_DISTANCE_SHAPING  # noqa: PLC0415
+
+        light = {"position": np.array([0.0, 2.0, 0.0]), "axes": np.array([[1.0, 0, 0], [0, 0, 1.0], [0, -1.0, 0]]),
+                 "intensity": 50.0, "width": 0.5, "height": 0.3, "width_edge": 0.1, "height_edge": 0.05,
+                 "roundness": 1.0, **NO_DISTANCE_SHAPING}
+        pts = np.c_[rng.uniform(-2, 2, n), np.zeros(n), rng.uniform(-2, 2, n)]
+        return (light, pts, np.tile([0.0, 1.0, 0.0], (n, 1)), unit(np.abs(rng.standard_normal((n, 3)))),
+                {"albedo": 0.5, "ks": 0.3, "specular_exponent": 20.0})
+    if fam == "specular":  # the maps are built on the first of the 5 repeats (cached): the lookups are timed
+        views = unit(rng.standard_normal((n, 3)))
+        views = np.where(np.sum(views * normals, axis=1, keepdims=True) < 0, -views, views)
+        return (rng.uniform(0.0, 2.0, (32, 64, 3)), {"model": "ggx", "alpha": 0.3}, normals, views)
     return (rng.uniform(0.0, 2.0, (128, 256, 3)).astype(np.float32), normals)
 
 

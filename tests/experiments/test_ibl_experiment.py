@@ -177,3 +177,24 @@ def test_check_specular_separates_right_from_wrong() -> None:
     assert bad.bias.mean - good.bias.mean > 0.25
     with pytest.raises(ValidateError, match="check_specular: BRDF"):
         check_specular("phong_prefiltered", brdf={"model": "lambert"})
+
+
+def test_bias_is_signed_model_minus_reference_in_json_and_table(run: tuple[ExperimentResult, Path]) -> None:
+    """results.json and the report agree on the bias, Σ(Y_model − Y_ref)/ΣY_ref, signed: the plug-in is 1.3 ×
+    phong_prefiltered on the same pixels, so (linearity) its bias is 1.3 (1 + b) − 1 with b phong_prefiltered's —
+    in its JSON entry (per case and worst) and in its table rows, under the header that says so."""
+    from validate.experiments.ibl.report import BIAS_HEADER
+
+    res, _ = run
+    entry = res.techniques[PLUGIN]
+    cases = {k: v["bias"]["value"] for k, v in entry["cases"].items()}
+    base = res.techniques["phong_prefiltered"]["cases"]
+    for k, b in cases.items():
+        assert b == pytest.approx(1.3 * (1.0 + base[k]["bias"]["value"]) - 1.0, rel=1e-9), (k, b)
+    assert entry["metrics"]["bias"]["value"] in cases.values()
+    tables = [t for sec in res.sections for t in sec.tables if BIAS_HEADER in t.headers]
+    col = tables[0].headers.index(BIAS_HEADER)
+    cells = [str(r[col]) for t in tables for r in t.rows if PLUGIN in [str(x) for x in r]]
+    assert len(cells) == len(cases)
+    shown = sorted(float(c.split("%")[0]) / 100 for c in cells)
+    assert np.allclose(shown, sorted(cases.values()), rtol=5e-3), (shown, cases)

@@ -22,6 +22,8 @@ from validate.local_models import glsl_technique as gt
 
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "examples" / "my_brdf.glsl"
+SPECULAR_EXAMPLES = (REPO / "examples" / "my_specular.glsl", REPO / "examples" / "my_sphere_light.glsl")
+UBERLIGHT_EXAMPLE = REPO / "examples" / "my_uberlight.glsl"
 EPS = 2.0 ** -24  # float32 unit roundoff
 OK, WHY = runtime.available("llvmpipe")
 needs_gl = pytest.mark.skipif(not OK, reason=f"no llvmpipe GL: {WHY}")
@@ -39,6 +41,26 @@ needs_gl = pytest.mark.skipif(not OK, reason=f"no llvmpipe GL: {WHY}")
 # * env_radiance(d) at texel centres: θ and φ to a few ε rad (Newton-refined atan; Mesa's raw acos errs
 #   1.6e-4 rad and would fail this by 100×), × (H − 1)/π texels per radian, × neighbour differences ≤ 1;
 #   measured 13.8ε on a 9 × 16 map.
+# * specular (split sum): the shader's float32 r = 2(n·v)n − v is within 8ε per component of the host's (inputs
+#   rounded, one dot product, two products); the face coordinate s/m_a (m_a ≥ 1/√3) moves by ≤ 16√3ε < 32ε, the
+#   texel coordinate by ≤ (N/2)·32ε = 16ε·N, and a bilinear lookup by that times the largest neighbour difference
+#   ΔP of the map, in each axis: 2N·ΔP·16ε, plus its own rounding (≤ 16ε·max P). The DFG factor S = F0 A + B
+#   likewise: μ moves by ≤ 16ε × n cells/unit × ΔS, plus rounding. |ΔL| ≤ 16ε [S(2NΔP + P) + P(nΔS + S)],
+#   maxima over the map and table (:func:`split_sum_bound`); measured ≤ 2.9 % of it (3.1ε, α = 0.3, 0.6).
+# * specular_arealight (representative point): GGX D has condition number 4(1 − α²)/α² in n·h at the peak
+#   (d ln D/d cos θ_h at cos θ_h = 1), on the ≈ 16ε error of n·h, as brdf_rel(s) with s → 4/α²; the cosines
+#   n·l, n·v are absolute-error quantities where G1 → 0 at the horizon: + 16ε·max L (as for brdf). Measured
+#   ≤ 17 % of (4/α² + 8)·16ε|L| + 16ε max L over 20 000 receivers, α = 0.02…1.
+# * uberlight (inverse square): G = A(x, y, z)·D(z) is a smooth function of the light coordinates (edges > 0; a
+#   hard edge is a step, which no float bound covers), so |ΔG| ≤ |∇G|₁ δ + 2|z ∂A/∂z|·D·η + 32ε (first order):
+#   δ = 8ε(|p| + |c| + |p − c|) the float32 error of each light coordinate (p, c rounded, one subtraction, a
+#   3-term dot product with rounded axes, Higham §3.1), η the relative error of inner/outer from the pow chain
+#   (llvmpipe's pow = exp2(e log2 x): ≈ 8ε(1 + |e ln x|) per pow; e₁e₂ = −1 makes the chain's total
+#   8ε(3 + 2|e₂| + max|ln a|, |ln b| + |e₂ ln S|)), entering as a radial scaling of (x', y') — inner and outer both
+#   scale by 1/λ when (x', y') scale by λ — hence through z ∂A/∂z; 2× for the two sides (drjit is float32 too).
+#   The cosines n·l, n·h are absolute-error quantities: Δc = 2δ/d + 16ε (h = (l + v)/|l + v| amplifies by
+#   2/|l + v|), (n·h)^s as brdf_rel; F = 1/d² gains 2δ/d + 4ε relative; + 32ε L for the products
+#   (:func:`uberlight_bound`). Measured ≤ 5.7 % of it (≤ 29ε·max L) over 20 000 receivers, roundness 0.2, 1, 3.
 LIGHT_ULPS = 32.0
 ENV_LOOKUP_ULPS = 32.0
 SUM_ULPS = 16.0
@@ -46,6 +68,59 @@ SUM_ULPS = 16.0
 
 def brdf_rel(s: float) -> float:
     return (s + 8.0) * 16.0 * EPS
+
+
+def split_sum_bound(padded: np.ndarray, face: int, table: object, f0: float) -> float:
+    """16ε [S(2NΔP + P) + P(nΔS + S)] (the specular note above) from the map's padded faces and the DFG table."""
+    pad = np.asarray(padded, dtype=np.float64)
+    d_p = max(np.nanmax(np.abs(np.diff(pad, axis=1))), np.nanmax(np.abs(np.diff(pad, axis=2))))
+    p_max = np.nanmax(pad)
+    s = f0 * table.a + table.b  # type: ignore[attr-defined]
+    d_s = max(np.abs(np.diff(s, axis=0)).max(), np.abs(np.diff(s, axis=1)).max())
+    return 16 * EPS * (s.max() * (2 * face * d_p + p_max) + p_max * (s.shape[0] * d_s + s.max()))
+
+
+def uberlight_bound(light: dict, pts: np.ndarray, n: np.ndarray, v: np.ndarray, mat: dict) -> np.ndarray:
+    """Per-receiver |L_GLSL − L_Python| bound of the uberlight note above (float64, gradients by central
+    differences of the numpy shaping, step 10⁻⁶ of each coordinate)."""
+    from validate.local_models.uberlight import common as uc
+
+    pos = np.asarray(light["position"], dtype=np.float64)
+    lc, r = uc.light_coordinates(light, pts), pts - pos
+    d = np.linalg.norm(r, axis=1)
+    delta = 8 * EPS * (np.linalg.norm(pts, axis=1) + np.linalg.norm(pos) + d)
+
+    def shape(q: np.ndarray) -> np.ndarray:
+        return uc.superellipse_shape_np(light, q[:, 0], q[:, 1], q[:, 2])
+    grad, z_dadz = np.zeros(len(lc)), np.zeros(len(lc))
+    for k in range(3):
+        hk = (1e-6 * (np.abs(lc[:, k]) + 1e-3))[:, None] * np.eye(3)[k]
+        up, dn = lc + hk, lc - hk
+        grad += np.abs(shape(up) * uc.distance_shape_np(light, up[:, 2])
+                       - shape(dn) * uc.distance_shape_np(light, dn[:, 2])) / (2 * hk[:, k])
+        z_dadz = np.abs(shape(up) - shape(dn)) / (2 * hk[:, k]) * np.abs(lc[:, 2])  # k = 2 last
+    e2 = -float(light["roundness"]) / 2
+    z = np.where(lc[:, 2] > 0, lc[:, 2], 1.0)
+    logs = []
+    for w, h in ((light["width"], light["height"]),
+                 (light["width"] + light["width_edge"], light["height"] + light["height_edge"])):
+        a, b = (np.maximum(np.abs(c * lc[:, k] / z), 1e-30) for c, k in ((h, 0), (w, 1)))
+        logs.append(np.maximum(np.abs(np.log(a)), np.abs(np.log(b)))
+                    + abs(e2) * np.abs(np.log(a ** (-1 / e2) + b ** (-1 / e2))))
+    eta = 8 * EPS * (3 + 2 * abs(e2) + np.maximum(*logs))
+    g = shape(lc) * uc.distance_shape_np(light, lc[:, 2])
+    d_g = grad * delta + 2 * z_dadz * uc.distance_shape_np(light, lc[:, 2]) * eta + 32 * EPS
+    hv = v - r / d[:, None]
+    lh = np.linalg.norm(hv, axis=1)
+    ndl = np.maximum(np.sum(n * -r, axis=1) / d, 0.0)
+    ndh = np.maximum(np.sum(n * hv, axis=1) / lh, 0.0)
+    rho = np.broadcast_to(np.asarray(mat["albedo"], dtype=np.float64), d.shape) / np.pi
+    ks, s = float(mat["ks"]), float(mat["specular_exponent"])
+    refl = rho * ndl + ks * ndh ** s
+    dc = 2 * delta / d + 16 * EPS
+    d_r = rho * dc + ks * (s * ndh ** (s - 1) * 2 * dc / lh + brdf_rel(s) * ndh ** s) + 16 * EPS * refl
+    f = float(light["intensity"]) / d ** 2
+    return f * (d_g * refl + g * (2 * delta / d + 4 * EPS) * refl + g * d_r + 32 * EPS * g * refl)
 
 
 def _unit(a: np.ndarray) -> np.ndarray:
@@ -69,11 +144,15 @@ def unregister() -> Iterator[list[tuple[str, str]]]:
 @needs_gl
 def test_builtins_registered_with_their_file() -> None:
     for fam, name in (("brdf", "glsl_blinn_phong_normalized"), ("light", "glsl_point_inverse_square"),
-                      ("irradiance", "glsl_sh9"), ("shadow", "glsl_shadow_hard"), ("arealight", "glsl_inverse_square")):
+                      ("irradiance", "glsl_sh9"), ("shadow", "glsl_shadow_hard"), ("arealight", "glsl_inverse_square"),
+                      ("specular", "glsl_split_sum_ggx"), ("specular_arealight", "glsl_representative_point"),
+                      ("uberlight", "glsl_uberlight_inverse_square")):
         t = family(fam)[name]
         assert t.builtin and t.meta["runtime"] == "llvmpipe" and t.meta["glsl"].endswith(".glsl")
     assert family("light")["glsl_point_inverse_square"].meta["lights"] == ("point",)
     assert family("shadow")["glsl_shadow_hard"].meta["memory_bytes_per_texel"] == 4  # header values parse as JSON
+    assert family("specular")["glsl_split_sum_ggx"].meta["brdf"] == ("ggx",)
+    assert family("specular_arealight")["glsl_representative_point"].meta["shapes"] == ("sphere",)
 
 
 @needs_gl
@@ -116,6 +195,135 @@ def test_arealight_transcription(rng: np.random.Generator, shape: str) -> None:
     scale = np.pi * 0.3**2 * 4.0 / np.sum((light["center"] - pts) ** 2, axis=1)
     assert (p > 0).sum() > 1000 and fam["glsl_inverse_square"].meta["shapes"] == ("sphere", "disc")
     assert np.all(np.abs(g - p) <= LIGHT_ULPS * EPS * scale)
+
+
+@needs_gl
+def test_specular_transcription(rng: np.random.Generator) -> None:
+    """glsl_split_sum_ggx vs split_sum_ggx on random and on axis / edge / corner reflection vectors (face seams),
+    within :func:`split_sum_bound`; the harness's sparse map covers the shader's r (no NaN read)."""
+    from validate.local_models.specular import split_sum as ss
+    from validate.local_models.specular.common import reflect
+
+    n, v = _unit(rng.standard_normal((2000, 3))), _unit(rng.standard_normal((2000, 3)))
+    v = np.where(np.sum(n * v, axis=1, keepdims=True) < 0, -v, v)
+    axes = _unit(np.array([[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 0], [0, 1, 1], [1, 0, 1], [1, 1, 1]], float))
+    n, v = np.r_[n, axes, -axes], np.r_[v, axes, -axes]
+    rad = rng.uniform(0.0, 2.0, (16, 32, 3))
+    fam = family("specular")
+    for alpha in (0.3, 0.6):
+        brdf = {"model": "ggx", "alpha": alpha, "f0": 0.7}
+        g, p = fam.call("glsl_split_sum_ggx", rad, brdf, n, v), fam.call("split_sum_ggx", rad, brdf, n, v)
+        cube = ss.cached_ggx_cube(rad, alpha, reflect(n, v))
+        assert np.all(np.isfinite(g)) and p.min() > 0.1  # lit everywhere: the bound is not met by zeros
+        assert np.all(np.abs(g - p) <= split_sum_bound(cube.padded, cube.face_size, ss.default_dfg_table(), 0.7))
+    with pytest.raises(ValidateError, match=r"glsl_split_sum_ggx.*split_sum\.glsl.*BRDF model 'phong'"):
+        fam.call("glsl_split_sum_ggx", rad, {"model": "phong", "exponent": 10.0}, n, v)
+
+
+@needs_gl
+def test_specular_arealight_transcription(rng: np.random.Generator) -> None:
+    n, v = _unit(rng.standard_normal((20000, 3))), _unit(rng.standard_normal((20000, 3)))
+    pts = rng.uniform(-2.0, 2.0, (20000, 3))
+    light = {"shape": "sphere", "center": np.array([0.1, 2.5, 0.2]), "radius": 0.4, "radiance": 3.0}
+    fam = family("specular_arealight")
+    for alpha in (0.1, 0.3, 1.0):
+        brdf = {"alpha": alpha, "f0": [0.9, 0.5, 0.04]}
+        g = fam.call("glsl_representative_point", light, brdf, pts, n, v)
+        p = fam.call("representative_point", light, brdf, pts, n, v)
+        assert (p > 0).sum() > 10000
+        assert np.all(np.abs(g - p) <= (4 / alpha**2 + 8) * 16 * EPS * p + 16 * EPS * p.max())
+    with pytest.raises(ValidateError, match=r"glsl_representative_point.*light shape 'disc'"):
+        fam.call("glsl_representative_point", dict(light, shape="disc", normal=(0, -1, 0)), brdf, pts, n, v)
+
+
+def _uberlight_case(rng: np.random.Generator, n_pts: int) -> tuple[dict, np.ndarray, np.ndarray, np.ndarray, dict]:
+    """A tilted überlight above receivers in front of and behind it, soft edges and distance shaping on."""
+    fwd = _unit(np.array([[0.1, -1.0, 0.05]]))[0]
+    x = _unit(np.cross(fwd, [0.0, 0.0, 1.0])[None])[0]
+    axes, pos = np.stack([x, np.cross(fwd, x), fwd]), np.array([0.2, 2.0, 0.1])
+    z = rng.uniform(-0.5, 3.5, n_pts)  # 4 in 5 inside the cone |x'|, |y'| < 0.8 (beam and penumbra), 1 in 5 anywhere
+    lc = np.c_[rng.uniform(-0.8, 0.8, (n_pts, 2)) * np.abs(z)[:, None], z]
+    pts = np.where((np.arange(n_pts) % 5 == 0)[:, None], rng.uniform(-2, 2, (n_pts, 3)), pos + lc @ axes)
+    light = {"position": pos, "axes": axes, "intensity": 50.0,
+             "width": 0.5, "height": 0.3, "width_edge": 0.1, "height_edge": 0.05, "roundness": 1.0, "near": 0.5,
+             "far": 2.5, "near_edge": 0.3, "far_edge": 0.5}
+    mat = {"albedo": rng.uniform(0.2, 0.9, n_pts), "ks": 0.3, "specular_exponent": 20.0}
+    return light, pts, _unit(rng.standard_normal((n_pts, 3))), _unit(rng.standard_normal((n_pts, 3))), mat
+
+
+@needs_gl
+def test_uberlight_transcription(rng: np.random.Generator) -> None:
+    """glsl_uberlight_inverse_square vs uberlight_inverse_square within :func:`uberlight_bound` (roundness 0.2, 1,
+    3); a width 0.1 % too large on the GLSL side breaks it (the bound is tight enough to see a real bug)."""
+    from validate.local_models.uberlight import common as uc
+
+    light, pts, n, v, mat = _uberlight_case(rng, 20000)
+    fam = family("uberlight")
+    for rnd in (0.2, 1.0, 3.0):
+        lr = dict(light, roundness=rnd)
+        g, p = (fam.call(t, lr, pts, n, v, mat) for t in ("glsl_uberlight_inverse_square", "uberlight_inverse_square"))
+        bound = uberlight_bound(lr, pts, n, v, mat)
+        lc = uc.light_coordinates(lr, pts)
+        shaped = uc.superellipse_shape_np(lr, *lc.T) * uc.distance_shape_np(lr, lc[:, 2])
+        assert (p > 0).sum() > 500 and ((p > 0) & (shaped < 1)).sum() > 200  # lit, many in a penumbra
+        assert np.all(np.abs(g - p) <= bound), float(np.max(np.abs(g - p) / np.maximum(bound, 1e-300)))
+    p, bound = fam.call("uberlight_inverse_square", light, pts, n, v, mat), uberlight_bound(light, pts, n, v, mat)
+    wide = fam.call("glsl_uberlight_inverse_square", dict(light, width=0.5005), pts, n, v, mat)
+    assert (np.abs(wide - p) > bound).sum() > 100  # roundness 1, the width 0.1 % too large: fails by far
+    shadow = rng.uniform(0.0, 1.0, len(pts))
+    base = fam.call("glsl_uberlight_inverse_square", light, pts, n, v, mat)
+    shadowed = fam.call("glsl_uberlight_inverse_square", light, pts, n, v, mat, shadow=shadow)
+    assert np.array_equal(shadowed, base * shadow)  # the host's visibility multiplies, as in the Python techniques
+
+
+@needs_gl
+def test_uberlight_example_plugin(rng: np.random.Generator) -> None:
+    """The example compiles and, at roundness 1 with hard edges and no distance shaping (its exact case), equals
+    uberlight_inverse_square with ks = 0 away from the edge (|A change| within 10⁻⁴ of the edge excluded)."""
+    from validate.local_models.uberlight.common import NO_DISTANCE_SHAPING
+
+    tech = gt.technique_from_file(UBERLIGHT_EXAMPLE, "uberlight")
+    light, pts, n, v, mat = _uberlight_case(rng, 5000)
+    light = dict(light, width_edge=0.0, height_edge=0.0, **NO_DISTANCE_SHAPING)
+    mat = dict(mat, ks=0.0)
+    fam = family("uberlight")
+    g, p = fam.call(tech, light, pts, n, v, mat), fam.call("uberlight_inverse_square", light, pts, n, v, mat)
+    far = (np.abs(fam.call("uberlight_inverse_square", dict(light, width=0.5001, height=0.30006), pts, n, v, mat) - p)
+           == 0) & (np.abs(fam.call("uberlight_inverse_square", dict(light, width=0.4999, height=0.29994), pts, n, v,
+                                    mat) - p) == 0)
+    assert (p[far] > 0).sum() > 100 and far.sum() > 0.9 * len(p)
+    assert np.allclose(g[far], p[far], rtol=1e-5, atol=1e-6 * p.max())
+
+
+@needs_gl
+@pytest.mark.parametrize("path", SPECULAR_EXAMPLES, ids=lambda p: p.name)
+def test_specular_example_plugins(path: Path, rng: np.random.Generator) -> None:
+    """The two example plug-ins compile and give finite, non-negative, non-zero radiance (their accuracy is
+    what `run ibl` / `run arealights` measure)."""
+    tech = gt.technique_from_file(path)
+    n = _unit(rng.standard_normal((500, 3)))
+    v = _unit(n + 0.5 * _unit(rng.standard_normal((500, 3))))
+    if tech.family == "specular":
+        out = family("specular").call(tech, rng.uniform(0.0, 1.0, (8, 16, 3)), {"model": "ggx", "alpha": 0.6}, n, v)
+    else:
+        light = {"shape": "sphere", "center": np.array([0.0, 3.0, 0.0]), "radius": 0.5, "radiance": 2.0}
+        out = family("specular_arealight").call(tech, light, {"alpha": 0.5}, np.zeros((500, 3)), n, v)
+    assert np.all(np.isfinite(out)) and out.min() >= 0.0 and out.max() > 0.0
+
+
+@needs_gl
+@pytest.mark.parametrize("fam", ["specular", "specular_arealight", "uberlight"])
+def test_specular_families_compile_error_is_one_line(fam: str, tmp_path: Path) -> None:
+    """A compile error is one line naming file:line (the CLI prints it as `validate: error: ...`, exit 2: the
+    brdf test above runs that path)."""
+    f = tmp_path / "broken.glsl"
+    entry = {"specular": "vec3 specular(vec3 n, vec3 v)", "specular_arealight": "vec3 shade(vec3 p, vec3 n, vec3 v)",
+             "uberlight": "vec3 shade(vec3 p, vec3 n, vec3 v, float albedo)"}[fam]
+    f.write_text(f"// validate: family={fam}\n// validate: name=t_broken\n{entry} {{\n    return prefiltered(n)\n}}\n")
+    with pytest.raises(ValidateError) as exc:
+        gt.load_glsl(f)
+    assert str(exc.value).startswith(f"{f}:5: syntax error") and "\n" not in str(exc.value), str(exc.value)
+    assert "t_broken" not in family(fam)
 
 
 @needs_gl

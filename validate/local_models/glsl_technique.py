@@ -2,7 +2,7 @@
 
 A file starts with header lines ``// validate: key=value``:
 
-``family``       brdf | irradiance | light | arealight | shadow (required)
+``family``       brdf | irradiance | specular | light | arealight | specular_arealight | shadow | uberlight (required)
 ``name``         the technique's name (default: the file's stem)
 ``description``  one line
 ``thresholds``   JSON object ``{"metric": limit, ...}`` (the family's metric names, as for Python techniques)
@@ -10,7 +10,8 @@ A file starts with header lines ``// validate: key=value``:
 ``runtime``      ``llvmpipe`` (default, desktop GLSL 4.50 core) or ``webgl2`` (GLSL ES 3.00, SwiftShader)
 ``seed``         optional: the seed text and section the shader transcribes (shown by ``validate list``)
 ``lights``       light family only: the light types modelled, comma-separated (point, spot, directional)
-``shapes``       arealight family only: the shapes modelled, comma-separated (disc, sphere, rectangle)
+``shapes``       arealight / specular_arealight: the shapes modelled, comma-separated (disc, sphere, rectangle, tube)
+``brdf``         specular family only: the BRDF models handled, comma-separated (phong, ggx, ggx_plastic)
 
 Entry points and the uniforms the harness declares (do not redeclare them; see docs/glsl.md):
 
@@ -39,6 +40,23 @@ Entry points and the uniforms the harness declares (do not redeclare them; see d
   light; uniforms ``int u_area_shape`` (0 disc, 1 sphere, 2 rectangle), ``vec3 u_area_center, u_area_normal``
   (the emitting side's normal), ``u_area_tangent``, ``float u_area_radius``, ``vec2 u_area_size``,
   ``float u_area_radiance`` (W/(m² sr)); no shadowing (the family's scenes have no occluders).
+* specular:   ``vec3 specular(vec3 n, vec3 v)`` → outgoing radiance L_o (RGB) toward unit v. The environment
+  as for irradiance (``u_sh``, ``u_radiance``, ``u_radiance_size``, ``env_radiance``); the BRDF mapping as
+  ``int u_brdf_model`` (0 phong, 1 ggx, 2 ggx_plastic), ``float u_exponent, u_reflectance, u_alpha, u_f0, u_eta,
+  u_rho``; ``sampler2D u_prefiltered``, ``int u_prefiltered_face``: the model's prefiltered cube map (GGX P_α of
+  split_sum, Phong P_{s+1} of phong_prefiltered; padded faces stacked, face f texel (x, f(N+2) + y)) with the
+  helper ``vec3 prefiltered_radiance(vec3 d)`` (CubeMap.lookup in float32); ``sampler2D u_dfg``, ``int
+  u_dfg_size``: the DFG table (.rg = A, B at μ_i, α_j) with ``vec2 env_brdf(float mu, float alpha)``
+  (DFGTable.lookup). Both are built only when the program reads them.
+* specular_arealight: ``vec3 shade(vec3 p, vec3 n, vec3 v)`` → outgoing radiance (RGB) of a GGX BRDF; the
+  arealight uniforms with ``u_area_shape`` 3 = tube, ``vec3 u_area_axis``, ``float u_area_length``; ``float
+  u_alpha`` (GGX α), ``vec3 u_f0``.
+* uberlight:  ``vec3 shade(vec3 p, vec3 n, vec3 v, float albedo)`` → the unshadowed outgoing radiance (.r read; the
+  host multiplies by ``shadow``); every light key as ``u_light_<key>`` (``vec3 u_light_position``, the ``axes`` rows
+  ``vec3 u_light_x, u_light_y, u_light_z``; ``float u_light_intensity, u_light_width, u_light_height,
+  u_light_width_edge, u_light_height_edge, u_light_roundness, u_light_near, u_light_far, u_light_near_edge,
+  u_light_far_edge, u_light_d0, u_light_alpha, u_light_max_intensity``), the material's ``float u_ks,
+  u_specular_exponent``; helper ``vec3 light_coordinates(vec3 p)``.
 * shadow:     ``float visibility(vec3 p, vec3 n, vec4 w)`` → V′ ∈ [0, 1]; w = (x, y, z_w, z), the receiver's
   continuous texel coordinates (texel (i, j) covers [i, i+1) × [j, j+1)), window depth clamped to [0, 1] and
   view depth (:meth:`~validate.local_models.shadow.shadow_map.ShadowMap.window_coords`). Uniforms ``sampler2D
@@ -117,7 +135,7 @@ def parse_glsl(path: str | Path, text: str | None = None) -> GLSLSource:
     src.description = fields.pop("description", "")
     src.source = fields.pop("source", "")
     src.thresholds = _thresholds(where, fields.pop("thresholds", ""))
-    for key in ("lights", "shapes"):  # the light types / area shapes a light or arealight technique models
+    for key in ("lights", "shapes", "brdf"):  # light types / area shapes / BRDF models the technique handles
         if key in fields:
             src.meta[key] = tuple(s.strip() for s in fields.pop(key).split(",") if s.strip())
     src.meta.update({k: _meta_value(v) for k, v in fields.items()})  # seed=…, memory_bytes_per_texel=4, …
@@ -253,11 +271,17 @@ def evaluate(src: GLSLSource, inputs: list[np.ndarray], uniforms: Mapping[str, A
     n = len(inputs[0])
     w, h = layout(n)
     packed = {f"u_in{k}": pack(a, w, h) for k, a in enumerate(inputs)}
-    if src.runtime == "webgl2":
-        out = _runtime("webgl2").run(prog, (w, h), packed, dict(textures or {}), dict(uniforms))
+    if src.runtime == "webgl2":  # a lazy (callable) texture or uniform is built here: every one is bound
+        out = _runtime("webgl2").run(prog, (w, h), packed, {k: _value(a) for k, a in (textures or {}).items()},
+                                     {k: _value(a) for k, a in uniforms.items()})
     else:
         out = _run_egl(_runtime(src.runtime), prog, (w, h), packed, dict(textures or {}), uniforms)
     return out.reshape(-1, 4)[:n]
+
+
+def _value(value: Any) -> Any:
+    """A texture or uniform value; a callable one (the specular family's prefiltered map) is built on use."""
+    return value() if callable(value) else value
 
 
 def _run_egl(rt: Any, prog: Any, size: tuple[int, int], packed: dict[str, np.ndarray],
@@ -268,14 +292,14 @@ def _run_egl(rt: Any, prog: Any, size: tuple[int, int], packed: dict[str, np.nda
         made = []
         bound = list(packed.items()) + [(k, a) for k, a in textures.items() if k in prog]  # unused: not uploaded
         for unit, (name, arr) in enumerate(bound):
-            tex = rt.float_texture(arr)  # NEAREST; read with texelFetch (bilinear: env_radiance, in float32)
+            tex = rt.float_texture(_value(arr))  # NEAREST; read with texelFetch (bilinear: env_radiance, in float32)
             tex.use(location=unit)
             made.append(tex)
             if name in prog:
                 prog[name].value = unit
         for name, value in uniforms.items():
             if name in prog:
-                prog[name].write(glsl_families.uniform_bytes(value))
+                prog[name].write(glsl_families.uniform_bytes(_value(value)))
         fbo = rt.float_target(*size)
         rt.render_fullscreen(prog, fbo)
         out = egl.read_rgba32f(fbo)
@@ -290,12 +314,30 @@ def make_fn(src: GLSLSource) -> Callable[..., np.ndarray]:
     spec = glsl_families.SPECS[src.family]
 
     def fn(*args: Any, **kwargs: Any) -> np.ndarray:
+        _check_handled(src, args, kwargs)
         return spec.call(lambda inputs, uniforms, textures=None: evaluate(src, inputs, uniforms, textures),
                          *args, **kwargs)
     fn.__module__ = f"validate.local_models.{src.family}" if src.meta.get("builtin") else "glsl_plugin"
     fn.__qualname__ = fn.__name__ = src.name
     fn.__doc__ = src.description or f"GLSL technique {src.path}"
     return fn
+
+
+HANDLED = {"specular": ("brdf", 1, "model", "BRDF model"), "specular_arealight": ("light", 0, "shape", "light shape")}
+
+
+def _check_handled(src: GLSLSource, args: tuple, kwargs: Mapping[str, Any]) -> None:
+    """A specular (specular_arealight) file whose header lists ``brdf=`` (``shapes=``) refuses another BRDF model
+    (light shape), one line naming the file, as the Python techniques refuse what they do not model."""
+    if src.family not in HANDLED:
+        return
+    arg, pos, key, what = HANDLED[src.family]
+    listed = src.meta.get("brdf" if src.family == "specular" else "shapes")
+    given = kwargs.get(arg, args[pos] if len(args) > pos else None)
+    value = given.get(key) if isinstance(given, Mapping) else None
+    if listed and value not in listed:
+        raise ValidateError(f"technique '{src.name}' ({src.family}, {src.path}): {what} {value!r}; the file's header "
+                            f"lists {', '.join(listed)}")
 
 
 def technique_from_file(path: str | Path, family_name: str | None = None, *, runtime: str | None = None,

@@ -137,14 +137,27 @@ def _measured(stats: list[tuple[float, float]]) -> Measured:
 
 
 def comparison_metrics(comps: list[Comparison]) -> dict[str, Measured]:
-    """relative.mean, relative.p95, bias (|bias|), worst over the comparisons."""
+    """relative.mean, relative.p95, bias (|bias|: a declared threshold bounds the magnitude), worst over the
+    comparisons."""
     return {"relative.mean": _measured([(c.rel.stats.mean, c.rel.stats.mean_uncertainty) for c in comps]),
             "relative.p95": _measured([(c.rel.stats.p95, c.rel.stats.mean_uncertainty) for c in comps]),
             "bias": _measured([(abs(c.rel.stats.bias), c.rel.stats.bias_uncertainty) for c in comps])}
 
 
-def _json(ms: Mapping[str, Measured]) -> dict[str, Any]:
-    return {k: {"value": v.value, "uncertainty": v.uncertainty} for k, v in ms.items()}
+def signed_bias(comps: list[Comparison]) -> tuple[float, float]:
+    """(bias, σ) of the comparison whose |bias| + σ is the largest — the one the ``bias`` claim judges — with its
+    sign: Σ(Y(model) − Y(reference)) / Σ Y(reference), negative where the technique is too dark."""
+    s = max((c.rel.stats for c in comps), key=lambda st: abs(st.bias) + st.bias_uncertainty)
+    return s.bias, s.bias_uncertainty
+
+
+def _json(ms: Mapping[str, Measured], comps: list[Comparison]) -> dict[str, Any]:
+    """The metrics as JSON; ``bias`` signed (model − reference, as the report's table): the claim on a declared
+    ``bias`` threshold bounds its magnitude, |bias| (:func:`comparison_metrics`)."""
+    out = {k: {"value": v.value, "uncertainty": v.uncertainty} for k, v in ms.items()}
+    value, sigma = signed_bias(comps)
+    out["bias"] = {"value": value, "uncertainty": sigma}
+    return out
 
 
 def technique_results(m: IblMeasurements) -> tuple[dict[str, Any], list[Claim]]:
@@ -154,7 +167,7 @@ def technique_results(m: IblMeasurements) -> tuple[dict[str, Any], list[Claim]]:
     for tech in irradiance:
         ms = comparison_metrics([m.diffuse.techniques[tech.name]])
         scope = "Lambertian sphere under " + m.scene.render_env.name
-        entries[tech.name] = technique_entry(tech, _json(ms), scope=scope)
+        entries[tech.name] = technique_entry(tech, _json(ms, [m.diffuse.techniques[tech.name]]), scope=scope)
         # an irradiance technique's thresholds are usually on sh9's metrics (flux_luminance…): judged there;
         # here only those on metrics this experiment measures
         own = replace(tech, thresholds={k: v for k, v in tech.thresholds.items() if k in ms})
@@ -168,8 +181,8 @@ def technique_results(m: IblMeasurements) -> tuple[dict[str, Any], list[Claim]]:
         crops = m.specular.normal_incidence.get(tech.name, {})
         if crops:
             ms["normal_incidence.mean"] = _measured([(r.stats.mean, r.stats.mean_uncertainty) for r in crops.values()])
-        cases = {k: _json(comparison_metrics([c])) for k, c in comps.items()}
-        entries[tech.name] = technique_entry(tech, _json(ms), cases=cases)
+        cases = {k: _json(comparison_metrics([c]), [c]) for k, c in comps.items()}
+        entries[tech.name] = technique_entry(tech, _json(ms, list(comps.values())), cases=cases)
         claims += technique_claims(NAME, tech, ms, scope=f"worst over {len(comps)} BRDF cases")
     return entries, claims
 

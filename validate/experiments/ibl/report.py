@@ -88,7 +88,8 @@ def diffuse_findings(m: IblMeasurements) -> list[str]:
            "Reference cross-check: Mitsuba's Lambertian sphere vs ρ/π × quadrature: bias "
            f"{pm(xc.bias, xc.bias_uncertainty)}, mean |error| {pct(xc.mean)} (MC noise {pct(xc.mean_uncertainty)})."]
     techs = m.diffuse.techniques
-    out.append("Irradiance techniques on the rendered Lambertian sphere (mean relative error, bias): "
+    out.append("Irradiance techniques on the rendered Lambertian sphere (mean relative error, bias "
+               "Σ(Y_model − Y_ref)/ΣY_ref): "
                + "; ".join(f"{k} {pm(c.rel.stats.mean, c.rel.stats.mean_uncertainty)}, {pct(c.rel.stats.bias)}"
                            for k, c in techs.items()) + ".")
     return out
@@ -141,7 +142,8 @@ def comparison_row(c: Comparison) -> list[Any]:
             pct(c.bands[0].mean), fnum(c.flip.mean)]
 
 
-COMPARISON_HEADERS = ["BSDF", "parameter", "technique", "mean |ΔY|/Y ± MC (%)", "p95 (%)", "bias ± σ (%)",
+BIAS_HEADER = "bias Σ(Y_model − Y_ref)/ΣY_ref ± σ (%)"  # signed: negative = the technique is too dark
+COMPARISON_HEADERS = ["BSDF", "parameter", "technique", "mean |ΔY|/Y ± MC (%)", "p95 (%)", BIAS_HEADER,
                       "θ_v < 10° (%)", "FLIP mean (–)"]
 
 
@@ -272,8 +274,8 @@ def concave_section(m: IblMeasurements, figs: Figures) -> Section:
     return Section(SEC_E, ["Local IBL shades every point as if it saw the whole hemisphere. The exact unoccluded "
                            "irradiance (quadrature at the G-buffer normals) isolates the occlusion error from the "
                            "map's own; AO is Mitsuba-ray-cast cosine-weighted visibility."],
-                   tables=[Table(["comparison", "mean, all pixels (%)", "mean, crater (%)", "bias, crater (%)",
-                                  "FLIP (–)"], rows)])
+                   tables=[Table(["comparison", "mean, all pixels (%)", "mean, crater (%)",
+                                  "bias, crater Σ(Y_model − Y_ref)/ΣY_ref (%)", "FLIP (–)"], rows)])
 
 
 def data(m: IblMeasurements) -> dict[str, Any]:
