@@ -80,7 +80,10 @@ class _Headers:
             return self.columns(value, depth + 1) if value is not None else [self._unknown(e)]
         return [self._unknown(e)]
 
-    def column(self, e: ast.expr) -> Column:
+    def column(self, e: ast.expr, depth: int = 0) -> Column:
+        if isinstance(e, ast.Name) and depth < 8:  # a header held in a module constant
+            value = next((scope[e.id] for scope in self.names if e.id in scope), None)
+            return self.column(value, depth + 1) if value is not None else self._unknown(e)
         if isinstance(e, ast.Constant) and isinstance(e.value, str):
             return Column(self.where, e.value, e.value)
         if isinstance(e, ast.JoinedStr):
