@@ -132,6 +132,32 @@ def fmt_seconds(value: Any) -> str:
     return f"{h} h {m:02d} min"
 
 
+def fmt_in_seconds(value: Any) -> str:
+    """Wall time as a number of seconds for a "(s)" column: 3 significant digits, "—" when absent."""
+    if not isinstance(value, Real) or isinstance(value, bool) or not math.isfinite(float(value)):
+        return "—"
+    return fmt_num(float(value))
+
+
+DIMENSIONLESS = "–"  # the unit of a number shown as it is (validate.format.UNITS)
+
+
+def claim_unit(claim: Mapping[str, Any]) -> str:
+    """The unit a claim's measured value and threshold are shown in: its ``unit`` ("%": a fraction shown as per
+    cent), "–" for a dimensionless claim (``unit`` empty)."""
+    return str(claim.get("unit") or "") or DIMENSIONLESS
+
+
+# A setting's unit, where its name states it: "beta_step_deg" → °, "sphere_px" → px, "meter_spp" → count
+# (samples per pixel), "passes" → count; other settings are listed as configured and their unit is "—" (not stated).
+SETTING_UNITS = (("_deg", "°"), ("_px", "px"), ("spp", "count"), ("passes", "count"))
+
+
+def setting_unit(name: str) -> str:
+    """The unit of a setting whose name states it (:data:`SETTING_UNITS`); "—" otherwise."""
+    return next((u for suffix, u in SETTING_UNITS if str(name).endswith(suffix)), fmt.DASH)
+
+
 def anchor(name: str) -> str:
     """HTML id for an experiment: "exp-" + name with anything but [A-Za-z0-9_-] replaced by "-"."""
     return "exp-" + re.sub(r"[^A-Za-z0-9_-]", "-", str(name))
@@ -212,7 +238,7 @@ def _claim(c: Mapping[str, Any], experiment: str) -> dict[str, Any]:
     out = {"id": "", "description": "", "metric": "", "threshold": None, "measured": None,
            "uncertainty": 0.0, "comparison": "<", "unit": "", "source": "", "power": None}
     out.update(c)
-    out.update(passed=_claim_passed(c), experiment=experiment, anchor=anchor(experiment),
+    out.update(passed=_claim_passed(c), experiment=experiment, anchor=anchor(experiment), unit_shown=claim_unit(out),
                page=page_name(experiment), anchor_id="claim-" + re.sub(r"[^A-Za-z0-9_-]", "-", str(out["id"])))
     return out
 
@@ -291,7 +317,8 @@ def _experiment(name: str, e: Mapping[str, Any], out_dir: Path) -> dict[str, Any
         "finding_groups": findings_mod.group_findings(findings, [t["name"] for t in techniques],
                                                       findings_mod.input_names(e)),
         "wall_time_s": e.get("wall_time_s"),
-        "settings": dict(e.get("settings") or {}),
+        "settings": [{"name": k, "value": v, "unit": setting_unit(k)}
+                     for k, v in dict(e.get("settings") or {}).items()],
         "claims": claims,
         "n_passed": sum(c["passed"] for c in claims),
         "n_power_fails": sum(bool((c.get("power") or {}).get("fails")) for c in claims),
@@ -320,6 +347,7 @@ def _changes(changes: Any, exps: list[dict[str, Any]]) -> dict[str, Any] | None:
         r["old_text"] = fmt_quantity(r.get("old"), r.get("old_uncertainty"), unit)
         r["new_text"] = fmt_quantity(r.get("new"), r.get("new_uncertainty"), unit)
         r["change_text"] = fmt_quantity(r.get("change"), None, unit)
+        r["unit_shown"] = unit or DIMENSIONLESS  # technique metrics are relative errors, stored as they are
     return {"baseline": str(changes.get("baseline") or "the baseline"), "rows": rows,
             "regressions": changes.get("regressions", 0)}
 
@@ -410,7 +438,8 @@ def _environment() -> jinja2.Environment:
                              undefined=jinja2.StrictUndefined, trim_blocks=True, lstrip_blocks=True,
                              keep_trailing_newline=True)
     env.filters.update(num=fmt_num, pct=fmt_pct, value=fmt_value, measured=fmt_measured,
-                       threshold=fmt_threshold, cell=fmt_cell, seconds=fmt_seconds)
+                       threshold=fmt_threshold, cell=fmt_cell, seconds=fmt_seconds,
+                       in_seconds=fmt_in_seconds)
     return env
 
 
