@@ -338,7 +338,8 @@ def _changes(changes: Any, exps: list[dict[str, Any]]) -> dict[str, Any] | None:
     regressions first; claim values in their claim's unit."""
     if not isinstance(changes, Mapping):
         return None
-    units = {c["id"]: c.get("unit") or "" for e in exps for c in e["claims"]}
+    units = {key: c.get("unit") or "" for e in exps for c in e["claims"]  # the keys of validate.compare
+             for key in (c["id"], f"{c.get('experiment')}/{c['id']}")}
     rows = [dict(r) for r in changes.get("rows") or [] if isinstance(r, Mapping) and r.get("status") != "unchanged"]
     rank = {s: i for i, s in enumerate(_STATUS_ORDER)}
     rows.sort(key=lambda r: rank.get(str(r.get("status")), len(rank)))
@@ -347,7 +348,9 @@ def _changes(changes: Any, exps: list[dict[str, Any]]) -> dict[str, Any] | None:
         r["old_text"] = fmt_quantity(r.get("old"), r.get("old_uncertainty"), unit)
         r["new_text"] = fmt_quantity(r.get("new"), r.get("new_uncertainty"), unit)
         r["change_text"] = fmt_quantity(r.get("change"), None, unit)
-        r["unit_shown"] = unit or DIMENSIONLESS  # technique metrics are relative errors, stored as they are
+        # technique metrics are relative errors, stored as they are; a claim this run lacks: its unit is not known
+        known = r.get("kind") != "claim" or str(r.get("key")) in units
+        r["unit_shown"] = (unit or DIMENSIONLESS) if known else fmt.DASH
     return {"baseline": str(changes.get("baseline") or "the baseline"), "rows": rows,
             "regressions": changes.get("regressions", 0)}
 
