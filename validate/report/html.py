@@ -19,7 +19,10 @@ from the results (paragraphs, captions, findings) is text, never markup.
 Number formatting (Jinja filters ``num``, ``pct``, ``measured``, ``threshold``, ``cell``) goes through
 :mod:`validate.format`: ``unit == "%"`` marks fractions shown as per cent (0.0086 → "0.86 %"); a
 value with an uncertainty shows the digits the uncertainty supports ("0.860 ± 0.010 %"); other values
-use 3 significant digits, scientific below 10⁻³ and from 10⁶ (1.2e-5).
+use 3 significant digits, scientific below 10⁻³ and from 10⁶ (1.2e-5). Every column of every table names
+its unit (:func:`validate.format.missing_units`, ``tests/infra/test_report_units.py``): the claims and the
+"changes since" rows, whose units differ from row to row, carry a Unit column ("%" or "–", dimensionless) and
+headers ending "(unit)"; the overview's wall time is in seconds; a setting's unit is the one its name states.
 
 Each experiment page opens with its summary figure (:mod:`.summary`, drawn by :func:`write_report`
 into ``figures/summary/``) and a three-line verdict; findings are grouped (:mod:`.findings`); gallery
