@@ -248,14 +248,14 @@ def tables(kernels: list[dict[str, Any]], sizes: list[dict[str, Any]]) -> list[d
                      round(s9["projection_s"] / s9["plain_reduction_s"], 2) if "projection_s" in s9 else None])
     return [
         {"caption": "SH projection vs a plain reduction over the same texels (ms; best of 3)",
-         "headers": ["task", "projection ms", "plain reduction ms", "ratio", "plain drjit sum ms",
-                     "direct drjit projection ms"], "rows": proj},
+         "headers": ["task", "projection (ms)", "plain reduction (ms)", "projection / plain reduction (×)",
+                     "plain drjit sum (ms)", "direct drjit projection (ms)"], "rows": proj},
         {"caption": "SH9 irradiance evaluation (ms; best of 3)",
-         "headers": ["task", "drjit ms", "numpy ms", "speed-up"], "rows": other},
+         "headers": ["task", "drjit (ms)", "numpy (ms)", "speed-up (×)"], "rows": other},
         {"caption": "Reference and SH9 per map size, each in its own process (peak RSS includes the map)",
-         "headers": ["map", "map MiB", "reference s", "reference peak MiB", "reference convergence %",
-                     "SH9 s", "SH9 peak MiB", "SH9 projection ms", "plain reduction ms", "drjit sum ms (map on device)",
-                     "SH9 projection / plain reduction"], "rows": rows},
+         "headers": ["map", "map size (MiB)", "reference (s)", "reference peak RSS (MiB)", "reference convergence (%)",
+                     "SH9 (s)", "SH9 peak RSS (MiB)", "SH9 projection (ms)", "plain reduction (ms)",
+                     "drjit sum, map on device (ms)", "SH9 projection / plain reduction (×)"], "rows": rows},
     ]
 
 

@@ -32,7 +32,8 @@ BARNDOORS = ((0.025, 0.0), (0.025, 0.6))  # (disc radius m, hole roundness), the
 
 
 def _row(name: str, data: str, scipy_fit: Callable[[], Any], ad_fit: Callable[[], Any],
-         residual: Callable[[Any], float], repeats: int, used: str) -> dict[str, Any]:
+         residual: Callable[[Any], float], repeats: int, used: str, residual_unit: str = "–") -> dict[str, Any]:
+    """Both fits timed and their residuals (in ``residual_unit``: "–" for an rms relative to the peak)."""
     from .bench import _best_pair
 
     t_scipy, t_ad = _best_pair(scipy_fit, ad_fit, repeats=repeats)
@@ -40,7 +41,8 @@ def _row(name: str, data: str, scipy_fit: Callable[[], Any], ad_fit: Callable[[]
     return {"fit": name, "data": data, "scipy_s": t_scipy, "scipy_residual": r_scipy, "ad_s": t_ad,
             "ad_residual": r_ad, "time_ratio": t_ad / t_scipy,
             "residual_ratio": r_ad / r_scipy if r_scipy > 0 else float("nan"),
-            "matched": bool(r_ad <= r_scipy * (1.0 + RESIDUAL_TOL)), "experiment_uses": used}
+            "matched": bool(r_ad <= r_scipy * (1.0 + RESIDUAL_TOL)), "experiment_uses": used,
+            "residual_unit": residual_unit}
 
 
 def ltc_rows(repeats: int) -> list[dict[str, Any]]:
@@ -57,7 +59,7 @@ def ltc_rows(repeats: int) -> list[dict[str, Any]]:
             return prob.l3_error(np.asarray(e.params[:1] if prob.iso else e.params))
         rows.append(_row("LTC entry (L³ error)", f"r = {r[i]:.3f}, cos θ_v = {mus[j]:.3f}",
                          lambda p=prob: ltc.fit_entry_scipy(p), lambda p=prob: ltc.fit_entry_ad(p), l3, repeats,
-                         "scipy (the shipped table)"))
+                         "scipy (the shipped table)", "sr⁻²"))  # D and f cos in sr⁻¹, cubed, times dω
     return rows
 
 
@@ -109,12 +111,14 @@ def fit_rows(repeats: int = 3, log: Callable[[str], None] = print) -> list[dict[
 
 
 def tables(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    out = [[r["fit"], r["data"], round(r["scipy_s"] * 1e3, 1), f"{r['scipy_residual']:.9g}",
-            round(r["ad_s"] * 1e3, 1), f"{r['ad_residual']:.9g}", round(r["time_ratio"], 2),
+    out = [[r["fit"], r["data"], r.get("residual_unit", "–"), round(r["scipy_s"] * 1e3, 1),
+            f"{r['scipy_residual']:.9g}", round(r["ad_s"] * 1e3, 1), f"{r['ad_residual']:.9g}",
+            round(r["time_ratio"], 2),
             f"{r['residual_ratio'] - 1.0:+.1e}", "yes" if r["matched"] else "no", r["experiment_uses"]]
            for r in rows if "skipped" not in r]
-    out += [[r["fit"], r["skipped"]] + [None] * 8 for r in rows if "skipped" in r]
+    out += [[r["fit"], r["skipped"]] + [None] * 9 for r in rows if "skipped" in r]
     return [{"caption": f"Fits: scipy vs drjit AD, same data and start (ms: best of 3 after a warm-up; matched: "
                         f"AD residual ≤ scipy × (1 + {RESIDUAL_TOL:g}))",
-             "headers": ["fit", "data", "scipy ms", "scipy residual", "AD ms", "AD residual", "AD / scipy time",
-                         "AD / scipy residual − 1", "matched", "experiment uses"], "rows": out}]
+             "headers": ["fit", "data", "unit", "scipy (ms)", "scipy residual (unit)", "AD (ms)", "AD residual (unit)",
+                         "AD / scipy time (×)", "AD / scipy residual − 1 (–)", "matched?", "experiment uses"],
+             "rows": out}]

@@ -176,10 +176,11 @@ def tables(starts: list[dict[str, Any]], rows: list[dict[str, Any]]) -> list[dic
           else [f"{r['family']}: {r['glsl']}", None, None, r["skipped"]] for r in rows]
     return [
         {"caption": "GL runtimes: cold start in a fresh process (ms)",
-         "headers": ["runtime", "import ms", "context ms", "first compile ms", "renderer"], "rows": st},
+         "headers": ["runtime", "import (ms)", "context (ms)", "first compile (ms)", "renderer"], "rows": st},
         {"caption": f"GLSL technique vs its Python transcription, per receiver ({N_RECEIVERS} receivers; ns; "
                     "best of 5, alternating; GLSL includes upload, draw and read-back)",
-         "headers": ["technique", "GLSL ns/receiver", "Python ns/receiver", "GLSL / Python"], "rows": pr},
+         "headers": ["technique", "GLSL per receiver (ns)", "Python per receiver (ns)", "GLSL / Python (×)"],
+         "rows": pr},
     ]
 
 

@@ -20,7 +20,9 @@ Rules
   exponent: "(2.3 ± 1.1)e-6".
 * **Units on every column** (:func:`col`, :func:`missing_units`): a table header ends with its unit,
   one of :data:`UNITS`, in parentheses ("max |z| (–)", "E (W/m²)"); a column of words is one of
-  :data:`LABEL_COLUMNS` or asks a question ("linear?").
+  :data:`LABEL_COLUMNS` (any case: "Technique") or asks a question ("linear?"). A table whose rows differ in
+  unit (the claims: "%" or "–") has a "Unit" column, and its numeric headers end with "(unit)":
+  "Threshold (unit)" reads "in the row's unit, shown in the Unit column" (:data:`ROW_UNIT`).
 
 References
 ----------
@@ -215,13 +217,18 @@ UNITS = frozenset({
     "px",         # pixels (a length or an area in pixels, or a count of them)
     "texels",     # the side of a texture (shadow map, cube face, lat-long map) in texels
     "s",          # seconds
+    "ms",         # milliseconds
+    "µs",         # microseconds
+    "ns",         # nanoseconds
     "B",          # bytes
+    "MiB",        # mebibytes (2²⁰ B)
     "count",      # a number of things (samples per normal, receivers, texels over a limit)
     "W/m²",       # irradiance
     "W/(m²·sr)",  # radiance
     "W/sr",       # radiant intensity
     "sr⁻¹",       # a BRDF value or a lobe's density over solid angle
     "sr",         # a solid angle
+    "sr⁻²",       # a squared density over solid angle integrated over it: the LTC fit's ∫ |E·D − f cos|³ dω
 })
 # Columns that hold words, not quantities: names of things and verdicts.
 LABEL_COLUMNS = frozenset({
@@ -229,7 +236,11 @@ LABEL_COLUMNS = frozenset({
     "listing", "section", "file", "engine", "reference", "method", "metric", "setting", "step", "comparison",
     "kind", "probe", "seed", "reading", "BSDF", "parameter",
     "power check", "table row",
+    # the report's own pages (validate/report/): claims, techniques, settings, overview, changes; the bench tables
+    "experiment", "title", "claim", "description", "family", "origin", "key", "unit",
+    "task", "map", "fit", "data", "runtime", "renderer", "experiment uses",
 })
+ROW_UNIT = "unit"  # "Threshold (unit)": in each row's own unit, which the table's "Unit" column shows
 
 
 def col(name: str, unit: str) -> str:
@@ -245,11 +256,17 @@ def header_unit(header: str) -> str | None:
     ("faces > 65504?") whose cells answer it; None otherwise (no final parentheses, or parentheses that hold no
     unit of :data:`UNITS`: "E (red)")."""
     h = header.strip()
-    if h in LABEL_COLUMNS or h.endswith("?"):
+    if h.casefold() in _LABELS or h.endswith("?"):
         return ""
     return next((u for u in UNITS if h.endswith(f" ({u})")), None)
 
 
+_LABELS = frozenset(label.casefold() for label in LABEL_COLUMNS)
+
+
 def missing_units(headers: list[str]) -> list[str]:
-    """The headers of a table that name no unit (see :func:`header_unit`), in order."""
-    return [h for h in headers if header_unit(str(h)) is None]
+    """The headers of a table that name no unit (see :func:`header_unit`), in order. A header ending
+    "(unit)" (:data:`ROW_UNIT`: each row in its own unit) names one only when the table has a "Unit" column."""
+    row_unit = any(str(h).strip().casefold() == ROW_UNIT for h in headers)
+    return [h for h in headers if header_unit(str(h)) is None
+            and not (row_unit and str(h).strip().endswith(f" ({ROW_UNIT})"))]

@@ -114,16 +114,21 @@ def test_truth_technique_error_sets(tmp_path):
 def test_changes_rows_regressions_first_in_their_units():
     from validate.report.html import _changes
 
-    exps = [{"claims": [{"id": "c.pct", "unit": "%"}]}]
+    exps = [{"claims": [{"id": "c.pct", "unit": "%"}, {"id": "bare", "unit": "%", "experiment": "x"}]}]
     rows = [{"kind": "metric", "key": "m.better", "old": 0.2, "new": 0.1, "old_uncertainty": 0.01,
              "new_uncertainty": 0.01, "change": -0.1, "exceeds_uncertainty": True, "status": "improved"},
             {"kind": "metric", "key": "m.same", "old": 0.2, "new": 0.2, "change": 0.0, "status": "unchanged"},
             {"kind": "claim", "key": "c.new", "old": None, "new": 0.5, "change": None, "status": "new"},
             {"kind": "claim", "key": "c.pct", "old": 0.0100, "new": 0.0123, "old_uncertainty": 0.0004,
              "new_uncertainty": 0.0004, "change": 0.0023, "exceeds_uncertainty": True, "status": "newly_failing"},
-            {"kind": "metric", "key": "m.worse", "old": 1.0, "new": 2.0, "change": 1.0, "status": "regressed"}]
+            {"kind": "metric", "key": "m.worse", "old": 1.0, "new": 2.0, "change": 1.0, "status": "regressed"},
+            {"kind": "claim", "key": "x/bare", "old": 0.5, "new": 0.25, "change": -0.25, "status": "improved"}]
     out = _changes({"baseline": "b.json", "regressions": 2, "rows": rows}, exps)
-    assert [r["key"] for r in out["rows"]] == ["m.worse", "c.pct", "c.new", "m.better"]
+    assert [r["key"] for r in out["rows"]] == ["m.worse", "c.pct", "c.new", "m.better", "x/bare"]
+    # each row's unit: the claim's (an id without its experiment's prefix is keyed <experiment>/<id>; "—" for one
+    # this run lacks), "–" for a technique metric (a relative error as stored)
+    assert [r["unit_shown"] for r in out["rows"]] == ["–", "%", "—", "–", "%"]
+    assert out["rows"][4]["new_text"] == "25 %"
     pct = out["rows"][1]
     assert (pct["old_text"], pct["new_text"], pct["change_text"]) == ("1.00 ± 0.04 %", "1.23 ± 0.04 %", "0.23 %")
     assert out["rows"][2]["old_text"] == "—" and out["baseline"] == "b.json"

@@ -19,7 +19,10 @@ from the results (paragraphs, captions, findings) is text, never markup.
 Number formatting (Jinja filters ``num``, ``pct``, ``measured``, ``threshold``, ``cell``) goes through
 :mod:`validate.format`: ``unit == "%"`` marks fractions shown as per cent (0.0086 → "0.86 %"); a
 value with an uncertainty shows the digits the uncertainty supports ("0.860 ± 0.010 %"); other values
-use 3 significant digits, scientific below 10⁻³ and from 10⁶ (1.2e-5).
+use 3 significant digits, scientific below 10⁻³ and from 10⁶ (1.2e-5). Every column of every table names
+its unit (:func:`validate.format.missing_units`, ``tests/infra/test_report_units.py``): the claims and the
+"changes since" rows, whose units differ from row to row, carry a Unit column ("%" or "–", dimensionless) and
+headers ending "(unit)"; the overview's wall time is in seconds; a setting's unit is the one its name states.
 
 Each experiment page opens with its summary figure (:mod:`.summary`, drawn by :func:`write_report`
 into ``figures/summary/``) and a three-line verdict; findings are grouped (:mod:`.findings`); gallery
@@ -132,6 +135,32 @@ def fmt_seconds(value: Any) -> str:
     return f"{h} h {m:02d} min"
 
 
+def fmt_in_seconds(value: Any) -> str:
+    """Wall time as a number of seconds for a "(s)" column: 3 significant digits, "—" when absent."""
+    if not isinstance(value, Real) or isinstance(value, bool) or not math.isfinite(float(value)):
+        return "—"
+    return fmt_num(float(value))
+
+
+DIMENSIONLESS = "–"  # the unit of a number shown as it is (validate.format.UNITS)
+
+
+def claim_unit(claim: Mapping[str, Any]) -> str:
+    """The unit a claim's measured value and threshold are shown in: its ``unit`` ("%": a fraction shown as per
+    cent), "–" for a dimensionless claim (``unit`` empty)."""
+    return str(claim.get("unit") or "") or DIMENSIONLESS
+
+
+# A setting's unit, where its name states it: "beta_step_deg" → °, "sphere_px" → px, "meter_spp" → count
+# (samples per pixel), "passes" → count; other settings are listed as configured and their unit is "—" (not stated).
+SETTING_UNITS = (("_deg", "°"), ("_px", "px"), ("spp", "count"), ("passes", "count"))
+
+
+def setting_unit(name: str) -> str:
+    """The unit of a setting whose name states it (:data:`SETTING_UNITS`); "—" otherwise."""
+    return next((u for suffix, u in SETTING_UNITS if str(name).endswith(suffix)), fmt.DASH)
+
+
 def anchor(name: str) -> str:
     """HTML id for an experiment: "exp-" + name with anything but [A-Za-z0-9_-] replaced by "-"."""
     return "exp-" + re.sub(r"[^A-Za-z0-9_-]", "-", str(name))
@@ -212,7 +241,7 @@ def _claim(c: Mapping[str, Any], experiment: str) -> dict[str, Any]:
     out = {"id": "", "description": "", "metric": "", "threshold": None, "measured": None,
            "uncertainty": 0.0, "comparison": "<", "unit": "", "source": "", "power": None}
     out.update(c)
-    out.update(passed=_claim_passed(c), experiment=experiment, anchor=anchor(experiment),
+    out.update(passed=_claim_passed(c), experiment=experiment, anchor=anchor(experiment), unit_shown=claim_unit(out),
                page=page_name(experiment), anchor_id="claim-" + re.sub(r"[^A-Za-z0-9_-]", "-", str(out["id"])))
     return out
 
@@ -291,7 +320,8 @@ def _experiment(name: str, e: Mapping[str, Any], out_dir: Path) -> dict[str, Any
         "finding_groups": findings_mod.group_findings(findings, [t["name"] for t in techniques],
                                                       findings_mod.input_names(e)),
         "wall_time_s": e.get("wall_time_s"),
-        "settings": dict(e.get("settings") or {}),
+        "settings": [{"name": k, "value": v, "unit": setting_unit(k)}
+                     for k, v in dict(e.get("settings") or {}).items()],
         "claims": claims,
         "n_passed": sum(c["passed"] for c in claims),
         "n_power_fails": sum(bool((c.get("power") or {}).get("fails")) for c in claims),
@@ -311,7 +341,8 @@ def _changes(changes: Any, exps: list[dict[str, Any]]) -> dict[str, Any] | None:
     regressions first; claim values in their claim's unit."""
     if not isinstance(changes, Mapping):
         return None
-    units = {c["id"]: c.get("unit") or "" for e in exps for c in e["claims"]}
+    units = {key: c.get("unit") or "" for e in exps for c in e["claims"]  # the keys of validate.compare
+             for key in (c["id"], f"{c.get('experiment')}/{c['id']}")}
     rows = [dict(r) for r in changes.get("rows") or [] if isinstance(r, Mapping) and r.get("status") != "unchanged"]
     rank = {s: i for i, s in enumerate(_STATUS_ORDER)}
     rows.sort(key=lambda r: rank.get(str(r.get("status")), len(rank)))
@@ -320,6 +351,9 @@ def _changes(changes: Any, exps: list[dict[str, Any]]) -> dict[str, Any] | None:
         r["old_text"] = fmt_quantity(r.get("old"), r.get("old_uncertainty"), unit)
         r["new_text"] = fmt_quantity(r.get("new"), r.get("new_uncertainty"), unit)
         r["change_text"] = fmt_quantity(r.get("change"), None, unit)
+        # technique metrics are relative errors, stored as they are; a claim this run lacks: its unit is not known
+        known = r.get("kind") != "claim" or str(r.get("key")) in units
+        r["unit_shown"] = (unit or DIMENSIONLESS) if known else fmt.DASH
     return {"baseline": str(changes.get("baseline") or "the baseline"), "rows": rows,
             "regressions": changes.get("regressions", 0)}
 
@@ -410,7 +444,8 @@ def _environment() -> jinja2.Environment:
                              undefined=jinja2.StrictUndefined, trim_blocks=True, lstrip_blocks=True,
                              keep_trailing_newline=True)
     env.filters.update(num=fmt_num, pct=fmt_pct, value=fmt_value, measured=fmt_measured,
-                       threshold=fmt_threshold, cell=fmt_cell, seconds=fmt_seconds)
+                       threshold=fmt_threshold, cell=fmt_cell, seconds=fmt_seconds,
+                       in_seconds=fmt_in_seconds)
     return env
 
 
