@@ -41,7 +41,7 @@ from typing import Any
 
 from ..atomic import write_text
 from ..errors import ValidateError
-from .html import fmt_cell, fmt_measured, fmt_seconds, fmt_threshold, fmt_value
+from .html import claim_unit, fmt_cell, fmt_measured, fmt_seconds, fmt_threshold, fmt_value, setting_unit
 
 BEGIN = re.compile(r"^<!-- results:begin (?P<name>[A-Za-z0-9_.-]+) -->[ \t]*$", re.MULTILINE)
 END = "<!-- results:end -->"
@@ -114,11 +114,11 @@ def render_claims(name: str, exp: Mapping[str, Any]) -> str:
     passed = sum(bool(c.get("passed")) for c in claims)
     fails = sum(bool((c.get("power") or {}).get("fails")) for c in claims)
     lines = [f"{passed}/{len(claims)} claims pass; {fails}/{len(claims)} power checks fail (as they must).", "",
-             "| claim | measured | threshold | passes | power check → measured | power fails |",
-             "|---|---|---|---|---|---|"]
+             "| claim | unit | measured (unit) | threshold (unit) | passes | power check → measured | power fails |",
+             "|---|---|---|---|---|---|---|"]
     for c in claims:
         power, power_fails = _power(c)
-        lines.append(f"| `{c['id']}` | {_cell(fmt_measured(c))} | {_cell(fmt_threshold(c))} | "
+        lines.append(f"| `{c['id']}` | {claim_unit(c)} | {_cell(fmt_measured(c))} | {_cell(fmt_threshold(c))} | "
                      f"{'yes' if c.get('passed') else '**no**'} | {power} | {power_fails} |")
     lines += ["", "Descriptions and sources:", ""]
     lines += [f"- `{c['id']}` — {_text(c.get('description', ''))} *Source:* {_text(c.get('source') or '—')}"
@@ -135,7 +135,7 @@ def render_techniques(name: str, exp: Mapping[str, Any]) -> str:
     techniques = exp.get("techniques") or {}
     if not techniques:
         return "(no registered techniques measured)"
-    lines = ["| technique | family | kind | declared thresholds | description |", "|---|---|---|---|---|"]
+    lines = ["| technique | family | kind | declared thresholds (–) | description |", "|---|---|---|---|---|"]
     for t, v in techniques.items():
         thr = ", ".join(f"`{k}` < {fmt_value(x, '', 4)}" for k, x in (v.get("thresholds") or {}).items()) or "—"
         kind = "built-in" if v.get("builtin", True) else "plug-in"
@@ -147,14 +147,15 @@ def render_settings(name: str, exp: Mapping[str, Any]) -> str:
     settings = exp.get("settings") or {}
     lines = [f"Wall time of the experiment in that run: {fmt_seconds(exp.get('wall_time_s'))}.", ""]
     if settings:
-        lines += ["| setting | value |", "|---|---|"]
-        lines += [f"| `{k}` | {_cell(fmt_cell(v))} |" for k, v in settings.items()]
+        lines += ["| setting | value (unit) | unit |", "|---|---|---|"]
+        lines += [f"| `{k}` | {_cell(fmt_cell(v))} | {setting_unit(k)} |" for k, v in settings.items()]
     return "\n".join(lines)
 
 
 def render_overview(results: Mapping[str, Any]) -> str:
     """One row per experiment: title, claims passed, power checks failing, wall time."""
-    lines = ["| experiment | title | claims pass | power checks fail | wall time |", "|---|---|---|---|---|"]
+    lines = ["| experiment | title | claims pass (count) | power checks fail (count) | wall time |",
+             "|---|---|---|---|---|"]
     total = passed = fails = 0
     for name, exp in _experiments(results).items():
         claims = exp.get("claims") or []
