@@ -39,6 +39,7 @@ NUMPY_DTYPE = {"float32": np.float32, "float64": np.float64}
 
 _OVERRIDE: ContextVar[tuple[str | None, str | None]] = ContextVar("validate_precision_override", default=(None, None))
 _FAMILY: ContextVar[str | None] = ContextVar("validate_precision_family", default=None)
+_TRACE: ContextVar[list[str] | None] = ContextVar("validate_precision_trace", default=None)
 
 
 def check_precision(precision: str, where: str = "precision") -> str:
@@ -72,6 +73,19 @@ def family_precision(precision: str) -> Iterator[None]:
         _FAMILY.reset(token)
 
 
+@contextmanager
+def tracing() -> Iterator[list[str]]:
+    """Record the dtype of every drjit float type handed out by :func:`float_type` inside the block (the
+    policy test: a technique that routes through this module records its family's dtype, a numpy-only one
+    records nothing)."""
+    seen: list[str] = []
+    token = _TRACE.set(seen)
+    try:
+        yield seen
+    finally:
+        _TRACE.reset(token)
+
+
 def active() -> str:
     """The dtype techniques compute in right now (override → family → :data:`DEFAULT`)."""
     return _OVERRIDE.get()[0] or _FAMILY.get() or DEFAULT
@@ -93,6 +107,9 @@ def float_type(precision: str | None = None, backend: str | None = None) -> Any:
 
     p = check_precision(precision or active())
     b = backend or active_backend()
+    trace = _TRACE.get()
+    if trace is not None:
+        trace.append(p)
     if b == "scalar":
         return dr.scalar.ArrayXf64 if p == "float64" else dr.scalar.ArrayXf
     module = dr.cuda.ad if b == "cuda" else dr.llvm.ad
