@@ -51,12 +51,14 @@ def check_precision(precision: str, where: str = "precision") -> str:
 
 @contextmanager
 def computing_in(precision: str | None = None, backend: str | None = None) -> Iterator[None]:
-    """Force the dtype (and/or the drjit backend) of every technique evaluated inside the block."""
+    """Force the dtype (and/or the drjit backend) of every technique evaluated inside the block; what is not
+    given is inherited from an enclosing ``computing_in``."""
     if precision is not None:
         check_precision(precision)
     if backend is not None and backend not in BACKENDS:
         raise ValidateError(f"drjit backend {backend!r} must be one of {', '.join(BACKENDS)}")
-    token = _OVERRIDE.set((precision, backend))
+    outer = _OVERRIDE.get()
+    token = _OVERRIDE.set((precision or outer[0], backend or outer[1]))
     try:
         yield
     finally:

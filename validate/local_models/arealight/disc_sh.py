@@ -215,7 +215,8 @@ def cap_irradiance_sh_dr(sin2_sigma: Any, cos_theta: Any, lmax: int) -> Any:
     α = asin √sin²σ (:func:`zonal_cap_dr`)."""
     import drjit as dr
 
-    z = zonal_cap_dr(dr.asin(dr.sqrt(dr.clip(sin2_sigma, 0.0, 1.0))), lmax)
+    s2 = dr.clip(sin2_sigma, 0.0, 1.0)
+    z = zonal_cap_dr(dr.atan2(dr.sqrt(s2), dr.sqrt(1.0 - s2)), lmax)  # α = asin √sin²σ (atan2: drjit.scalar lacks asin)
     x = dr.clip(cos_theta, -1.0, 1.0)
     p = legendre(x, lmax)
     e = x * 0.0
