@@ -13,7 +13,10 @@ family's dtype (:mod:`validate.local_models.precision`), and compares it with th
   measured 1.8e-6); VSM ≤ 2e-4 absolute: σ² = E[d²] − E[d]² cancels to ~u in float32, floored at MIN_VARIANCE
   = 16 u (the module's own reasoning), measured 1.5e-5 on these 2000 footprints (13× margin); MSM ≤ 1e-2
   absolute: the Hankel system of α = 3e-5-biased moments has condition number ~1/α, so float32 moments move G by
-  ~u/α ≈ 2e-3 (measured 2.06e-3: [1]'s design point for 32-bit moments; 5× margin).
+  ~u/α ≈ 2e-3 (measured 2.06e-3: [1]'s design point for 32-bit moments; 5× margin);
+* float32 (specular_arealight): representative point, sphere and tube, ≤ 1e-4 of max L_o: GGX D's
+  q = (n·h)²(α² − 1) + 1 → α² at the peak, so a rounding u of (n·h)² moves D by 2u/α² relative (2.4e-5 at
+  α = 0.1); measured 1.6e-5 (sphere) and 2.2e-5 (tube) in float32, 1.3e-13 forced to float64.
 
 The numbers these bounds are checked against are printed in each assertion message.
 """
@@ -27,8 +30,10 @@ import numpy as np
 import pytest
 
 import validate.local_models as lm
+from validate.geometry import unit
 from validate.local_models import precision
 from validate.local_models.arealight import disc_sh, sphere_cap
+from validate.local_models.brdf import common as bc
 from validate.local_models.irradiance import sh, windowed_sh, zh3
 from validate.local_models.shadow import shadow_esm, shadow_msm, shadow_vsm
 from validate.local_models.shadow.shadow_map import FilterFootprint, footprint_dr
@@ -121,6 +126,54 @@ def _np_msm(b: np.ndarray, z_f: np.ndarray, alpha: float = shadow_msm.ALPHA) -> 
     return np.clip(np.nan_to_num(g, nan=0.0), 0.0, 1.0)
 
 
+def _np_ggx_point(alpha: float, f0: np.ndarray, n: np.ndarray, l: np.ndarray, v: np.ndarray,
+                  e_scaled: np.ndarray) -> np.ndarray:
+    g = bc.Geometry(n, l, v)
+    spec = (bc.ggx_d(g.ch, alpha) * bc.smith_g1(g.cl, alpha, "ggx") * bc.smith_g1(g.cv, alpha, "ggx")
+            / (4.0 * np.maximum(g.cv, 1e-12)))
+    return g.finish(bc.fresnel_schlick(g.vh, f0) * (spec * e_scaled)[:, None])
+
+
+def _np_rep_sphere(light: dict, alpha: float, f0: np.ndarray, points: np.ndarray, normals: np.ndarray,
+                   views: np.ndarray) -> np.ndarray:
+    n, v, radius = unit(normals), unit(views), float(light["radius"])
+    to_c = np.asarray(light["center"], dtype=np.float64) - points
+    dist = np.linalg.norm(to_c, axis=-1)
+    r = 2.0 * np.sum(n * v, -1, keepdims=True) * n - v
+    c2r = np.sum(to_c * r, -1, keepdims=True) * r - to_c
+    t = np.clip(radius / np.maximum(np.linalg.norm(c2r, axis=-1, keepdims=True), 1e-300), 0.0, 1.0)
+    l = unit(to_c + c2r * t)
+    e = float(light["radiance"]) * np.pi * radius ** 2 / dist ** 2
+    return _np_ggx_point(alpha, f0, n, l, v, e * (alpha / np.clip(alpha + radius / (2.0 * dist), 0.0, 1.0)) ** 2)
+
+
+def _np_rep_tube(light: dict, alpha: float, f0: np.ndarray, p: np.ndarray, normals: np.ndarray,
+                 views: np.ndarray) -> np.ndarray:
+    c, ax = np.asarray(light["center"], dtype=np.float64), unit(np.asarray(light["axis"], dtype=np.float64))
+    length, radius = float(light["length"]), float(light["radius"])
+    n, v = unit(normals), unit(views)
+    r = 2.0 * np.sum(n * v, -1, keepdims=True) * n - v
+    l0, ld = c - 0.5 * length * ax - p, length * ax
+    rl0, rld = np.sum(r * l0, -1), r @ ld
+    den = length ** 2 - rld ** 2
+    t = np.where(den > 1e-12 * length ** 2, (rl0 * rld - l0 @ ld) / np.where(den > 0.0, den, 1.0), 0.5)
+    lt = l0 + np.clip(t, 0.0, 1.0)[:, None] * ld
+    c2r = np.sum(lt * r, -1, keepdims=True) * r - lt
+    s = np.clip(radius / np.maximum(np.linalg.norm(c2r, axis=-1, keepdims=True), 1e-300), 0.0, 1.0)
+    l = unit(lt + c2r * s)
+    dist = np.linalg.norm(c - p, axis=-1)
+    q = p - c
+    s_p = q @ ax
+    h = np.maximum(np.linalg.norm(q - s_p[:, None] * ax, axis=-1), 1e-300)
+    s0, s1 = -0.5 * length - s_p, 0.5 * length - s_p
+    r0, r1 = np.hypot(h, s0), np.hypot(h, s1)
+    omega = 2.0 * radius * (s1 * r0 - s0 * r1) / (h * r0 * r1) + 0.5 * np.pi * radius ** 2 * (1 / r0 ** 2 + 1 / r1 ** 2)
+    a_line = np.clip(alpha + 0.5 * np.clip(length / dist, 0.0, 1.0), 0.0, 1.0)
+    a_sph = np.clip(alpha + radius / (2.0 * dist), 0.0, 1.0)
+    e = float(light["radiance"]) * omega * (alpha / a_line) * (alpha / a_sph) ** 2
+    return _np_ggx_point(alpha, f0, n, l, v, e)
+
+
 # -- inputs ---------------------------------------------------------------------------------------------------
 def _receivers(n: int = 200, seed: int = 7) -> tuple[np.ndarray, np.ndarray]:
     rng = np.random.default_rng(seed)
@@ -197,6 +250,23 @@ def _shadow(kind: str) -> Callable[[], tuple[np.ndarray, np.ndarray]]:
     return run
 
 
+def _specular_case(name: str, shape: str) -> Callable[[], tuple[np.ndarray, np.ndarray]]:
+    def run() -> tuple[np.ndarray, np.ndarray]:
+        pts, nrm = _receivers(400, seed=9)
+        rng = np.random.default_rng(13)
+        views = unit(nrm + rng.normal(0.0, 0.6, nrm.shape))
+        light = {"shape": shape, "center": (0.1, 2.5, -0.2), "radius": 0.3, "radiance": 2.0,
+                 "axis": (1.0, 0.0, 0.2), "length": 1.5}
+        got, want = [], []
+        for alpha in (0.1, 0.4, 0.9):
+            brdf = {"alpha": alpha, "f0": (0.9, 0.6, 0.3)}
+            got.append(lm.FAMILIES["specular_arealight"].call(name, light, brdf, pts, nrm, views))
+            ref = _np_rep_sphere if shape == "sphere" else _np_rep_tube
+            want.append(ref(light, alpha, np.array(brdf["f0"]), pts, nrm, views))
+        return np.concatenate(got), np.concatenate(want)
+    return run
+
+
 CASES = {
     "cap_exact": _arealight_case("cap_exact", _np_cap, 1e-12),
     "sh_order2": _arealight_case("sh_order2", lambda *a: _np_sh(*a, 2), 1e-12),
@@ -206,6 +276,8 @@ CASES = {
     "opengl_r2": _arealight_case("opengl_r2", lambda *a: _np_point(*a, True), 1e-12),
     "zh3": (_zh3, 1e-6, "relative"),
     "geomerics_l1": (_geomerics, 1e-6, "relative"),
+    "representative_point": (_specular_case("representative_point", "sphere"), 1e-4, "relative"),
+    "representative_point_tube": (_specular_case("representative_point_tube", "tube"), 1e-4, "relative"),
     "esm": (_shadow("esm"), 2e-5, "absolute"),
     "vsm": (_shadow("vsm"), 2e-4, "absolute"),
     "msm": (_shadow("msm"), 1e-2, "absolute"),
