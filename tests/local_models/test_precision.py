@@ -62,13 +62,27 @@ def _arealight_inputs() -> list[tuple]:
     return out
 
 
-INPUTS = {"irradiance": _irradiance_inputs, "arealight": _arealight_inputs}
+def _specular_arealight_inputs() -> list[tuple]:
+    light, pts, normals = _arealight_inputs()[0]
+    rng = np.random.default_rng(13)
+    views = normals + rng.normal(0.0, 0.6, normals.shape)
+    views /= np.linalg.norm(views, axis=1, keepdims=True)
+    brdf = {"alpha": 0.3, "f0": (0.9, 0.6, 0.3)}
+    sphere = {"shape": "sphere", "center": (0.1, 2.5, -0.2), "radius": 0.3, "radiance": 2.0}
+    tube = {**sphere, "shape": "tube", "axis": (1.0, 0.0, 0.2), "length": 1.5}
+    return [(sphere, brdf, pts, normals, views), (tube, brdf, pts, normals, views)]
+
+
+INPUTS = {"irradiance": _irradiance_inputs, "arealight": _arealight_inputs,
+          "specular_arealight": _specular_arealight_inputs}
+# the bound of a float32 family's float32 vs float64 evaluation where FLOAT32_REL is too tight for a reason stated:
+# GGX D at α = 0.3 (q → α² at the peak: 2u/α² = 1.5e-6 of D, × the sharpest receivers); see test_ports.py
+FAMILY_REL = {"specular_arealight": 1e-4}
 
 # Numpy-only (or partly numpy per receiver) built-ins of the covered families, still to port (issue 22 item 3).
 NOT_PORTED = {
-    ("irradiance", "three_sh"), ("irradiance", "babylon_sh"),
-    ("irradiance", "babylon_polynomial"),
-    ("irradiance", "sh1_geomerics"),
+    ("irradiance", "three_sh"), ("irradiance", "babylon_sh"), ("irradiance", "babylon_polynomial"),
+    ("specular_arealight", "ltc"),  # its evaluation and AD fit are being changed elsewhere (issue 22): left alone
 }
 
 
@@ -101,7 +115,7 @@ def test_every_family_declares_its_dtype_and_the_table_says_the_same() -> None:
 def test_builtin_computes_in_its_family_dtype(family_name: str, name: str) -> None:
     fam = lm.FAMILIES[family_name]
     other = "float64" if fam.precision == "float32" else "float32"
-    bound = FLOAT32_REL if fam.precision == "float32" else AREALIGHT_FLOAT32_REL
+    bound = FAMILY_REL.get(family_name, FLOAT32_REL) if fam.precision == "float32" else AREALIGHT_FLOAT32_REL
     for args in INPUTS[family_name]():
         if "shapes" in fam[name].meta and args[0]["shape"] not in fam[name].meta["shapes"]:
             continue
