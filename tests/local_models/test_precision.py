@@ -73,16 +73,45 @@ def _specular_arealight_inputs() -> list[tuple]:
     return [(sphere, brdf, pts, normals, views), (tube, brdf, pts, normals, views)]
 
 
+def _brdf_inputs() -> list[tuple]:
+    rng = np.random.default_rng(17)
+    n = np.tile([0.0, 1.0, 0.0], (300, 1))
+    light, view = _fibonacci(600)[rng.permutation(600)][:300], _fibonacci(300)
+    light[:, 1], view[:, 1] = np.abs(light[:, 1]) + 0.05, np.abs(view[:, 1]) + 0.05  # above the horizon
+    light /= np.linalg.norm(light, axis=1, keepdims=True)
+    view /= np.linalg.norm(view, axis=1, keepdims=True)
+    params = {"albedo": 0.6, "ks": 0.3, "exponent": 20.0, "phong_exponent": 20.0, "alpha": 0.3, "eta": 1.5,
+              "k": 0.0, "sigma": 0.3, "minnaert_k": 1.2}
+    return [(params, n, light, view)]
+
+
+def _light_inputs() -> list[tuple]:
+    light, pts, normals = _arealight_inputs()[0]
+    pos = (0.1, 2.5, -0.2)
+    return [({"type": "point", "position": pos, "intensity": 5.0}, pts, normals),
+            ({"type": "directional", "direction": (0.3, -1.0, 0.1), "irradiance": 2.0}, pts, normals),
+            ({"type": "spot", "position": pos, "intensity": 5.0, "direction": (0.0, -1.0, 0.0), "cutoff_angle": 40.0,
+              "beam_width": 30.0, "exponent": 4.0}, pts, normals)]
+
+
 INPUTS = {"irradiance": _irradiance_inputs, "arealight": _arealight_inputs,
-          "specular_arealight": _specular_arealight_inputs}
+          "specular_arealight": _specular_arealight_inputs, "brdf": _brdf_inputs, "light": _light_inputs}
 # the bound of a float32 family's float32 vs float64 evaluation where FLOAT32_REL is too tight for a reason stated:
 # GGX D at α = 0.3 (q → α² at the peak: 2u/α² = 1.5e-6 of D, × the sharpest receivers); see test_ports.py
 FAMILY_REL = {"specular_arealight": 1e-4}
 
 # Numpy-only (or partly numpy per receiver) built-ins of the covered families, still to port (issue 22 item 3).
 NOT_PORTED = {
-    ("irradiance", "three_sh"), ("irradiance", "babylon_sh"), ("irradiance", "babylon_polynomial"),
     ("specular_arealight", "ltc"),  # its evaluation and AD fit are being changed elsewhere (issue 22): left alone
+    *(("brdf", name) for name in (
+        "lambert", "phong", "blinn_phong", "phong_normalized", "blinn_phong_normalized", "cook_torrance_printed",
+        "cook_torrance", "oren_nayar", "oren_nayar_full", "minnaert",  # classic_brdfs.py
+        "ggx_kulla_conty", "ggx_fdez_aguera", "ggx_turquin", "ggx_metalness_fdez_aguera",
+        "ggx_metalness_blended_f0_bug",  # brdf_multiscatter.py
+        "cook_torrance_ganovelli", "cook_torrance_ganovelli_nl", "phong_usc420_glsl")),  # ganovelli_…, usc420_phong
+    *(("light", name) for name in (
+        "directional_ganovelli_glsl", "point_ganovelli_6_9_glsl",  # ganovelli_lamps.py
+        "point_redbook_7_4_glsl", "point_redbook_7_6_glsl", "spot_redbook_7_5_glsl")),  # redbook_lights.py
 }
 
 
@@ -90,7 +119,11 @@ def _python_builtins() -> list[tuple[str, str]]:
     out = []
     for fam_name in INPUTS:
         for tech in lm.FAMILIES[fam_name]:
-            if tech.builtin and "glsl" not in tech.meta:
+            lights = tech.meta.get("lights", ("point",))
+            if fam_name == "light" and not set(lights) & {"point", "directional", "spot"}:
+                continue  # area lights of the light family: no sample input here
+            glsl_builtin = str(tech.meta.get("glsl", "")).endswith(".glsl")  # runs in the GL runtime, float32
+            if tech.builtin and not glsl_builtin and "engine" not in tech.meta:  # engines: their own JavaScript
                 out.append((fam_name, tech.name))
     return out
 
@@ -118,6 +151,8 @@ def test_builtin_computes_in_its_family_dtype(family_name: str, name: str) -> No
     bound = FAMILY_REL.get(family_name, FLOAT32_REL) if fam.precision == "float32" else AREALIGHT_FLOAT32_REL
     for args in INPUTS[family_name]():
         if "shapes" in fam[name].meta and args[0]["shape"] not in fam[name].meta["shapes"]:
+            continue
+        if "lights" in fam[name].meta and args[0]["type"] not in fam[name].meta["lights"]:
             continue
         with precision.tracing() as seen:
             out = fam.call(name, *args)
