@@ -1,7 +1,9 @@
 """The precision policy (validate/local_models/precision.py, the table in families.py), checked on the techniques.
 
 * every family declares a dtype with a reason, and the table in ``families.py``'s docstring states the same one;
-* every built-in Python technique of the families with sample inputs here computes in its family's dtype: called
+* every built-in Python technique of the families with sample inputs here (irradiance, arealight,
+  specular_arealight, brdf, light with point/directional/spot lights; not shadow, specular, uberlight, whose inputs
+  are maps and scenes) computes in its family's dtype: called
   through ``Family.call`` it asks :mod:`~validate.local_models.precision` for drjit arrays of that dtype only
   (a numpy-only technique asks for none and fails; :data:`NOT_PORTED` lists those left, strict xfail, so a port
   must take its name off), and its output changes when the other dtype is forced (it really computes in the
@@ -108,10 +110,7 @@ NOT_PORTED = {
         "cook_torrance", "oren_nayar", "oren_nayar_full", "minnaert",  # classic_brdfs.py
         "ggx_kulla_conty", "ggx_fdez_aguera", "ggx_turquin", "ggx_metalness_fdez_aguera",
         "ggx_metalness_blended_f0_bug",  # brdf_multiscatter.py
-        "cook_torrance_ganovelli", "cook_torrance_ganovelli_nl", "phong_usc420_glsl")),  # ganovelli_…, usc420_phong
-    *(("light", name) for name in (
-        "directional_ganovelli_glsl", "point_ganovelli_6_9_glsl",  # ganovelli_lamps.py
-        "point_redbook_7_4_glsl", "point_redbook_7_6_glsl", "spot_redbook_7_5_glsl")),  # redbook_lights.py
+        "cook_torrance_ganovelli", "cook_torrance_ganovelli_nl")),  # ganovelli_cook_torrance.py
 }
 
 
@@ -122,8 +121,10 @@ def _python_builtins() -> list[tuple[str, str]]:
             lights = tech.meta.get("lights", ("point",))
             if fam_name == "light" and not set(lights) & {"point", "directional", "spot"}:
                 continue  # area lights of the light family: no sample input here
-            glsl_builtin = str(tech.meta.get("glsl", "")).endswith(".glsl")  # runs in the GL runtime, float32
-            if tech.builtin and not glsl_builtin and "engine" not in tech.meta:  # engines: their own JavaScript
+            # excluded: GLSL techniques (a .glsl file or a book's listing, run in the GL runtime, float32 — compared
+            # with their Python transcriptions in test_glsl_techniques / test_listings) and the engines (their own
+            # JavaScript under node)
+            if tech.builtin and "glsl" not in tech.meta and "engine" not in tech.meta:
                 out.append((fam_name, tech.name))
     return out
 
