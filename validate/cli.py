@@ -198,6 +198,7 @@ def _cmd_list(plugins: list[str]) -> int:
         print(f"  {name}")
     for fam in FAMILIES.values():
         print(f"technique family {fam.name}: {fam.contract}")
+        print(f"  computes in {fam.precision} (validate/local_models/precision.py): {fam.precision_reason}")
         if fam.glsl_contract:
             print(f"  GLSL entry point (docs/glsl.md): {fam.glsl_contract}")
         for t in fam:

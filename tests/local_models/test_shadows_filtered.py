@@ -14,12 +14,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from validate.local_models.precision import computing_in
 from validate.local_models.shadow import shadow_map as smod
 from validate.local_models.shadow.shadow_esm import C
 from validate.local_models.shadow.shadow_msm import ALPHA, hamburger_4msm
 from validate.local_models.shadow.shadow_vsm import MIN_VARIANCE, vsm_visibility
 
-EXACT = 1e-9  # float64 solve of a 3×3 Hankel system of a two-atom distribution: measured 3e-12
+EXACT = 1e-9  # float64 LDLᵀ solve of a 3×3 Hankel system of a two-atom distribution: measured 3e-12
 FLOAT = 1e-12
 
 
@@ -30,7 +31,8 @@ def _moments(d: np.ndarray, w: np.ndarray) -> np.ndarray:
 def test_msm_reproduces_a_two_atom_distribution() -> None:
     d, w = np.array([0.3, 0.6]), np.array([0.4, 0.6])
     z = np.array([0.2, 0.35, 0.45, 0.55, 0.65, 0.9])
-    g = hamburger_4msm(np.tile(_moments(d, w), (z.size, 1)), z, alpha=0.0)
+    with computing_in("float64"):  # the formula's exactness (the shader's float32 is tests/local_models/test_ports.py)
+        g = hamburger_4msm(np.tile(_moments(d, w), (z.size, 1)), z, alpha=0.0)
     assert np.allclose(g, [0.0, 0.4, 0.4, 0.4, 1.0, 1.0], atol=EXACT)  # G = P(D < z)
 
 

@@ -7,6 +7,28 @@ float arrays; environments are lat-long radiance maps (H, W, 3) in Mitsuba's ``e
 Every family is defined here, in the order the suite has always listed them; its techniques live in the
 folder of the same name (``local_models/<family>/``, one file per technique, shared code in a module of the
 family that registers nothing). A plug-in family may still call :func:`~.registry.define_family` itself.
+
+Precision policy (:mod:`.precision`): each family states the drjit float dtype its techniques compute in,
+and why; :meth:`~.registry.Family.call` makes it active, the techniques convert with ``precision.to_dr``.
+
+================== ========= ===============================================================================
+family             dtype     why
+================== ========= ===============================================================================
+irradiance         float32   a shader technique: the per-normal evaluation runs in a fragment shader
+                             (``sh9.glsl``); per-environment set-up (the SH projection) is numpy float64
+specular           float32   a shader technique (prefiltered maps, split sum: texture reads in a shader)
+arealight          float64   the suite's tolerance, 10⁻⁵ of π sin²σ for a closed form (arealights'
+                             CAP_QUADRATURE_TOLERANCE): a cap's zonal SH coefficients z_l ∝ P_{l−1}(cos α) −
+                             P_{l+1}(cos α) cancel; per receiver in float32 they are off by 1.6·10⁻⁴ (l ≤ 2)
+                             to 3.4·10⁻⁴ (l ≤ 8) of π sin²σ at sin²σ = 10⁻⁴ (4.2·10⁻⁵ at 10⁻³), the
+                             horizon-clipped cap by 2.3·10⁻⁵ at 10⁻⁴ (tests/local_models/test_precision.py)
+shadow             float32   a shader technique: depth and moment maps are 32-bit float textures (MSM's bias
+                             α = 3·10⁻⁵ and ESM's c = 80 are sized for float32, Peters & Klein 2015, Annen 2008)
+brdf               float32   a shader technique, compared with Mitsuba's float32 BSDF.eval
+light              float32   a shader technique (per-fragment attenuation)
+specular_arealight float32   a shader technique (LTC, representative point: per-fragment)
+uberlight          float32   a shader technique (RenderMan / Orange Book uberlight shader)
+================== ========= ===============================================================================
 """
 
 from __future__ import annotations
@@ -24,6 +46,9 @@ irradiance = define_family(
     "(E = ∫ L max(0, n·ω) dω, not E/π); may be negative",
     lambda radiance, normals, **_: (len(normals), 3),
     bounds_reason=NEGATIVE_ALLOWED,
+    precision="float32",
+    precision_reason=("a shader technique: the per-normal evaluation runs in a fragment shader (sh9.glsl); per-"
+                      "environment set-up (the SH projection) may be numpy float64"),
 )
 
 specular = define_family(
@@ -34,6 +59,8 @@ specular = define_family(
     lambda radiance, brdf, normals, views, **_: (len(normals), 3),
     lower=0.0,
     bounds_reason="outgoing radiance of a non-negative environment through a non-negative BRDF is ≥ 0",
+    precision="float32",
+    precision_reason="a shader technique: prefiltered maps and the split sum are texture reads in a fragment shader",
 )
 
 arealight = define_family(
@@ -43,6 +70,11 @@ arealight = define_family(
     "may be negative",
     lambda light, points, normals, **_: (len(points),),
     bounds_reason=NEGATIVE_ALLOWED,
+    precision="float64",
+    precision_reason=("the suite's tolerance, 1e-5 of π sin²σ for a closed form (arealights "
+                      "CAP_QUADRATURE_TOLERANCE): in float32 a cap's zonal SH coefficients z_l ∝ P_{l−1}(cos α) − "
+                      "P_{l+1}(cos α) cancel, off by 1.6e-4 (l ≤ 2) to 3.4e-4 (l ≤ 8) of π sin²σ at sin²σ = 1e-4, "
+                      "4.2e-5 at 1e-3, and the horizon-clipped cap by 2.3e-5 at 1e-4; float64 holds 1e-11"),
 )
 
 shadow = define_family(
@@ -53,6 +85,9 @@ shadow = define_family(
     lambda shadow_map, light, points, normals, **_: (len(points),),
     lower=0.0, upper=1.0,
     bounds_reason="visibility is the unoccluded fraction of the light, in [0, 1]",
+    precision="float32",
+    precision_reason=("a shader technique: depth and moment maps are 32-bit float textures (MSM's α = 3e-5 and ESM's c "
+                      "= 80 are sized for float32)"),
 )
 
 brdf = define_family(
@@ -63,6 +98,8 @@ brdf = define_family(
     lambda params, normals, lights, views, **_: (len(normals), 3),
     lower=0.0,
     bounds_reason="a BRDF times a clamped cosine is non-negative",
+    precision="float32",
+    precision_reason="a shader technique, compared with Mitsuba's float32 BSDF.eval",
 )
 
 light = define_family(
@@ -75,6 +112,8 @@ light = define_family(
     lambda light, points, normals, **_: (len(points),),
     lower=0.0,
     bounds_reason="the irradiance from a light of non-negative power is ≥ 0",
+    precision="float32",
+    precision_reason="a shader technique (per-fragment attenuation)",
 )
 
 specular_arealight = define_family(
@@ -86,6 +125,8 @@ specular_arealight = define_family(
     lambda light, brdf, points, normals, views, **_: (len(points), 3),
     lower=0.0,
     bounds_reason="reflected radiance of a non-negative emitter through a non-negative BRDF is ≥ 0",
+    precision="float32",
+    precision_reason="a shader technique (LTC, representative point: per-fragment)",
 )
 
 uberlight = define_family(
@@ -97,6 +138,8 @@ uberlight = define_family(
     lambda light, points, normals, views, material, **_: (len(points),),
     lower=0.0,
     bounds_reason="a non-negative light through a non-negative reflection gives radiance ≥ 0",
+    precision="float32",
+    precision_reason="a shader technique (the RenderMan / Orange Book uberlight shader)",
 )
 
 __all__ = ["irradiance", "specular", "arealight", "shadow", "brdf", "light", "specular_arealight", "uberlight"]

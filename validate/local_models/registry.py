@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ValidateError
+from .precision import check_precision, family_precision
 
 ShapeFn = Callable[..., tuple[int, ...]]
 
@@ -64,6 +65,8 @@ class Family:
 
     ``output_shape(*args, **kwargs)`` gives the expected output shape for the call's inputs.
     ``lower``/``upper`` bound every output value where the quantity is physical (``None``: no bound).
+    ``precision`` is the drjit float dtype the family's techniques compute in ("float32" or "float64",
+    :mod:`.precision`), active for the duration of every :meth:`call`; ``precision_reason`` says why.
     """
 
     name: str
@@ -73,6 +76,8 @@ class Family:
     upper: float | None = None
     bounds_reason: str = ""
     glsl_contract: str = ""  # the GLSL entry point and its uniforms, where the family has one (glsl_families)
+    precision: str = "float32"
+    precision_reason: str = ""
     _techniques: dict[str, Technique] = field(default_factory=dict, repr=False)
 
     # -- registration -------------------------------------------------------------------------
@@ -128,10 +133,12 @@ class Family:
 
     # -- calling ------------------------------------------------------------------------------
     def call(self, name: str | Technique, *args: Any, **kwargs: Any) -> np.ndarray:
-        """Call a technique and check its output contract; returns a float64 array."""
+        """Call a technique with the family's :attr:`precision` active (:func:`.precision.to_dr` converts to it)
+        and check its output contract; returns a float64 array."""
         tech = name if isinstance(name, Technique) else self[name]
         try:
-            out = tech.fn(*args, **kwargs)
+            with family_precision(self.precision):
+                out = tech.fn(*args, **kwargs)
         except ValidateError:
             raise
         except Exception as exc:  # a plug-in's own bug: name it, one line
@@ -164,11 +171,15 @@ FAMILIES: dict[str, Family] = {}
 
 
 def define_family(name: str, contract: str, output_shape: ShapeFn, *, lower: float | None = None,
-                  upper: float | None = None, bounds_reason: str = "") -> Family:
-    """Create and register a family (a duplicate family name is an error)."""
+                  upper: float | None = None, bounds_reason: str = "", precision: str = "float32",
+                  precision_reason: str = "") -> Family:
+    """Create and register a family (a duplicate family name is an error); ``precision`` is the dtype its
+    techniques compute in (:mod:`.precision`), ``precision_reason`` why."""
     if name in FAMILIES:
         raise ValidateError(f"technique family {name!r} is already defined")
-    fam = Family(name, " ".join(contract.split()), output_shape, lower, upper, bounds_reason)
+    check_precision(precision, f"technique family {name!r}")
+    fam = Family(name, " ".join(contract.split()), output_shape, lower, upper, bounds_reason,
+                 precision=precision, precision_reason=" ".join(precision_reason.split()))
     FAMILIES[name] = fam
     return fam
 

@@ -10,9 +10,9 @@ from typing import Any
 
 import numpy as np
 
-from ...backend import float_type
 from ..families import arealight as _arealight
-from .sphere_cap import cap_irradiance_dr, light_geometry
+from ..precision import to_np
+from .sphere_cap import cap_irradiance_dr, light_geometry_dr
 
 
 @_arealight.register("cap_exact", "exact horizon-clipped cap irradiance (Snyder 1996; Lagarde & de Rousiers 2014); "
@@ -21,8 +21,8 @@ def cap_exact(light: Any, points: np.ndarray, normals: np.ndarray) -> np.ndarray
     """E = L · E_cap(cos θ, sin²σ) [1, 2] — exact for a sphere at every receiver. A disc: [2]'s
     "illuminanceSphereOrDisk" with sin²σ = r²/(r² + d²) times max(0, cos ψ) (ψ between the disc's normal and
     the receiver), exact on the disc's axis facing it (ψ = 0), an approximation elsewhere."""
-    g = light_geometry(light, points, normals)
-    f = float_type()
-    e = cap_irradiance_dr(f(np.ascontiguousarray(g["cos_theta"], dtype=np.float32)),
-                          f(np.ascontiguousarray(g["sin2_sigma"], dtype=np.float32)))
-    return np.array(e, dtype=np.float64) * g["radiance"] * np.maximum(g["cos_psi"], 0.0)
+    import drjit as dr
+
+    g = light_geometry_dr(light, points, normals)
+    e = cap_irradiance_dr(g["cos_theta"], g["sin2_sigma"]) * g["radiance"] * dr.maximum(g["cos_psi"], 0.0)
+    return to_np(e, (g["n"],))

@@ -28,9 +28,12 @@ Legendre polynomials of d·n) and the *rotated* path (:func:`disc_coefficients` 
 vector → :func:`validate.local_models.irradiance.sh.render_irradiance`), the one an engine runs. The slow,
 obviously correct path is :func:`project_cap_numerical` (quadrature of the cap in its own frame).
 
-Precision: zonal coefficients are per light (a few numbers), computed in float64 numpy; 1 − cos α
-is evaluated as 2 sin²(α/2) and cos α − cos³α as cos α sin²α to avoid cancellation at small α. The
-per-normal evaluation runs in drjit (``validate.backend.float_type()``, float32).
+Precision: the zonal coefficients of one light (:func:`zonal_cap`, a few numbers) are float64 numpy;
+1 − cos α is evaluated as 2 sin²(α/2) and cos α − cos³α as cos α sin²α to avoid cancellation at small α.
+The registered techniques see a different cap from every receiver, so they compute z_l per receiver in
+drjit (:func:`zonal_cap_dr`) in the ``arealight`` family's dtype, float64: P_{l−1}(cos α) − P_{l+1}(cos α)
+cancels as α → 0 (float32 loses 1.6·10⁻⁴ of π sin²σ at sin²σ = 10⁻⁴, :mod:`..families`). Helpers called
+directly (:func:`disc_irradiance_sh`) run in the active dtype of :mod:`..precision` (float32 by default).
 
 References
   [1] The project's seed chapter: SH projection of a disc light, and the order-2 irradiance above.
@@ -50,9 +53,9 @@ from typing import Any
 
 import numpy as np
 
-from ...backend import float_type
 from ...errors import ValidateError
 from ..irradiance import sh
+from ..precision import to_dr, to_np
 
 # The seed chapter's rounded constants [1] (unit radiance).
 SEED_L00 = 1.77245  # √π
@@ -159,9 +162,8 @@ def disc_irradiance_sh(alpha: float, cos_theta: np.ndarray, lmax: int) -> np.nda
     c = np.asarray(cos_theta, dtype=np.float64)
     if not np.all(np.isfinite(c)) or np.any(np.abs(c) > 1.0 + 1e-6):
         raise ValidateError("disc SH irradiance: cos θ must be finite and within [−1, 1]")
-    x = float_type()(np.ascontiguousarray(np.clip(c, -1, 1).ravel(), dtype=np.float32))
-    e = zonal_irradiance_dr(zonal_cap(float(alpha), lmax), x)
-    return np.array(e, dtype=np.float64).reshape(c.shape)
+    e = zonal_irradiance_dr(zonal_cap(float(alpha), lmax), to_dr(np.clip(c, -1, 1)))
+    return to_np(e, c.shape)
 
 
 def disc_irradiance_sh_rotated(alpha: float, direction: np.ndarray, normals: np.ndarray, lmax: int) -> np.ndarray:
@@ -196,34 +198,55 @@ def project_cap_numerical(alpha: float, direction: np.ndarray, lmax: int, nodes:
     return sh.eval_basis_numpy(dirs, lmax).T @ w
 
 
-def cap_irradiance_sh(sin2_sigma: np.ndarray, cos_theta: np.ndarray, lmax: int) -> np.ndarray:
-    """Order-``lmax`` SH irradiance of unit-radiance caps, one (sin²σ, cos θ) per receiver: the zonal
-    coefficients z_l(α) of each receiver's cap (α = asin √sin²σ) in float64, then
-    E_N = Σ_l A_l z_l √((2l+1)/4π) P_l(cos θ) in drjit (float32); (N,)."""
-    s2 = np.asarray(sin2_sigma, dtype=np.float64).ravel()
-    c = np.clip(np.asarray(cos_theta, dtype=np.float64).ravel(), -1.0, 1.0)
-    z = zonal_cap(np.arcsin(np.sqrt(np.clip(s2, 1e-300, 1.0))), lmax)  # (lmax+1, N)
-    f = float_type()
-    x = f(np.ascontiguousarray(c, dtype=np.float32))
+def zonal_cap_dr(alpha: Any, lmax: int) -> list[Any]:
+    """:func:`zonal_cap` on a drjit array of half-angles (one per receiver), in its dtype:
+    z_0 = 2√π sin²(α/2), z_l = √(π/(2l+1)) (P_{l−1}(cos α) − P_{l+1}(cos α)) — the difference cancels as
+    α → 0, which is why the ``arealight`` family computes in float64 (:mod:`..families`)."""
+    import drjit as dr
+
+    p = legendre(dr.cos(alpha), lmax + 1)
+    h = dr.sin(0.5 * alpha)
+    return [2.0 * math.sqrt(math.pi) * h * h] + [math.sqrt(math.pi / (2 * l + 1)) * (p[l - 1] - p[l + 1])
+                                                 for l in range(1, lmax + 1)]
+
+
+def cap_irradiance_sh_dr(sin2_sigma: Any, cos_theta: Any, lmax: int) -> Any:
+    """E_N = Σ_l A_l z_l √((2l+1)/4π) P_l(cos θ) on drjit arrays, z_l(α) of each receiver's cap,
+    α = asin √sin²σ (:func:`zonal_cap_dr`)."""
+    import drjit as dr
+
+    s2 = dr.clip(sin2_sigma, 0.0, 1.0)
+    z = zonal_cap_dr(dr.atan2(dr.sqrt(s2), dr.sqrt(1.0 - s2)), lmax)  # α = asin √sin²σ (atan2: drjit.scalar lacks asin)
+    x = dr.clip(cos_theta, -1.0, 1.0)
     p = legendre(x, lmax)
     e = x * 0.0
     for l in range(lmax + 1):
         k = sh.clamped_cosine_al(l) * math.sqrt((2 * l + 1) / (4 * math.pi))
         if k != 0.0:
-            e = e + p[l] * f(np.ascontiguousarray(k * z[l], dtype=np.float32))
-    return np.array(e, dtype=np.float64)
+            e = e + p[l] * z[l] * k
+    return e
+
+
+def cap_irradiance_sh(sin2_sigma: np.ndarray, cos_theta: np.ndarray, lmax: int) -> np.ndarray:
+    """Order-``lmax`` SH irradiance of unit-radiance caps, one (sin²σ, cos θ) per receiver; numpy in/out,
+    :func:`cap_irradiance_sh_dr` in the active dtype inside; (N,)."""
+    s2 = np.asarray(sin2_sigma, dtype=np.float64).ravel()
+    c = np.asarray(cos_theta, dtype=np.float64).ravel()
+    return to_np(cap_irradiance_sh_dr(to_dr(s2), to_dr(c), lmax), (s2.size,))
 
 
 # -- registered techniques (family ``arealight``) ----------------------------------------------------
 from ..families import arealight as _arealight  # noqa: E402
-from .sphere_cap import light_geometry  # noqa: E402
+from .sphere_cap import light_geometry_dr  # noqa: E402
 
 
 def _sh_technique(lmax: int):  # noqa: ANN202 (returns the technique function)
     def fn(light: Any, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
-        g = light_geometry(light, points, normals)
-        return (cap_irradiance_sh(g["sin2_sigma"], g["cos_theta"], lmax) * g["radiance"]
-                * np.maximum(g["cos_psi"], 0.0))
+        import drjit as dr
+
+        g = light_geometry_dr(light, points, normals)
+        e = cap_irradiance_sh_dr(g["sin2_sigma"], g["cos_theta"], lmax) * g["radiance"]
+        return to_np(e * dr.maximum(g["cos_psi"], 0.0), (g["n"],))
     fn.__doc__ = (f"Order-{lmax} zonal SH of the cap each receiver sees (sphere: sin α = r/d; disc: the cap of its "
                   "axis, tan α = r/d, times max(0, cos ψ)), irradiance Σ_l A_l z_l √((2l+1)/4π) P_l(cos θ) [1, 5].")
     fn.__name__ = fn.__qualname__ = f"sh_order{lmax}"

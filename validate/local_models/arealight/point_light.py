@@ -30,8 +30,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...backend import float_type
 from ...errors import ValidateError
+from ..precision import to_dr, to_np
 
 
 def sphere_intensity(radius: float, radiance: float = 1.0) -> float:
@@ -62,11 +62,9 @@ def attenuated_irradiance(intensity: float, distance: np.ndarray, cos_theta: np.
                             "not all zero")
     import drjit as dr
 
-    f = float_type()
-    q = f(np.ascontiguousarray(d.ravel(), dtype=np.float32))
-    x = f(np.ascontiguousarray(c.ravel(), dtype=np.float32))
+    q, x = to_dr(d), to_dr(c)
     e = float(intensity) * dr.maximum(x, 0.0) / (constant + q * (linear + q * quadratic))
-    return np.array(e, dtype=np.float64).reshape(d.shape)
+    return to_np(e, d.shape)
 
 
 def inverse_square(intensity: float, distance: np.ndarray, cos_theta: np.ndarray) -> np.ndarray:
@@ -75,17 +73,21 @@ def inverse_square(intensity: float, distance: np.ndarray, cos_theta: np.ndarray
 
 
 # -- registered techniques (family ``arealight``) ----------------------------------------------------
+import math  # noqa: E402
 from typing import Any  # noqa: E402
 
 from ..families import arealight as _arealight  # noqa: E402
-from .sphere_cap import light_geometry  # noqa: E402
+from .sphere_cap import light_geometry_dr  # noqa: E402
 
 
 def _point(light: Any, points: np.ndarray, normals: np.ndarray, constant_r2: bool) -> np.ndarray:
-    g = light_geometry(light, points, normals)
-    intensity = np.pi * g["radius"] ** 2 * g["radiance"] * np.maximum(g["cos_psi"], 0.0)  # I = π r² L (cos ψ)
-    a = g["radius"] ** 2 if constant_r2 else 0.0
-    return intensity * np.maximum(g["cos_theta"], 0.0) / (a + g["distance"] ** 2)
+    import drjit as dr
+
+    g = light_geometry_dr(light, points, normals)
+    r, d = g["radius"], g["distance"]
+    intensity = math.pi * r * r * g["radiance"] * dr.maximum(g["cos_psi"], 0.0)  # I = π r² L (cos ψ)
+    a = r * r if constant_r2 else 0.0
+    return to_np(intensity * dr.maximum(g["cos_theta"], 0.0) / (a + d * d), (g["n"],))
 
 
 @_arealight.register("inverse_square", "point light at the centre, I = π r² L, E = I max(cos θ, 0)/d²",

@@ -41,8 +41,8 @@ from typing import Any
 
 import numpy as np
 
-from ...backend import float_type
 from ...errors import ValidateError
+from ..precision import to_dr, to_np, vec_to_dr
 
 X_FLOOR = 1e-30  # cot σ floor in the atan term: float32-normal, far below any x > 0 (cap_irradiance_dr)
 
@@ -92,10 +92,11 @@ def cap_irradiance_dr(cos_theta: Any, sin2_sigma: Any) -> Any:
 
 
 def cap_irradiance(cos_theta: np.ndarray, sin2_sigma: float) -> np.ndarray:
-    """E/L of a uniform cap (sin²σ) whose axis makes angle θ with the normal; numpy in/out."""
+    """E/L of a uniform cap (sin²σ) whose axis makes angle θ with the normal; numpy in/out, drjit inside in the
+    active dtype (:mod:`validate.local_models.precision`: float32 when called directly, as the arealights
+    experiment's closed-form claim does; the family's float64 inside ``arealight.call``)."""
     c = _check(cos_theta, sin2_sigma)
-    x = float_type()(np.ascontiguousarray(c.ravel(), dtype=np.float32))
-    return np.array(cap_irradiance_dr(x, sin2_sigma), dtype=np.float64).reshape(c.shape)
+    return to_np(cap_irradiance_dr(to_dr(c), sin2_sigma), c.shape)
 
 
 def cap_irradiance_unclipped(cos_theta: np.ndarray, sin2_sigma: float) -> np.ndarray:
@@ -168,3 +169,35 @@ def light_geometry(light: Any, points: np.ndarray, normals: np.ndarray) -> dict[
     s2 = r * r / (d * d) if shape == "sphere" else r * r / (r * r + d * d)
     return {"distance": d, "cos_theta": np.clip(np.einsum("ij,ij->i", n, u), -1.0, 1.0), "cos_psi": cos_psi,
             "sin2_sigma": s2, "radius": np.full_like(d, r), "radiance": np.full_like(d, rad), "shape": shape}
+
+
+def light_geometry_dr(light: Any, points: np.ndarray, normals: np.ndarray) -> dict[str, Any]:
+    """:func:`light_geometry` computed on drjit arrays of the active dtype (:mod:`..precision`): the same keys,
+    ``distance``, ``cos_theta``, ``cos_psi``, ``sin2_sigma`` as flat drjit arrays, ``radius`` and ``radiance``
+    as floats, ``shape`` and ``n`` (the receiver count). The light's parameters and the receivers' distances
+    are checked as there (one-line errors)."""
+    import drjit as dr
+
+    shape = light.get("shape") if hasattr(light, "get") else None
+    if shape not in ("disc", "sphere"):
+        raise ValidateError(f"area light: shape {shape!r} not supported by the cap techniques (disc, sphere)")
+    c, m = _vec3(light, "center"), _vec3(light, "normal")
+    r, rad = float(light.get("radius", np.nan)), float(light.get("radiance", 1.0))
+    if not (np.isfinite(r) and r > 0 and np.isfinite(rad) and rad >= 0):
+        raise ValidateError(f"area light: need radius > 0 and radiance ≥ 0, got radius={r}, radiance={rad}")
+    px, py, pz = vec_to_dr(points)
+    nx, ny, nz = vec_to_dr(normals)
+    vx, vy, vz = float(c[0]) - px, float(c[1]) - py, float(c[2]) - pz
+    d = dr.sqrt(vx * vx + vy * vy + vz * vz)
+    d_np = to_np(d)
+    if shape == "sphere" and np.any(d_np <= r):
+        raise ValidateError("area light: a receiver lies inside the sphere light (distance ≤ radius)")
+    if np.any(d_np <= 0):
+        raise ValidateError("area light: a receiver lies at the light's centre")
+    inv = 1.0 / d
+    ux, uy, uz = vx * inv, vy * inv, vz * inv
+    mh = m / np.linalg.norm(m)
+    cos_psi = d * 0.0 + 1.0 if shape == "sphere" else -(ux * float(mh[0]) + uy * float(mh[1]) + uz * float(mh[2]))
+    s2 = r * r / (d * d) if shape == "sphere" else r * r / (r * r + d * d)
+    return {"distance": d, "cos_theta": dr.clip(nx * ux + ny * uy + nz * uz, -1.0, 1.0), "cos_psi": cos_psi,
+            "sin2_sigma": s2, "radius": r, "radiance": rad, "shape": shape, "n": int(d_np.size)}

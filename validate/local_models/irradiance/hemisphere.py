@@ -38,14 +38,14 @@ from typing import Any
 
 import numpy as np
 
-from ...backend import float_type
 from ...errors import ValidateError
+from ..precision import to_dr
 
 FORMULAS = ("exact", "red_book")
 
 
 def _as_float(a: np.ndarray) -> Any:
-    return float_type()(np.ascontiguousarray(np.ravel(a), dtype=np.float32))
+    return to_dr(a)
 
 
 def sky_weight(cos_theta: Any) -> Any:

@@ -36,8 +36,8 @@ from typing import Any
 
 import numpy as np
 
-from ...backend import float_type
 from ...scenes import latlong
+from ..precision import to_dr
 
 # R&H 2001 eq. 12 constants [1].
 C1, C2, C3, C4, C5 = 0.429043, 0.511664, 0.743125, 0.886227, 0.247708
@@ -108,7 +108,7 @@ def clamped_cosine_al(l: int) -> float:
 
 
 def _to_float(a: np.ndarray) -> Any:
-    return float_type()(np.ascontiguousarray(a, dtype=np.float32))
+    return to_dr(a)  # the active dtype of the precision policy (the irradiance family's float32)
 
 
 def project_samples(directions: np.ndarray, weights: np.ndarray, radiance: np.ndarray, lmax: int) -> np.ndarray:

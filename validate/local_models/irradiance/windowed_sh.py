@@ -75,6 +75,7 @@ import numpy as np
 from ...scenes.latlong import CLOSED_FORM_TOLERANCE
 from ...scenes.procedural import near_directional_half_angle
 from ..families import irradiance as _irradiance
+from ..precision import rgb_to_np, vec_to_dr
 from . import sh
 from .kernel_bounds import near_directional_bound
 
@@ -170,22 +171,28 @@ def sh9_lanczos(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
 
 
 def geomerics_l1(coeffs4: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    """[2]'s reconstruction (module docstring) from L1 coefficients (4, 3) at normals (N, 3) → (N, 3)."""
+    """[2]'s reconstruction (module docstring) from L1 coefficients (4, 3) at normals (N, 3) → (N, 3); the
+    per-channel constants (R0, ρ, the axis) in float64, the per-normal part in drjit in the active dtype
+    (:mod:`..precision`: the irradiance family's float32)."""
+    import drjit as dr
+
     r0 = math.pi * 0.5 * math.sqrt(1.0 / math.pi) * coeffs4[0]  # A0 Y00 L00, per channel
     half_a1 = 0.5 * (2.0 * math.pi / 3.0) * 0.5 * math.sqrt(3.0 / math.pi)  # ½ A1 · 0.488603 = c2
     r1 = half_a1 * np.stack([coeffs4[3], coeffs4[1], coeffs4[2]], axis=-1)  # (3 channels, xyz)
-    out = np.empty((len(normals), 3))
+    x, y, z = vec_to_dr(normals)
+    out = []
     for c in range(3):
         length = float(np.linalg.norm(r1[c]))
         if r0[c] <= 0 or length == 0.0:
-            out[:, c] = max(float(r0[c]), 0.0)
+            out.append(max(float(r0[c]), 0.0))
             continue
         rho = min(length / float(r0[c]), 1.0)
-        q = 0.5 * (1.0 + normals @ (r1[c] / length))
+        u = r1[c] / length
+        q = 0.5 * (1.0 + x * float(u[0]) + y * float(u[1]) + z * float(u[2]))
         p = 1.0 + 2.0 * rho
         a = (1.0 - rho) / (1.0 + rho)
-        out[:, c] = r0[c] * (a + (1.0 - a) * (p + 1.0) * np.power(q, p))
-    return out
+        out.append(float(r0[c]) * (a + (1.0 - a) * (p + 1.0) * dr.power(dr.maximum(q, 0.0), p)))
+    return rgb_to_np(*out, len(normals))
 
 
 @_irradiance.register("sh1_geomerics", "L1 SH with Geomerics' non-negative reconstruction (Hazel 2013)",

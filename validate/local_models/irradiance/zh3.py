@@ -50,6 +50,7 @@ import numpy as np
 from ...scenes.latlong import CLOSED_FORM_TOLERANCE
 from ...scenes.procedural import near_directional_half_angle
 from ..families import irradiance as _irradiance
+from ..precision import rgb_to_np, vec_to_dr
 from . import sh
 from .kernel_bounds import near_directional_bound
 
@@ -81,10 +82,19 @@ def hallucinated_z2(coeffs: np.ndarray, axis: np.ndarray) -> np.ndarray:
 
 
 def render_zh3(coeffs: np.ndarray, axis: np.ndarray, z2: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    """E(n) = A0 L00 Y00 + A1 L1·Y1(n) + A2 z2 Y20(a·n) at normals (N, 3) → (N, 3)."""
-    linear = sh.render_irradiance(coeffs[:4], normals, 1)
-    t = normals @ axis
-    return linear + A2 * Y20_NORM * (3.0 * t * t - 1.0)[:, None] * z2[None, :]
+    """E(n) = A0 L00 Y00 + A1 L1·Y1(n) + A2 z2 Y20(a·n) at normals (N, 3) → (N, 3); per normal in drjit, in the
+    active dtype (:mod:`..precision`: the irradiance family's float32)."""
+    x, y, z = vec_to_dr(normals)
+    basis = sh.eval_basis(x, y, z, 1)
+    t = x * float(axis[0]) + y * float(axis[1]) + z * float(axis[2])
+    zonal = (3.0 * t * t - 1.0) * (A2 * Y20_NORM)
+    out = []
+    for c in range(3):
+        e = zonal * float(z2[c])
+        for k in range(4):
+            e = e + basis[k] * float(sh.clamped_cosine_al(sh.degree_of(k)) * coeffs[k, c])
+        out.append(e)
+    return rgb_to_np(*out, len(normals))
 
 
 # Declared threshold: lighting zonal about its own L1 axis (a directional light, a small disc) has only the

@@ -9,8 +9,8 @@ from typing import Any
 
 import numpy as np
 
-from ...backend import float_type
 from ...errors import ValidateError
+from ..precision import to_dr as _to_dr
 
 Visible = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
 DIRECTIONAL_REACH = 1.0e3  # m: a directional light's shadow rays test this far towards the light
@@ -35,8 +35,8 @@ def as_points(points: Any, normals: Any) -> tuple[np.ndarray, np.ndarray]:
 
 
 def to_dr(a: np.ndarray) -> Any:
-    """(N,) numpy → the active variant's float32 drjit array."""
-    return float_type()(np.ascontiguousarray(np.asarray(a).ravel(), dtype=np.float32))
+    """(N,) numpy → a drjit array of the active dtype (:mod:`..precision`; the light family's float32)."""
+    return _to_dr(a)
 
 
 def shadow(visible: Visible | None, points: np.ndarray, normals: np.ndarray, targets: np.ndarray) -> np.ndarray:

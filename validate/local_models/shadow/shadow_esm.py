@@ -25,7 +25,8 @@ import numpy as np
 
 from ...scenes.shadow_scenes import DiscLight
 from ..families import shadow
-from .shadow_map import ShadowMap, filter_footprint
+from ..precision import to_np
+from .shadow_map import ShadowMap, filter_footprint, footprint_dr
 
 C = 80.0
 
@@ -33,6 +34,8 @@ C = 80.0
 @shadow.register("esm", "exponential shadow map: clamp(E[exp(c(d − t))]), c = 80, 5×5 Gauss + bilinear",
                  source="Annen et al. 2008, eq. 4–5", upper_bound=True, memory_bytes_per_texel=4)
 def shadow_esm(shadow_map: ShadowMap, light: DiscLight, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    fp = filter_footprint(shadow_map, points)
-    v = (fp.weight * np.exp(C * (fp.depth - fp.receiver[:, None]))).sum(axis=1)
-    return np.clip(v, 0.0, 1.0)
+    import drjit as dr
+
+    fp = footprint_dr(filter_footprint(shadow_map, points))
+    v = fp.filtered(dr.exp(C * (fp.depth - fp.receiver_per_tap)))
+    return to_np(dr.clip(v, 0.0, 1.0), (fp.n,))

@@ -94,6 +94,7 @@ from ...backend import float_type, init, uint_type
 from ...errors import ValidateError
 from ...scenes.shadow_scenes import DiscLight
 from ..arealight.sphere_cap import cap_irradiance_dr
+from ..precision import to_dr
 
 DEPTH_BITS = 24
 DEPTH_LSB = 2.0**-DEPTH_BITS  # r of glPolygonOffset for a D24 buffer
@@ -544,6 +545,44 @@ def filter_footprint(sm: ShadowMap, points: np.ndarray) -> FilterFootprint:
     w = wy[:, :, None] * wx[:, None, :]
     t = np.clip((z - v.near) / (v.far - v.near), 0.0, 1.0)
     return FilterFootprint(d.reshape(-1, 36), w.reshape(-1, 36), t)
+
+
+@dataclass
+class FootprintDr:
+    """A :class:`FilterFootprint` as flat drjit arrays of the active dtype (:mod:`..precision`): ``depth`` and
+    ``weight`` hold the 36 taps of each receiver side by side (N·36), ``receiver`` one t per receiver (N) and
+    ``receiver_per_tap`` the same repeated over its taps."""
+
+    depth: Any
+    weight: Any
+    receiver: Any
+    receiver_per_tap: Any
+    n: int
+
+    def filtered(self, f: Any) -> Any:
+        """Σ_k w_k f(d_k) per receiver, for a per-tap drjit array ``f`` (what the filtered map returns)."""
+        import drjit as dr
+
+        return dr.block_sum(self.weight * f, TAPS)
+
+    def moments(self, order: int) -> list[Any]:
+        """[b_1 … b_order], b_k = Σ w d^k per receiver (the filtered moment map)."""
+        out, power = [], self.depth
+        for _ in range(order):
+            out.append(self.filtered(power))
+            power = power * self.depth
+        return out
+
+
+TAPS = 36  # 6×6 texels of a bilinear lookup of the 5×5-Gauss-prefiltered map
+
+
+def footprint_dr(fp: FilterFootprint) -> FootprintDr:
+    """``fp`` converted to drjit arrays of the active dtype (:class:`FootprintDr`)."""
+    import drjit as dr
+
+    t = to_dr(fp.receiver)
+    return FootprintDr(to_dr(fp.depth), to_dr(fp.weight), t, dr.repeat(t, TAPS), len(fp.receiver))
 
 
 def dr_gather_numpy(values: Any, index: np.ndarray) -> np.ndarray:

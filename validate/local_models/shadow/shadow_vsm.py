@@ -18,25 +18,36 @@ References
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from ...scenes.shadow_scenes import DiscLight
 from ..families import shadow
-from .shadow_map import ShadowMap, filter_footprint
+from ..precision import to_dr, to_np
+from .shadow_map import ShadowMap, filter_footprint, footprint_dr
 
 MIN_VARIANCE = 2.0**-20  # ≈ 1e-6: fp32 E[d²] − E[d]² of d ≤ 1 cancels to ~2⁻²⁴; 16× headroom
 
 
+def vsm_visibility_dr(b1: Any, b2: Any, t: Any) -> Any:
+    """Chebyshev's upper bound [1, eq. 5] from the first two moments and the receiver depth t (drjit arrays)."""
+    import drjit as dr
+
+    var = dr.maximum(b2 - b1 * b1, MIN_VARIANCE)
+    p = var / (var + (t - b1) * (t - b1))
+    return dr.select(t <= b1, 1.0, dr.clip(p, 0.0, 1.0))
+
+
 def vsm_visibility(b1: np.ndarray, b2: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """Chebyshev's upper bound [1, eq. 5] from the first two moments and the receiver depth t."""
-    var = np.maximum(b2 - b1 * b1, MIN_VARIANCE)
-    p = var / (var + (t - b1) ** 2)
-    return np.where(t <= b1, 1.0, np.clip(p, 0.0, 1.0))
+    """:func:`vsm_visibility_dr` with numpy in/out, in the active dtype of :mod:`..precision`."""
+    t = np.asarray(t, dtype=np.float64)
+    return to_np(vsm_visibility_dr(to_dr(b1), to_dr(b2), to_dr(t)), t.shape)
 
 
 @shadow.register("vsm", "variance shadow map: Chebyshev bound from (d, d²), 5×5 Gauss + bilinear",
                  source="Donnelly & Lauritzen 2006, eq. 5", upper_bound=True, memory_bytes_per_texel=8)
 def shadow_vsm(shadow_map: ShadowMap, light: DiscLight, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    fp = filter_footprint(shadow_map, points)
-    b = fp.moments(2)
-    return vsm_visibility(b[:, 0], b[:, 1], fp.receiver)
+    fp = footprint_dr(filter_footprint(shadow_map, points))
+    b1, b2 = fp.moments(2)
+    return to_np(vsm_visibility_dr(b1, b2, fp.receiver), (fp.n,))

@@ -20,3 +20,49 @@ def brdf_params(brdf: Mapping[str, Any], who: str) -> tuple[float, np.ndarray]:
         raise ValidateError(f"technique '{who}' (specular_arealight): f0={f0.tolist()!r} must be in [0, 1], scalar "
                             "or RGB")
     return float(alpha), np.broadcast_to(f0, (3,))
+
+
+# -- drjit vector helpers and the GGX point-light term (the family's float32 dtype, :mod:`..precision`) -----------
+TINY = 1e-30  # a norm floor that is a normal float32 (a zero vector stays zero)
+Vec = tuple[Any, Any, Any]
+
+
+def dot(a: Vec, b: Vec) -> Any:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def axpy(s: Any, a: Vec, b: Vec) -> Vec:
+    """s·a + b, componentwise."""
+    return (s * a[0] + b[0], s * a[1] + b[1], s * a[2] + b[2])
+
+
+def unit_dr(a: Vec) -> Vec:
+    import drjit as dr
+
+    inv = 1.0 / dr.maximum(dr.sqrt(dot(a, a)), TINY)
+    return (a[0] * inv, a[1] * inv, a[2] * inv)
+
+
+def ggx_point_dr(alpha: float, f0: np.ndarray, n: Vec, l: Vec, v: Vec, e_scaled: Any) -> list[Any]:
+    """F(v·h) f_r(l, v) (n·l) · e_scaled per channel (3 drjit arrays), zero where l or v is below the horizon:
+    GGX D = α²/(π ((n·h)²(α² − 1) + 1)²) (Walter et al. 2007 eq. 33), separable Smith G₁ = 2/(1 + √(1 + α² tan²θ))
+    (eq. 34), Schlick F = F₀ + (1 − F₀)(1 − v·h)⁵ — :mod:`validate.local_models.brdf.common`'s terms on drjit arrays."""
+    import drjit as dr
+
+    cl, cv = dot(n, l), dot(n, v)
+    h = unit_dr((l[0] + v[0], l[1] + v[1], l[2] + v[2]))
+    ch, vh = dr.clip(dot(n, h), 0.0, 1.0), dr.clip(dot(v, h), 0.0, 1.0)
+    a2 = alpha * alpha
+    q = ch * ch * (a2 - 1.0) + 1.0
+    d = dr.select(ch > 0.0, a2 / (np.pi * q * q), 0.0)
+
+    def g1(c: Any) -> Any:
+        c = dr.clip(c, 1e-12, 1.0)
+        tan2 = dr.maximum(1.0 - c * c, 0.0) / (c * c)
+        return 2.0 / (1.0 + dr.sqrt(1.0 + a2 * tan2))
+
+    spec = d * g1(cl) * g1(cv) / (4.0 * dr.maximum(cv, 1e-12)) * e_scaled
+    front = (cl > 0.0) & (cv > 0.0)
+    m = (1.0 - vh) ** 5
+    return [dr.select(front, dr.maximum((float(f0[k]) + (1.0 - float(f0[k])) * m) * spec, 0.0), 0.0)
+            for k in range(3)]

@@ -59,34 +59,48 @@ from typing import Any
 import numpy as np
 
 from ...errors import ValidateError
-from ...geometry import unit
 from ...scenes.area_lights import tube_geometry
-from ..brdf.common import Geometry, fresnel_schlick, ggx_d, smith_g1
 from ..families import specular_arealight
-from .common import brdf_params
+from ..precision import rgb_to_np, to_np, vec_to_dr
+from .common import TINY, Vec, axpy, brdf_params, dot, ggx_point_dr, unit_dr
+
+
+def _receivers(points: np.ndarray, normals: np.ndarray, views: np.ndarray) -> tuple[Vec, Vec, Vec, Vec]:
+    """p, unit n, unit v and the mirror direction r = 2(n·v) n − v as drjit vectors of the active dtype."""
+    n, v = unit_dr(vec_to_dr(normals)), unit_dr(vec_to_dr(views))
+    return vec_to_dr(points), n, v, axpy(2.0 * dot(n, v), n, (-v[0], -v[1], -v[2]))
+
+
+def _toward_sphere(to_c: Vec, r: Vec, radius: float) -> Vec:
+    """l: the unit direction to eq. 11's representative point, P = L + C·saturate(R/‖C‖), C = (L·r) r − L."""
+    import drjit as dr
+
+    c2r = axpy(dot(to_c, r), r, (-to_c[0], -to_c[1], -to_c[2]))
+    t = dr.clip(radius / dr.maximum(dr.sqrt(dot(c2r, c2r)), TINY), 0.0, 1.0)
+    return unit_dr(axpy(t, c2r, to_c))
 
 
 def representative_point(light: Mapping[str, Any], brdf: Mapping[str, Any], points: np.ndarray, normals: np.ndarray,
                          views: np.ndarray, who: str, normalise: bool = True) -> np.ndarray:
-    """L_o of Karis's representative point (eq. 10–14), (N, 3)."""
+    """L_o of Karis's representative point (eq. 10–14), (N, 3); per receiver in drjit, in the active dtype
+    (:mod:`..precision`: the family's float32)."""
+    import drjit as dr
+
     if light.get("shape") != "sphere":
         raise ValidateError(f"technique '{who}' (specular_arealight): handles sphere lights only, got "
                             f"{light.get('shape')!r}")
     alpha, f0 = brdf_params(brdf, who)
-    n, v = unit(np.asarray(normals, dtype=np.float64)), unit(np.asarray(views, dtype=np.float64))
     radius = float(light["radius"])
-    to_c = np.asarray(light["center"], dtype=np.float64) - np.asarray(points, dtype=np.float64)
-    dist = np.linalg.norm(to_c, axis=-1)
-    r = 2.0 * np.sum(n * v, -1, keepdims=True) * n - v
-    c2r = np.sum(to_c * r, -1, keepdims=True) * r - to_c
-    t = np.clip(radius / np.maximum(np.linalg.norm(c2r, axis=-1, keepdims=True), 1e-300), 0.0, 1.0)
-    l = unit(to_c + c2r * t)
-    g = Geometry(n, l, v)
-    spec = (ggx_d(g.ch, alpha) * smith_g1(g.cl, alpha, "ggx") * smith_g1(g.cv, alpha, "ggx")
-            / (4.0 * np.maximum(g.cv, 1e-12)))  # f_r (n·l) with F = 1
-    e_perp = float(light.get("radiance", 1.0)) * np.pi * radius ** 2 / dist ** 2
-    scale = (alpha / np.clip(alpha + radius / (2.0 * dist), 0.0, 1.0)) ** 2 if normalise else np.ones_like(dist)
-    return g.finish(fresnel_schlick(g.vh, f0) * (spec * e_perp * scale)[:, None])
+    c = [float(x) for x in np.asarray(light["center"], dtype=np.float64)]
+    p, n, v, r = _receivers(points, normals, views)
+    to_c = (c[0] - p[0], c[1] - p[1], c[2] - p[2])
+    dist2 = dot(to_c, to_c)
+    l = _toward_sphere(to_c, r, radius)
+    e_perp = float(light.get("radiance", 1.0)) * np.pi * radius ** 2 / dist2
+    if normalise:
+        a1 = alpha / dr.clip(alpha + radius / (2.0 * dr.sqrt(dist2)), 0.0, 1.0)
+        e_perp = e_perp * a1 * a1
+    return rgb_to_np(*ggx_point_dr(alpha, f0, n, l, v, e_perp), len(np.asarray(points).reshape(-1, 3)))
 
 
 @specular_arealight.register("representative_point", "Karis 2013 representative point on the sphere closest to the "
@@ -104,15 +118,6 @@ def karis_sphere_unnormalized(light: Mapping[str, Any], brdf: Mapping[str, Any],
                                 normalise=False)
 
 
-def _ggx_point(alpha: float, f0: np.ndarray, n: np.ndarray, l: np.ndarray, v: np.ndarray,
-               e_scaled: np.ndarray) -> np.ndarray:
-    """F(v·h) f_r(l, v) (n·l) · e_scaled, (N, 3): GGX D, separable Smith G, Schlick F."""
-    g = Geometry(n, l, v)
-    spec = (ggx_d(g.ch, alpha) * smith_g1(g.cl, alpha, "ggx") * smith_g1(g.cv, alpha, "ggx")
-            / (4.0 * np.maximum(g.cv, 1e-12)))
-    return g.finish(fresnel_schlick(g.vh, f0) * (spec * e_scaled)[:, None])
-
-
 def tube_light(light: Mapping[str, Any], who: str) -> tuple[np.ndarray, np.ndarray, float, float]:
     """(centre, unit axis, length ℓ ≥ 0, radius R > 0) of a ``'tube'`` light mapping; ValidateError otherwise."""
     if light.get("shape") != "tube":
@@ -121,16 +126,27 @@ def tube_light(light: Mapping[str, Any], who: str) -> tuple[np.ndarray, np.ndarr
     return tube_geometry(light, f"technique '{who}' (specular_arealight)")
 
 
+def tube_solid_angle_dr(center: np.ndarray, axis: np.ndarray, length: float, radius: float, p: Vec) -> Any:
+    """Ω ≈ 2R (s₁/r₁ − s₀/r₀)/h + (πR²/2)(1/r₀² + 1/r₁²): the capsule's solid angle to first order in R/r, at the
+    receivers ``p`` (a drjit vector)."""
+    import drjit as dr
+
+    ax = [float(x) for x in axis]
+    q = (p[0] - float(center[0]), p[1] - float(center[1]), p[2] - float(center[2]))
+    s_p = dot(q, ax)
+    perp = axpy(-s_p, ax, q)
+    h = dr.maximum(dr.sqrt(dot(perp, perp)), TINY)
+    s0, s1 = -0.5 * length - s_p, 0.5 * length - s_p
+    r0, r1 = dr.sqrt(h * h + s0 * s0), dr.sqrt(h * h + s1 * s1)
+    line = 2.0 * radius * (s1 * r0 - s0 * r1) / (h * r0 * r1)
+    return line + 0.5 * np.pi * radius ** 2 * (1.0 / (r0 * r0) + 1.0 / (r1 * r1))
+
+
 def tube_solid_angle(center: np.ndarray, axis: np.ndarray, length: float, radius: float,
                      points: np.ndarray) -> np.ndarray:
-    """Ω ≈ 2R (s₁/r₁ − s₀/r₀)/h + (πR²/2)(1/r₀² + 1/r₁²): the capsule's solid angle to first order in R/r, (N,)."""
-    q = np.asarray(points, dtype=np.float64) - center
-    s_p = q @ axis
-    h = np.maximum(np.linalg.norm(q - s_p[:, None] * axis, axis=-1), 1e-300)
-    s0, s1 = -0.5 * length - s_p, 0.5 * length - s_p
-    r0, r1 = np.hypot(h, s0), np.hypot(h, s1)
-    line = 2.0 * radius * (s1 * r0 - s0 * r1) / (h * r0 * r1)
-    return line + 0.5 * np.pi * radius ** 2 * (1.0 / r0 ** 2 + 1.0 / r1 ** 2)
+    """:func:`tube_solid_angle_dr` at numpy ``points`` (N, 3), (N,), in the active dtype."""
+    pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    return to_np(tube_solid_angle_dr(center, axis, length, radius, vec_to_dr(pts)), (len(pts),))
 
 
 def representative_point_tube(light: Mapping[str, Any], brdf: Mapping[str, Any], points: np.ndarray,
@@ -138,27 +154,29 @@ def representative_point_tube(light: Mapping[str, Any], brdf: Mapping[str, Any],
                               sphere_power: float = 2.0) -> np.ndarray:
     """L_o of Karis's tube light (eq. 19 + eq. 11 about the closest point), (N, 3), energy factor
     (α/α′_line)^line_power (α/α′_sphere)^sphere_power: (1, 2) is [1]'s, (0, 0) the unnormalised counterpart; other
-    powers exist for the experiment's variants (a squared line factor: the lobe widened in both dimensions)."""
+    powers exist for the experiment's variants (a squared line factor: the lobe widened in both dimensions). Per
+    receiver in drjit, in the active dtype (:mod:`..precision`: the family's float32)."""
+    import drjit as dr
+
     alpha, f0 = brdf_params(brdf, who)
     c, ax, length, radius = tube_light(light, who)
-    p = np.asarray(points, dtype=np.float64)
-    n, v = unit(np.asarray(normals, dtype=np.float64)), unit(np.asarray(views, dtype=np.float64))
-    r = 2.0 * np.sum(n * v, -1, keepdims=True) * n - v
-    l0 = c - 0.5 * length * ax - p
-    ld = length * ax
-    rl0, rld = np.sum(r * l0, -1), r @ ld
-    den = length ** 2 - rld ** 2
-    t = np.where(den > 1e-12 * max(length, 1e-300) ** 2, (rl0 * rld - l0 @ ld) / np.where(den > 0.0, den, 1.0), 0.5)
-    lt = l0 + np.clip(t, 0.0, 1.0)[:, None] * ld
-    c2r = np.sum(lt * r, -1, keepdims=True) * r - lt
-    s = np.clip(radius / np.maximum(np.linalg.norm(c2r, axis=-1, keepdims=True), 1e-300), 0.0, 1.0)
-    l = unit(lt + c2r * s)
-    dist = np.linalg.norm(c - p, axis=-1)
-    e_perp = float(light.get("radiance", 1.0)) * tube_solid_angle(c, ax, length, radius, p)
-    a_line = np.clip(alpha + 0.5 * np.clip(length / dist, 0.0, 1.0), 0.0, 1.0)
-    a_sph = np.clip(alpha + radius / (2.0 * dist), 0.0, 1.0)
-    scale = (alpha / a_line) ** line_power * (alpha / a_sph) ** sphere_power
-    return _ggx_point(alpha, f0, n, l, v, e_perp * scale)
+    p, n, v, r = _receivers(points, normals, views)
+    ld = [float(length * a) for a in ax]
+    base = c - 0.5 * length * ax
+    l0 = (float(base[0]) - p[0], float(base[1]) - p[1], float(base[2]) - p[2])
+    rl0, rld = dot(r, l0), dot(r, ld)
+    den = length ** 2 - rld * rld
+    ok = den > 1e-12 * max(length, 1e-30) ** 2
+    t = dr.select(ok, (rl0 * rld - dot(l0, ld)) / dr.select(den > 0.0, den, 1.0), 0.5)
+    lt = axpy(dr.clip(t, 0.0, 1.0), ld, l0)
+    l = _toward_sphere(lt, r, radius)
+    to_c = (float(c[0]) - p[0], float(c[1]) - p[1], float(c[2]) - p[2])
+    dist = dr.sqrt(dot(to_c, to_c))
+    e_perp = float(light.get("radiance", 1.0)) * tube_solid_angle_dr(c, ax, length, radius, p)
+    a_line = dr.clip(alpha + 0.5 * dr.clip(length / dist, 0.0, 1.0), 0.0, 1.0)
+    a_sph = dr.clip(alpha + radius / (2.0 * dist), 0.0, 1.0)
+    scale = dr.power(alpha / a_line, line_power) * dr.power(alpha / a_sph, sphere_power)
+    return rgb_to_np(*ggx_point_dr(alpha, f0, n, l, v, e_perp * scale), len(np.asarray(points).reshape(-1, 3)))
 
 
 @specular_arealight.register("representative_point_tube", "Karis 2013 tube light: closest point of the segment to the "
@@ -177,4 +195,5 @@ def karis_tube_unnormalized(light: Mapping[str, Any], brdf: Mapping[str, Any], p
                                      line_power=0.0, sphere_power=0.0)
 
 
-__all__ = ["representative_point", "representative_point_tube", "tube_light", "tube_solid_angle"]
+__all__ = ["representative_point", "representative_point_tube", "tube_light", "tube_solid_angle",
+           "tube_solid_angle_dr"]

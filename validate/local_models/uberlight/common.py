@@ -10,8 +10,8 @@ from typing import Any
 
 import numpy as np
 
-from ...backend import float_type
 from ...errors import ValidateError
+from ..precision import to_dr as _to_dr
 
 SHAPE_KEYS = ("width", "height", "width_edge", "height_edge", "roundness")
 DISTANCE_KEYS = ("near", "far", "near_edge", "far_edge")
@@ -32,7 +32,7 @@ def check_light(light: Mapping[str, Any], *extra: str) -> None:
 
 
 def _f(a: Any) -> Any:
-    return float_type()(np.ascontiguousarray(np.asarray(a, dtype=np.float64).ravel(), dtype=np.float32))
+    return _to_dr(a)
 
 
 def smoothstep(e0: Any, e1: Any, x: Any) -> Any:

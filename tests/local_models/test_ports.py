@@ -1,0 +1,296 @@
+"""The techniques ported from numpy to drjit (issue 22 item 3) equal their numpy originals, on every drjit backend.
+
+Each case runs the ported code on ``scalar`` (``drjit.scalar`` dynamic arrays, what ``scalar_rgb`` computes with),
+``llvm`` (``llvm_ad_rgb``) and ``cuda`` (``cuda_ad_rgb``; skipped, with the reason, without a CUDA device), in its
+family's dtype (:mod:`validate.local_models.precision`), and compares it with the numpy float64 code it replaced
+(kept here, frozen, as the oracle: :func:`_np_*`) within the bound stated per case:
+
+* float64 (arealight family): 1e-12 of the largest value (a few tens of operations × 2⁻⁵³ ≈ 1.1e-16, with the
+  legendre recurrence's growth to l = 8; measured ≤ 2.5e-15); cap_exact against the closed form in numpy float64
+  (its original was the same formula in float32 drjit);
+* float32 (irradiance, shadow): ZH3 and Geomerics' L1 ≤ 1e-6 of max|E| (≤ 9 terms, u = 6e-8: 16 u Σ|terms|,
+  Higham §4.2; measured 1.6e-7); ESM ≤ 2e-5 absolute (the exponent 80 (d − t) carries 80 u of absolute error;
+  measured 1.8e-6); VSM ≤ 2e-4 absolute: σ² = E[d²] − E[d]² cancels to ~u in float32, floored at MIN_VARIANCE
+  = 16 u (the module's own reasoning), measured 1.5e-5 on these 2000 footprints (13× margin); MSM ≤ 1e-2
+  absolute: the Hankel system of α = 3e-5-biased moments has condition number ~1/α, so float32 moments move G by
+  ~u/α ≈ 2e-3 (measured 2.06e-3: [1]'s design point for 32-bit moments; 5× margin);
+* float32 (specular_arealight): representative point, sphere and tube, ≤ 1e-4 of max L_o: GGX D's
+  q = (n·h)²(α² − 1) + 1 → α² at the peak, so a rounding u of (n·h)² moves D by 2u/α² relative (2.4e-5 at
+  α = 0.1); measured 1.6e-5 (sphere) and 2.2e-5 (tube) in float32, 1.3e-13 forced to float64.
+
+The numbers these bounds are checked against are printed in each assertion message.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+import pytest
+
+import validate.local_models as lm
+from validate.geometry import unit
+from validate.local_models import precision
+from validate.local_models.arealight import disc_sh, sphere_cap
+from validate.local_models.brdf import common as bc
+from validate.local_models.irradiance import sh, windowed_sh, zh3
+from validate.local_models.shadow import shadow_esm, shadow_msm, shadow_vsm
+from validate.local_models.shadow.shadow_map import FilterFootprint, footprint_dr
+
+
+def _has_cuda() -> bool:
+    import drjit as dr
+
+    try:
+        return bool(dr.has_backend(dr.JitBackend.CUDA))
+    except Exception:  # noqa: BLE001 (no driver: the backend is absent)
+        return False
+
+
+BACKENDS = [pytest.param("scalar"), pytest.param("llvm"),
+            pytest.param("cuda", marks=pytest.mark.skipif(not _has_cuda(), reason="no CUDA device/driver here"))]
+
+
+# -- the numpy originals (frozen copies of the code the ports replaced) ---------------------------------------
+def _np_point(light: dict, points: np.ndarray, normals: np.ndarray, constant_r2: bool) -> np.ndarray:
+    g = sphere_cap.light_geometry(light, points, normals)
+    intensity = np.pi * g["radius"] ** 2 * g["radiance"] * np.maximum(g["cos_psi"], 0.0)
+    a = g["radius"] ** 2 if constant_r2 else 0.0
+    return intensity * np.maximum(g["cos_theta"], 0.0) / (a + g["distance"] ** 2)
+
+
+def _np_sh(light: dict, points: np.ndarray, normals: np.ndarray, lmax: int) -> np.ndarray:
+    g = sphere_cap.light_geometry(light, points, normals)
+    z = disc_sh.zonal_cap(np.arcsin(np.sqrt(g["sin2_sigma"])), lmax)
+    p = disc_sh.legendre(g["cos_theta"], lmax)
+    e = sum(sh.clamped_cosine_al(l) * math.sqrt((2 * l + 1) / (4 * math.pi)) * z[l] * p[l] for l in range(lmax + 1))
+    return e * g["radiance"] * np.maximum(g["cos_psi"], 0.0)
+
+
+def _np_cap(light: dict, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """The horizon-clipped cap (sphere_cap's docstring, Snyder 1996; Lagarde & de Rousiers 2014) in numpy float64."""
+    g = sphere_cap.light_geometry(light, points, normals)
+    c, s2 = g["cos_theta"], g["sin2_sigma"]
+    s = np.sqrt(np.maximum(1.0 - c * c, 0.0))
+    x = np.sqrt(1.0 / s2 - 1.0)
+    y = np.clip(-x * c / np.maximum(s, 1e-12), -1.0, 1.0)
+    sq = s * np.sqrt(np.maximum(1.0 - y * y, 0.0))
+    clip = np.maximum((c * np.arccos(y) - x * sq) * s2 + np.arctan(sq / x), 0.0)
+    e = np.where(c * c > s2, np.pi * s2 * np.maximum(c, 0.0), clip)
+    return e * g["radiance"] * np.maximum(g["cos_psi"], 0.0)
+
+
+def _np_zh3(coeffs: np.ndarray, axis: np.ndarray, z2: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    y = sh.eval_basis_numpy(normals, 1)
+    a = np.array([sh.clamped_cosine_al(sh.degree_of(k)) for k in range(4)])
+    t = normals @ axis
+    return y @ (a[:, None] * coeffs[:4]) + zh3.A2 * zh3.Y20_NORM * (3.0 * t * t - 1.0)[:, None] * z2[None, :]
+
+
+def _np_geomerics(coeffs4: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    r0 = math.pi * 0.5 * math.sqrt(1.0 / math.pi) * coeffs4[0]
+    half_a1 = 0.5 * (2.0 * math.pi / 3.0) * 0.5 * math.sqrt(3.0 / math.pi)
+    r1 = half_a1 * np.stack([coeffs4[3], coeffs4[1], coeffs4[2]], axis=-1)
+    out = np.empty((len(normals), 3))
+    for c in range(3):
+        length = float(np.linalg.norm(r1[c]))
+        rho = min(length / float(r0[c]), 1.0)
+        q = 0.5 * (1.0 + normals @ (r1[c] / length))
+        p = 1.0 + 2.0 * rho
+        a = (1.0 - rho) / (1.0 + rho)
+        out[:, c] = r0[c] * (a + (1.0 - a) * (p + 1.0) * np.power(np.maximum(q, 0.0), p))
+    return out
+
+
+def _np_vsm(b1: np.ndarray, b2: np.ndarray, t: np.ndarray) -> np.ndarray:
+    var = np.maximum(b2 - b1 * b1, shadow_vsm.MIN_VARIANCE)
+    p = var / (var + (t - b1) ** 2)
+    return np.where(t <= b1, 1.0, np.clip(p, 0.0, 1.0))
+
+
+def _np_msm(b: np.ndarray, z_f: np.ndarray, alpha: float = shadow_msm.ALPHA) -> np.ndarray:
+    b = (1.0 - alpha) * b + alpha * 0.5
+    b1, b2, b3, b4 = b.T
+    one = np.ones_like(b1)
+    hankel = np.stack([np.stack([one, b1, b2], -1), np.stack([b1, b2, b3], -1), np.stack([b2, b3, b4], -1)], -2)
+    c = np.linalg.solve(hankel, np.stack([one, z_f, z_f * z_f], -1)[..., None])[..., 0]
+    c1, c2, c3 = c.T
+    disc = np.sqrt(np.maximum(c2 * c2 - 4 * c3 * c1, 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r1, r2 = (-c2 - disc) / (2 * c3), (-c2 + disc) / (2 * c3)
+        z2, z3 = np.minimum(r1, r2), np.maximum(r1, r2)
+        mid = (z_f * z3 - b1 * (z_f + z3) + b2) / ((z3 - z2) * (z_f - z2))
+        far = 1 - (z2 * z3 - b1 * (z2 + z3) + b2) / ((z_f - z2) * (z_f - z3))
+    g = np.where(z_f <= z2, 0.0, np.where(z_f <= z3, mid, far))
+    return np.clip(np.nan_to_num(g, nan=0.0), 0.0, 1.0)
+
+
+def _np_ggx_point(alpha: float, f0: np.ndarray, n: np.ndarray, l: np.ndarray, v: np.ndarray,
+                  e_scaled: np.ndarray) -> np.ndarray:
+    g = bc.Geometry(n, l, v)
+    spec = (bc.ggx_d(g.ch, alpha) * bc.smith_g1(g.cl, alpha, "ggx") * bc.smith_g1(g.cv, alpha, "ggx")
+            / (4.0 * np.maximum(g.cv, 1e-12)))
+    return g.finish(bc.fresnel_schlick(g.vh, f0) * (spec * e_scaled)[:, None])
+
+
+def _np_rep_sphere(light: dict, alpha: float, f0: np.ndarray, points: np.ndarray, normals: np.ndarray,
+                   views: np.ndarray) -> np.ndarray:
+    n, v, radius = unit(normals), unit(views), float(light["radius"])
+    to_c = np.asarray(light["center"], dtype=np.float64) - points
+    dist = np.linalg.norm(to_c, axis=-1)
+    r = 2.0 * np.sum(n * v, -1, keepdims=True) * n - v
+    c2r = np.sum(to_c * r, -1, keepdims=True) * r - to_c
+    t = np.clip(radius / np.maximum(np.linalg.norm(c2r, axis=-1, keepdims=True), 1e-300), 0.0, 1.0)
+    l = unit(to_c + c2r * t)
+    e = float(light["radiance"]) * np.pi * radius ** 2 / dist ** 2
+    return _np_ggx_point(alpha, f0, n, l, v, e * (alpha / np.clip(alpha + radius / (2.0 * dist), 0.0, 1.0)) ** 2)
+
+
+def _np_rep_tube(light: dict, alpha: float, f0: np.ndarray, p: np.ndarray, normals: np.ndarray,
+                 views: np.ndarray) -> np.ndarray:
+    c, ax = np.asarray(light["center"], dtype=np.float64), unit(np.asarray(light["axis"], dtype=np.float64))
+    length, radius = float(light["length"]), float(light["radius"])
+    n, v = unit(normals), unit(views)
+    r = 2.0 * np.sum(n * v, -1, keepdims=True) * n - v
+    l0, ld = c - 0.5 * length * ax - p, length * ax
+    rl0, rld = np.sum(r * l0, -1), r @ ld
+    den = length ** 2 - rld ** 2
+    t = np.where(den > 1e-12 * length ** 2, (rl0 * rld - l0 @ ld) / np.where(den > 0.0, den, 1.0), 0.5)
+    lt = l0 + np.clip(t, 0.0, 1.0)[:, None] * ld
+    c2r = np.sum(lt * r, -1, keepdims=True) * r - lt
+    s = np.clip(radius / np.maximum(np.linalg.norm(c2r, axis=-1, keepdims=True), 1e-300), 0.0, 1.0)
+    l = unit(lt + c2r * s)
+    dist = np.linalg.norm(c - p, axis=-1)
+    q = p - c
+    s_p = q @ ax
+    h = np.maximum(np.linalg.norm(q - s_p[:, None] * ax, axis=-1), 1e-300)
+    s0, s1 = -0.5 * length - s_p, 0.5 * length - s_p
+    r0, r1 = np.hypot(h, s0), np.hypot(h, s1)
+    omega = 2.0 * radius * (s1 * r0 - s0 * r1) / (h * r0 * r1) + 0.5 * np.pi * radius ** 2 * (1 / r0 ** 2 + 1 / r1 ** 2)
+    a_line = np.clip(alpha + 0.5 * np.clip(length / dist, 0.0, 1.0), 0.0, 1.0)
+    a_sph = np.clip(alpha + radius / (2.0 * dist), 0.0, 1.0)
+    e = float(light["radiance"]) * omega * (alpha / a_line) * (alpha / a_sph) ** 2
+    return _np_ggx_point(alpha, f0, n, l, v, e)
+
+
+# -- inputs ---------------------------------------------------------------------------------------------------
+def _receivers(n: int = 200, seed: int = 7) -> tuple[np.ndarray, np.ndarray]:
+    rng = np.random.default_rng(seed)
+    pts = rng.uniform(-2.0, 2.0, (n, 3))
+    pts[:, 1] = rng.uniform(-1.0, 0.5, n)
+    nrm = rng.normal(size=(n, 3))
+    return pts, nrm / np.linalg.norm(nrm, axis=1, keepdims=True)
+
+
+LIGHTS = [{"shape": s, "center": (0.1, 2.5, -0.2), "normal": (0.0, -1.0, 0.0), "radius": r, "radiance": 3.0}
+          for s, r in (("sphere", 0.6), ("disc", 0.8), ("sphere", 0.02))]
+
+
+def _footprints(n: int = 2000) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Random 36-texel depth distributions (1–3 occluder depths), weights, receiver depths and moments."""
+    rng = np.random.default_rng(11)
+    levels = rng.uniform(0.05, 0.95, (n, 3))
+    d = np.clip(np.take_along_axis(levels, rng.integers(0, 3, (n, 36)), axis=1) + rng.normal(0, 0.002, (n, 36)), 0, 1)
+    w = rng.uniform(0.1, 1.0, (n, 36))
+    w /= w.sum(axis=1, keepdims=True)
+    t = rng.uniform(0.0, 1.0, n)
+    b = np.stack([(w * d**k).sum(axis=1) for k in range(1, 5)], axis=1)
+    return d, w, t, b
+
+
+def _l1_coeffs() -> np.ndarray:
+    rng = np.random.default_rng(3)
+    c = np.zeros((9, 3))
+    c[0] = 1.0
+    c[1:4] = rng.uniform(-0.4, 0.4, (3, 3))
+    c[4:9] = rng.uniform(-0.1, 0.1, (5, 3))
+    return c
+
+
+# -- cases: name → (port, numpy original, bound, kind) ------------------------------------------------------
+def _arealight_case(name: str, ref: Callable[..., np.ndarray], bound: float):  # noqa: ANN202
+    def run() -> tuple[np.ndarray, np.ndarray]:
+        pts, nrm = _receivers()
+        got = np.concatenate([lm.FAMILIES["arealight"].call(name, light, pts, nrm) for light in LIGHTS])
+        want = np.concatenate([ref(light, pts, nrm) for light in LIGHTS])
+        return got, want
+    return run, bound, "relative"
+
+
+def _zh3() -> tuple[np.ndarray, np.ndarray]:
+    c, n = _l1_coeffs(), _receivers()[1]
+    a = zh3.zonal_axis(c)
+    z2 = zh3.stored_z2(c, a)
+    with precision.computing_in(lm.FAMILIES["irradiance"].precision):
+        got = zh3.render_zh3(c, a, z2, n)
+    return got, _np_zh3(c, a, z2, n)
+
+
+def _geomerics() -> tuple[np.ndarray, np.ndarray]:
+    c, n = _l1_coeffs()[:4], _receivers()[1]
+    with precision.computing_in(lm.FAMILIES["irradiance"].precision):
+        got = windowed_sh.geomerics_l1(c, n)
+    return got, _np_geomerics(c, n)
+
+
+def _shadow(kind: str) -> Callable[[], tuple[np.ndarray, np.ndarray]]:
+    def run() -> tuple[np.ndarray, np.ndarray]:
+        d, w, t, b = _footprints()
+        with precision.computing_in(lm.FAMILIES["shadow"].precision):
+            if kind == "vsm":
+                return shadow_vsm.vsm_visibility(b[:, 0], b[:, 1], t), _np_vsm(b[:, 0], b[:, 1], t)
+            if kind == "msm":
+                return shadow_msm.hamburger_4msm(b, t), _np_msm(b, t)
+            import drjit as dr
+
+            fp = footprint_dr(FilterFootprint(d, w, t))
+            v = precision.to_np(dr.clip(fp.filtered(dr.exp(shadow_esm.C * (fp.depth - fp.receiver_per_tap))), 0, 1))
+        return v, np.clip((w * np.exp(shadow_esm.C * (d - t[:, None]))).sum(axis=1), 0.0, 1.0)
+    return run
+
+
+def _specular_case(name: str, shape: str) -> Callable[[], tuple[np.ndarray, np.ndarray]]:
+    def run() -> tuple[np.ndarray, np.ndarray]:
+        pts, nrm = _receivers(400, seed=9)
+        rng = np.random.default_rng(13)
+        views = unit(nrm + rng.normal(0.0, 0.6, nrm.shape))
+        light = {"shape": shape, "center": (0.1, 2.5, -0.2), "radius": 0.3, "radiance": 2.0,
+                 "axis": (1.0, 0.0, 0.2), "length": 1.5}
+        got, want = [], []
+        for alpha in (0.1, 0.4, 0.9):
+            brdf = {"alpha": alpha, "f0": (0.9, 0.6, 0.3)}
+            got.append(lm.FAMILIES["specular_arealight"].call(name, light, brdf, pts, nrm, views))
+            ref = _np_rep_sphere if shape == "sphere" else _np_rep_tube
+            want.append(ref(light, alpha, np.array(brdf["f0"]), pts, nrm, views))
+        return np.concatenate(got), np.concatenate(want)
+    return run
+
+
+CASES = {
+    "cap_exact": _arealight_case("cap_exact", _np_cap, 1e-12),
+    "sh_order2": _arealight_case("sh_order2", lambda *a: _np_sh(*a, 2), 1e-12),
+    "sh_order4": _arealight_case("sh_order4", lambda *a: _np_sh(*a, 4), 1e-12),
+    "sh_order8": _arealight_case("sh_order8", lambda *a: _np_sh(*a, 8), 1e-12),
+    "inverse_square": _arealight_case("inverse_square", lambda *a: _np_point(*a, False), 1e-12),
+    "opengl_r2": _arealight_case("opengl_r2", lambda *a: _np_point(*a, True), 1e-12),
+    "zh3": (_zh3, 1e-6, "relative"),
+    "geomerics_l1": (_geomerics, 1e-6, "relative"),
+    "representative_point": (_specular_case("representative_point", "sphere"), 1e-4, "relative"),
+    "representative_point_tube": (_specular_case("representative_point_tube", "tube"), 1e-4, "relative"),
+    "esm": (_shadow("esm"), 2e-5, "absolute"),
+    "vsm": (_shadow("vsm"), 2e-4, "absolute"),
+    "msm": (_shadow("msm"), 1e-2, "absolute"),
+}
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("case", list(CASES))
+def test_port_equals_its_numpy_original(case: str, backend: str) -> None:
+    run, bound, kind = CASES[case]
+    with precision.computing_in(backend=backend):
+        got, want = run()
+    assert got.shape == want.shape and np.all(np.isfinite(got))
+    err = np.abs(got - want).max() / (np.abs(want).max() if kind == "relative" else 1.0)
+    assert err <= bound, f"{case} on {backend}: {kind} difference {err:.3g} > {bound:g}"
+    print(f"{case} {backend}: {kind} difference {err:.3g} (bound {bound:g})")

@@ -1,0 +1,144 @@
+"""The precision policy of the technique families: one drjit float dtype per family, set at the registry boundary.
+
+Every family declares the dtype its techniques compute in (``define_family(..., precision="float32" |
+"float64", precision_reason=...)``, the table in :mod:`.families`). :meth:`.registry.Family.call` makes that
+dtype *active* for the duration of the call; a technique converts its numpy inputs with :func:`to_dr` (a flat
+drjit array of the active dtype on the active backend), computes with drjit, and hands numpy back with
+:func:`to_np` (float64, the registry's output type). Numpy stays at the boundary only: per-environment or
+per-light set-up (an SH projection, a fit's table) may be numpy, the per-receiver evaluation is drjit.
+
+Active dtype and backend, innermost first: :func:`computing_in` (tests, benches: ``with computing_in("float64",
+backend="scalar"): ...``), then the family of the :meth:`~.registry.Family.call` in progress, then
+:data:`DEFAULT` (float32, what :func:`validate.backend.float_type` gives, for helpers called directly).
+
+Backends: ``"llvm"`` (``drjit.llvm.ad``), ``"cuda"`` (``drjit.cuda.ad``), ``"scalar"`` (``drjit.scalar``'s dynamic
+``ArrayXf``/``ArrayXf64``); ``None`` means the active Mitsuba variant's (:func:`validate.backend.init`). drjit
+arrays of different backends coexist in one process, so the same technique runs on every variant without
+switching Mitsuba's.
+
+Unit round-off u = 2⁻²⁴ (float32), 2⁻⁵³ (float64) (Higham, *Accuracy and Stability of Numerical Algorithms*,
+2nd ed., §2.1); :data:`UNIT_ROUNDOFF`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
+from typing import Any
+
+import numpy as np
+
+from ..errors import ValidateError
+
+PRECISIONS = ("float32", "float64")
+DEFAULT = "float32"
+BACKENDS = ("llvm", "cuda", "scalar")
+UNIT_ROUNDOFF = {"float32": 2.0**-24, "float64": 2.0**-53}
+NUMPY_DTYPE = {"float32": np.float32, "float64": np.float64}
+
+_OVERRIDE: ContextVar[tuple[str | None, str | None]] = ContextVar("validate_precision_override", default=(None, None))
+_FAMILY: ContextVar[str | None] = ContextVar("validate_precision_family", default=None)
+_TRACE: ContextVar[list[str] | None] = ContextVar("validate_precision_trace", default=None)
+
+
+def check_precision(precision: str, where: str = "precision") -> str:
+    """``precision`` if it is one of :data:`PRECISIONS`, else a one-line error."""
+    if precision not in PRECISIONS:
+        raise ValidateError(f"{where}: precision {precision!r} must be one of {', '.join(PRECISIONS)}")
+    return precision
+
+
+@contextmanager
+def computing_in(precision: str | None = None, backend: str | None = None) -> Iterator[None]:
+    """Force the dtype (and/or the drjit backend) of every technique evaluated inside the block; what is not
+    given is inherited from an enclosing ``computing_in``."""
+    if precision is not None:
+        check_precision(precision)
+    if backend is not None and backend not in BACKENDS:
+        raise ValidateError(f"drjit backend {backend!r} must be one of {', '.join(BACKENDS)}")
+    outer = _OVERRIDE.get()
+    token = _OVERRIDE.set((precision or outer[0], backend or outer[1]))
+    try:
+        yield
+    finally:
+        _OVERRIDE.reset(token)
+
+
+@contextmanager
+def family_precision(precision: str) -> Iterator[None]:
+    """The family's declared dtype for one :meth:`~.registry.Family.call` (an override still wins)."""
+    token = _FAMILY.set(check_precision(precision))
+    try:
+        yield
+    finally:
+        _FAMILY.reset(token)
+
+
+@contextmanager
+def tracing() -> Iterator[list[str]]:
+    """Record the dtype of every drjit float type handed out by :func:`float_type` inside the block (the
+    policy test: a technique that routes through this module records its family's dtype, a numpy-only one
+    records nothing)."""
+    seen: list[str] = []
+    token = _TRACE.set(seen)
+    try:
+        yield seen
+    finally:
+        _TRACE.reset(token)
+
+
+def active() -> str:
+    """The dtype techniques compute in right now (override → family → :data:`DEFAULT`)."""
+    return _OVERRIDE.get()[0] or _FAMILY.get() or DEFAULT
+
+
+def active_backend() -> str:
+    """The drjit backend right now: the override's, else the active Mitsuba variant's."""
+    forced = _OVERRIDE.get()[1]
+    if forced is not None:
+        return forced
+    from ..backend import init
+
+    return init().variant.split("_")[0]
+
+
+def float_type(precision: str | None = None, backend: str | None = None) -> Any:
+    """The dynamic drjit float array type of ``precision`` on ``backend`` (default: the active ones)."""
+    import drjit as dr
+
+    p = check_precision(precision or active())
+    b = backend or active_backend()
+    trace = _TRACE.get()
+    if trace is not None:
+        trace.append(p)
+    if b == "scalar":
+        return dr.scalar.ArrayXf64 if p == "float64" else dr.scalar.ArrayXf
+    module = dr.cuda.ad if b == "cuda" else dr.llvm.ad
+    return module.Float64 if p == "float64" else module.Float
+
+
+def to_dr(a: Any) -> Any:
+    """numpy (any shape; flattened) or a number → a flat drjit array of the active dtype and backend."""
+    p = active()
+    return float_type(p)(np.ascontiguousarray(np.asarray(a, dtype=np.float64).ravel(), dtype=NUMPY_DTYPE[p]))
+
+
+def to_np(x: Any, shape: tuple[int, ...] | None = None) -> np.ndarray:
+    """A drjit array (or a number, broadcast to ``shape``) → float64 numpy, reshaped to ``shape`` if given."""
+    if isinstance(x, (int, float)):
+        return np.full(shape or (), float(x))
+    out = np.array(x, dtype=np.float64)
+    return out.reshape(shape) if shape is not None else out
+
+
+def vec_to_dr(a: np.ndarray) -> tuple[Any, Any, Any]:
+    """(N, 3) numpy → three flat drjit arrays (x, y, z) of the active dtype."""
+    m = np.asarray(a, dtype=np.float64).reshape(-1, 3)
+    return to_dr(m[:, 0]), to_dr(m[:, 1]), to_dr(m[:, 2])
+
+
+def rgb_to_np(r: Any, g: Any, b: Any, n: int) -> np.ndarray:
+    """Three drjit arrays (or numbers) → (n, 3) float64 numpy."""
+    return np.stack([to_np(c, (n,)) if not isinstance(c, (int, float)) else np.full(n, float(c)) for c in (r, g, b)],
+                    axis=-1)
