@@ -19,7 +19,7 @@ Entry points and the uniforms the harness declares (do not redeclare them; see d
   the same quantity as the Python contract (n, l, v unit, any frame); zero below either horizon.
   Uniforms ``vec3 u_albedo, u_ks, u_eta, u_k``; ``float u_exponent, u_phong_exponent, u_alpha, u_sigma,
   u_minnaert_k``; ``int u_distribution`` (0 beckmann, 1 ggx) — the ``params`` mapping, defaults as in
-  :data:`validate.local_models.brdf.classic_brdfs.DEFAULTS`.
+  :data:`validate.local_models.brdf.common.DEFAULTS`.
 * irradiance: ``vec3 irradiance(vec3 n)`` → E(n) = ∫ L max(0, n·ω) dω (not E/π). Uniforms
   ``vec3 u_sh[9]``: the environment's radiance SH coefficients L_lm from
   :func:`validate.local_models.irradiance.sh.project_environment` (real SH without Condon–Shortley phase, world
