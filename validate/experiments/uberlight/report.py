@@ -140,8 +140,9 @@ def findings(m: Measurements) -> list[str]:
                    "size gives these numbers.)")
     fp = m.data["falloff_physical"]
     out.append(f"Fore June falloff with d₀ and M both free (α = 2): d₀ = {fp['d0_over_r']:.3f} r, M = "
-               f"{fp['M_over_piL']:.3f} πL, max error {fp['max_rel']:.3f}. The book's own parameter values (under Figure 20-17) are run as printed "
-               "by the listings experiment, against the same projector and barn door.")
+               f"{fp['M_over_piL']:.3f} πL, max error {fp['max_rel']:.3f}. "
+               "The book's own parameter values (under Figure 20-17) are run as printed by the listings "
+               "experiment, against the same projector and barn door.")
     return out
 
 
