@@ -317,12 +317,32 @@ def mitsuba_bsdf(m: Material) -> dict[str, Any]:
 
 
 def mitsuba_environment(env: Environment) -> dict[str, Any]:
+    """Constant radiance, or Mitsuba ``envmap`` on :func:`mitsuba_envmap_nodes` of the texels (no ``filter_type``:
+    Mitsuba 3.9's envmap has no such parameter and rejects it as unreferenced; it always interpolates bilinearly)."""
     if env.texels is None:
         return {"type": "constant", "radiance": {"type": "rgb", "value": list(env.radiance)}}
     import mitsuba as mi
 
-    return {"type": "envmap", "bitmap": mi.Bitmap(np.ascontiguousarray(env.texels, np.float32)),
-            "filter_type": "bilinear"}
+    return {"type": "envmap", "bitmap": mi.Bitmap(np.ascontiguousarray(mitsuba_envmap_nodes(env.texels), np.float32))}
+
+
+def mitsuba_envmap_nodes(texels: np.ndarray) -> np.ndarray:
+    """(2H + 1, W, 3) bitmap on which Mitsuba's ``envmap`` evaluates exactly the engines' bilinear texture.
+
+    The texels (H, W) follow the probes' convention: texel (i, j) is the direction at the texel *centre*
+    θ = π(i + ½)/H, φ = 2π(j + ½)/W, d = (sin φ sin θ, cos θ, −cos φ sin θ); a GPU samples them bilinearly
+    between centres, clamped to row 0 / H − 1 towards the poles. Mitsuba 3.9's envmap (measured:
+    ``emitter.eval`` on an index-valued bitmap) reads columns at centres φ = 2π(j + ½)/W, the same, but rows at
+    *nodes* θ = π m/(M − 1). With M = 2H + 1 the nodes fall on the poles, on every texel centre (m = 2i + 1) and
+    half-way between: node values pole = edge row, centre = the texel, half-way = the mean of the two rows make
+    Mitsuba's piecewise-linear interpolation in θ identical to the GPU's (and it is linear in φ in both)."""
+    t = np.asarray(texels, np.float64)
+    h = t.shape[0]
+    out = np.empty((2 * h + 1, *t.shape[1:]))
+    out[1::2] = t
+    out[2:-1:2] = 0.5 * (t[:-1] + t[1:])
+    out[0], out[-1] = t[0], t[-1]
+    return out
 
 
 def environment_texels(env: Environment) -> np.ndarray:
@@ -333,16 +353,34 @@ def environment_texels(env: Environment) -> np.ndarray:
 
 
 def engine_environment(env: Environment) -> dict[str, Any]:
-    """The same texels twice: float32 RGBA for three's DataTexture, and an RGBE .hdr file served to Babylon's
-    HDRCubeTexture (its own loader, panorama-to-cube and prefilter)."""
+    """The same texels twice: float32 RGBA for three's DataTexture (:func:`engine_texels`), and an RGBE .hdr file
+    served to Babylon's HDRCubeTexture (its own loader, panorama-to-cube and prefilter), turned a further quarter
+    (the probes' columns rolled by W/2): in a right-handed scene Babylon's shader flips z of the lookup
+    (REFLECTIONMAP_OPPOSITEZ) on top of its panorama's atan2(z, x). Measured on a 128 × 64 map with one bright
+    lobe at (1, 0.6, 0.5)/|·|: Mitsuba, three (W/4) and Babylon (W/2) put the peak of a roughness-0.1 metal
+    sphere on the same 32² pixel (row 11, column 22) to within a pixel; no mirror and no other quarter does."""
     from ..gl.browser_page import encode_f32, publish  # noqa: PLC0415 - only the engine side needs it
 
-    rgb = environment_texels(env)
+    rgb = engine_texels(environment_texels(env))
     h, w = rgb.shape[:2]
     rgba = np.concatenate([rgb, np.ones((h, w, 1))], axis=-1)
     url = publish(f"{env.digest()}.hdr".replace("[", "_").replace("]", "_").replace(",", "_").replace(" ", ""),
-                  rgbe_bytes(rgb))
+                  rgbe_bytes(np.roll(rgb, w // 4, axis=1)))
     return {"type": "equirect", "width": w, "height": h, "data": encode_f32(rgba), "key": env.digest(), "url": url}
+
+
+def engine_texels(texels: np.ndarray) -> np.ndarray:
+    """The probes' texels as three.js and Babylon index an equirect panorama.
+
+    Both read u = atan2(d_z, d_x)/2π + ½ (three's equirectUv, common.glsl; Babylon's
+    PanoramaToCubeMapTools.CalcProjectionSpherical), row 0 at the zenith. With the probes' d = (sin φ sin θ, cos θ,
+    −cos φ sin θ), atan2(d_z, d_x) = φ − π/2, so u_engine = u + ¼: column j' holds the probes' column j' − W/4
+    (``np.roll`` by W/4; W must be a multiple of 4). A constant or azimuth-independent map is unchanged."""
+    t = np.asarray(texels)
+    w = t.shape[1]
+    if w % 4:
+        raise ValidateError(f"environment texels: width {w} is not a multiple of 4 (the engines' quarter-turn)")
+    return np.roll(t, w // 4, axis=1)
 
 
 def rgbe_bytes(rgb: np.ndarray) -> bytes:
@@ -431,3 +469,31 @@ def hemisphere_scene(resolution: int = 64) -> RenderScene:
 
 def describe(scene: RenderScene) -> str:
     return json.dumps(scene.key(), sort_keys=True)
+
+
+# (b) the shared probes on spheres over roughness × metalness
+PROBE_FILE = "ict_uffizi_256x128.hdr"  # ../shared/probes: the Uffizi gallery, lat-long 256 × 128, max 15.9, mean 1.86
+PROBE_SIZE = (64, 128)  # resampled lat-long (H, W): 2 × 2 box means of the 256 × 128 file, ≈ 2.8° per texel
+
+
+def resample_probe(radiance: np.ndarray, size: tuple[int, int] = PROBE_SIZE) -> np.ndarray:
+    """(H, W, 3) box means of a lat-long map whose shape is an integer multiple of ``size`` (probes' convention)."""
+    r = np.asarray(radiance, np.float64)
+    h, w = size
+    if r.shape[0] % h or r.shape[1] % w:
+        raise ValidateError(f"probe {r.shape[1]}×{r.shape[0]} is not a multiple of {w}×{h}")
+    return r.reshape(h, r.shape[0] // h, w, r.shape[1] // w, 3).mean(axis=(1, 3))
+
+
+def probe_scenes(texels: np.ndarray, name: str, resolution: int, roughness: tuple[float, ...],
+                 metallic: tuple[float, ...]) -> list[RenderScene]:
+    """(b) white spheres (baseColor 1) over ``metallic`` × ``roughness`` lit only by the probe ``texels``."""
+    env = Environment(name, texels=np.asarray(texels, np.float64))
+    return [RenderScene(f"probe_{'metal' if mt == 1.0 else 'dielectric'}_r{r:g}", Material(metallic=mt, roughness=r),
+                        environment=env, resolution=resolution) for mt in metallic for r in roughness]
+
+
+def probe_lambert_scene(texels: np.ndarray, name: str, resolution: int) -> RenderScene:
+    """(b) the Lambertian sphere (no specular layer) under the probe: the diffuse-dominated limit."""
+    return RenderScene("probe_lambert", LAMBERT, environment=Environment(name, texels=np.asarray(texels, np.float64)),
+                       resolution=resolution)
