@@ -157,8 +157,8 @@ def hemisphere_findings(m: Measurements) -> list[str]:
 
 
 PROBE_NOTE = ("The probe (ict_uffizi_256x128.hdr from --probes, 2 × 2 box means → 128 × 64 lat-long, texel centres "
-              "in the probes' convention) lights white spheres: metal over roughness, and a Lambertian sphere. Mitsuba's "
-              "envmap gets a (2H + 1)-row node lattice on which its bilinear lookup equals the GPU's bilinear "
+              "in the probes' convention) lights white spheres: metal over roughness, and a Lambertian sphere. "
+              "Mitsuba's envmap gets a (2H + 1)-row node lattice on which its bilinear lookup equals the GPU's bilinear "
               "texture exactly; three.js takes the texels as a float equirect DataTexture → PMREMGenerator, "
               "Babylon as an RGBE .hdr → HDRCubeTexture (its nearest-texel panorama-to-cube, spherical polynomial "
               "and prefilter). Reference (i) only: glTF 2.0's single-scattering GGX metal (Mitsuba roughconductor); "
@@ -205,7 +205,8 @@ def probe_findings(m: Measurements) -> list[str]:
                      " (PR 32311: 'too crisp' would be c > 1)" if r == 0.5 else "")
             out.append(f"{sr.scene.name}, {name}: contrast ratio c = {fpm(cv, cu)}{issue}; bias "
                        f"{fpm(j.mean_signed_rel, j.mean_rel_unc, '%')}, mean |rel| "
-                       f"{fpm(j.mean_rel, j.mean_rel_unc, '%')}, {pct(j.fraction_accepted)} of {j.n_pixels} px accepted.")
+                       f"{fpm(j.mean_rel, j.mean_rel_unc, '%')}, {pct(j.fraction_accepted)} of {j.n_pixels} px "
+                       "accepted.")
     return out
 
 
