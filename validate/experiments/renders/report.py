@@ -158,8 +158,8 @@ def hemisphere_findings(m: Measurements) -> list[str]:
 
 PROBE_NOTE = ("The probe (ict_uffizi_256x128.hdr from --probes, 2 × 2 box means → 128 × 64 lat-long, texel centres "
               "in the probes' convention) lights white spheres: metal over roughness, and a Lambertian sphere. "
-              "Mitsuba's envmap gets a (2H + 1)-row node lattice on which its bilinear lookup equals the GPU's bilinear "
-              "texture exactly; three.js takes the texels as a float equirect DataTexture → PMREMGenerator, "
+              "Mitsuba's envmap gets a (2H + 1)-row node lattice on which its bilinear lookup equals the GPU's "
+              "bilinear texture exactly; three.js takes the texels as a float equirect DataTexture → PMREMGenerator, "
               "Babylon as an RGBE .hdr → HDRCubeTexture (its nearest-texel panorama-to-cube, spherical polynomial "
               "and prefilter). Reference (i) only: glTF 2.0's single-scattering GGX metal (Mitsuba roughconductor); "
               "the engines' multiscatter compensation shows as the energy ratio above 1 at high roughness. The "
