@@ -26,6 +26,12 @@ as the regression it has (``SPOT_REGRESSIONS``); its power check is three.js wit
 (f) Hemisphere light, per engine: the same rule against Mitsuba's two-value environment (sky radiance above the
 horizon, ground below). Power: the light's colour read as radiance where it is irradiance (or the reverse) —
 the engine image × 1/π — must fail.
+
+(b) Probe, per engine: the Lambertian sphere under the probe (the diffuse-dominated limit) by the same ≥ 99.75 %
+rule; power: image × 1.02, else × π. Babylon's diffuse IBL of the probe is stated as the regression it has
+(``PROBE_LAMBERT_REGRESSIONS``; power: three's image, accepted). White metal at roughness 0.25 and 0.5 (three issues
+17911/26796, PR 32311): the contrast ratio std_px(engine)/std_px(truth) is stated as the regression each engine has
+(below 1: blurrier than glTF's GGX path-traced); power: the path tracer's own image as the engine (c = 1).
 """
 
 from __future__ import annotations

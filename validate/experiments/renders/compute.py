@@ -12,6 +12,10 @@ three.js's smoothstep profile (``smoothstep``) — :mod:`validate.scenes.spot_pr
 same spot with its outer cone 1° wider (``SPOT_CONE_OFFSET_DEG``).
 Hemisphere (f): Mitsuba's ``envmap`` of radiance sky above / ground below the horizon, path-traced with
 ``env_spp`` samples per pass (Monte Carlo noise, unlike the delta lights, whose passes are noise free).
+Probe (b): ``rs.PROBE_FILE`` of ``--probes`` resampled to ``rs.PROBE_SIZE``; Mitsuba's ``envmap`` on the node lattice
+of :func:`validate.scenes.render_scenes.mitsuba_envmap_nodes` (its lookup is the engines' bilinear texture exactly)
+lights white metal spheres (reference (i): glTF's single-scattering GGX, ``roughconductor``; ``probe_spp``) and
+the Lambertian sphere (``env_spp``). Without the probe file the probe scenes are left out with the reason.
 """
 
 from __future__ import annotations
