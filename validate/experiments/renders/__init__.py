@@ -19,8 +19,8 @@ from .settings import FULL, QUICK
 
 NAME = "renders"
 TITLE = "Engines' pixels against the path tracer: three.js and Babylon.js vs Mitsuba"
-DESCRIPTION = ("Furnace, probe, directional, point, spot and hemisphere lights rendered by the engines, judged per pixel "
-               "with uncertainty")
+DESCRIPTION = ("Furnace, probe, directional, point, spot and hemisphere lights rendered by the engines, judged "
+               "per pixel with uncertainty")
 ORDER = 95
 
 
