@@ -182,7 +182,27 @@ class HemisphereLight:
         return np.repeat(img, 2 * height, axis=1)
 
 
-Light = DirectionalLight | PointLight | SpotLight | HemisphereLight
+@dataclass(frozen=True)
+class RectLight:
+    """(d) A one-sided rectangular area light of uniform luminance ``intensity`` (nits = cd/m², read as radiance
+    W/(sr·m²), three.js RectAreaLight's unit), centre ``position``, facing ``target``, ``width`` × ``height`` m."""
+
+    position: tuple[float, float, float]
+    target: tuple[float, float, float]
+    width: float
+    height: float
+    intensity: float
+    color: tuple[float, float, float] = (1.0, 1.0, 1.0)
+
+    def area(self) -> float:
+        return self.width * self.height
+
+    def to_json(self) -> dict[str, Any]:
+        return {"type": "rect", "position": list(self.position), "target": list(self.target), "width": self.width,
+                "height": self.height, "intensity": self.intensity, "color": list(self.color)}
+
+
+Light = DirectionalLight | PointLight | SpotLight | HemisphereLight | RectLight
 GEOMETRIES = ("sphere", "plane")
 PLANE_HALF_SIZE = 3.0
 
@@ -290,6 +310,11 @@ def mitsuba_light(li: Light) -> dict[str, Any]:
     if isinstance(li, HemisphereLight):
         return {"type": "envmap", "bitmap": mi.Bitmap(np.ascontiguousarray(li.texels(), np.float32))}
     rgb = {"type": "rgb", "value": [li.intensity * c for c in li.color]}
+    if isinstance(li, RectLight):  # Mitsuba ``rectangle`` ([−1, 1]², normal +z) with an ``area`` emitter (one-sided)
+        frame = mi.ScalarTransform4f().look_at(origin=list(li.position), target=list(li.target), up=[0.0, 1.0, 0.0])
+        return {"type": "rectangle", "emitter": {"type": "area", "radiance": rgb},
+                "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.0, 0.0, 0.0]}},
+                "to_world": frame.scale([li.width / 2, li.height / 2, 1.0])}
     if isinstance(li, DirectionalLight):
         return {"type": "directional", "direction": li.unit_direction().tolist(), "irradiance": rgb}
     if isinstance(li, PointLight):
@@ -497,3 +522,70 @@ def probe_lambert_scene(texels: np.ndarray, name: str, resolution: int) -> Rende
     """(b) the Lambertian sphere (no specular layer) under the probe: the diffuse-dominated limit."""
     return RenderScene("probe_lambert", LAMBERT, environment=Environment(name, texels=np.asarray(texels, np.float64)),
                        resolution=resolution)
+
+
+# (d) a square area light beside the view (x > HALF_EXTENT: no camera ray meets it), tilted 45° down onto the plane;
+# every point of the plane sees all of it above its horizon, where an LTC diffuse integral is the exact polygon
+# form factor. L = 10 nits over 0.36 m² gives E ≈ 1–2 lux on the lit side.
+RECT_LIGHT = RectLight((1.6, 0.0, 0.8), (0.8, 0.0, 0.0), 0.6, 0.6, 10.0)
+
+
+def rect_scene(resolution: int = 64) -> RenderScene:
+    """(d) the Lambertian plane under ``RECT_LIGHT``."""
+    return RenderScene("rect_plane", LAMBERT, lights=(RECT_LIGHT,), resolution=resolution, geometry="plane")
+
+
+RECT_ON_SPHERE = RectLight((1.6, 0.0, 0.8), (0.0, 0.0, 0.0), 0.6, 0.6, 10.0)  # 1.79 m from the centre, facing it
+
+
+def rect_scenes(resolution: int = 64) -> list[RenderScene]:
+    """(d) the Lambertian plane under ``RECT_LIGHT`` and the Lambertian sphere under ``RECT_ON_SPHERE``."""
+    return [rect_scene(resolution), RenderScene("rect_sphere", LAMBERT, lights=(RECT_ON_SPHERE,),
+                                                resolution=resolution)]
+
+
+def rect_corners(li: RectLight) -> np.ndarray:
+    """(4, 3) corners of the rectangle: centre ± width/2 along x' ± height/2 along y' of the frame that turns +z
+    towards the target (Mitsuba's look_at with up +y: x' = normalize(up × d), y' = d × x')."""
+    d = np.asarray(li.target, float) - np.asarray(li.position, float)
+    d /= np.linalg.norm(d)
+    x = np.cross([0.0, 1.0, 0.0], d)
+    x /= np.linalg.norm(x)
+    y = np.cross(d, x)
+    c = np.asarray(li.position, float)
+    return np.array([c + sx * li.width / 2 * x + sy * li.height / 2 * y for sx, sy in ((-1, -1), (1, -1), (1, 1),
+                                                                                      (-1, 1))])
+
+
+def rect_above_horizon(scene: RenderScene) -> np.ndarray:
+    """(R, R) bool: pixels whose surface point sees the whole rectangle above its tangent plane (every corner in
+    front: (corner − p)·n > 0) — where the diffuse integral of a polygon needs no horizon clipping and Lambert's
+    polygon formula (the LTC with the identity matrix) is exact."""
+    [li] = [x for x in scene.lights if isinstance(x, RectLight)]
+    p = scene.surface_points()
+    n = p if scene.geometry == "sphere" else np.broadcast_to([0.0, 0.0, 1.0], p.shape)
+    with np.errstate(invalid="ignore"):
+        return np.all([((k - p) * n).sum(-1) > 0 for k in rect_corners(li)], axis=0)
+
+
+def rect_form_factors(scene: RenderScene) -> tuple[np.ndarray, np.ndarray]:
+    """(R, R) exact form factor F·n of the scene's rectangle at each surface point (Lambert's polygon formula:
+    F = (1/2π) Σ_edges acos(v̂_i·v̂_j) (v̂_i × v̂_j)/|v̂_i × v̂_j|, v̂ the unit vectors to the corners; exact where
+    the whole rectangle is above the horizon, ``rect_above_horizon``) and three.js's clipped-sphere form factor
+    (|F|² + F·n)/(|F| + 1) (lights_physical_pars_fragment LTC_ClippedSphereFormFactor, after Heitz 2017), which it
+    uses everywhere. Radiance of a Lambertian (ρ) point: ρ L × form factor."""
+    [li] = [x for x in scene.lights if isinstance(x, RectLight)]
+    p = scene.surface_points()
+    n = p if scene.geometry == "sphere" else np.broadcast_to([0.0, 0.0, 1.0], p.shape)
+    v = rect_corners(li)[:, None, None, :] - p[None]
+    v = v / np.linalg.norm(v, axis=-1, keepdims=True)
+    f = np.zeros(p.shape)
+    for i in range(4):
+        a, b = v[i], v[(i + 1) % 4]
+        c = np.cross(a, b)
+        f += np.arccos(np.clip((a * b).sum(-1), -1, 1))[..., None] * c / np.linalg.norm(c, axis=-1, keepdims=True)
+    f /= 2 * np.pi
+    # the corners run counter-clockwise seen from the lit side, so F points away from the light: flip it
+    fz = -(f * n).sum(-1)
+    ln = np.linalg.norm(f, axis=-1)
+    return fz, (ln**2 + fz) / (ln + 1)

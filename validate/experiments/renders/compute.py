@@ -16,6 +16,8 @@ Probe (b): ``rs.PROBE_FILE`` of ``--probes`` resampled to ``rs.PROBE_SIZE``; Mit
 of :func:`validate.scenes.render_scenes.mitsuba_envmap_nodes` (its lookup is the engines' bilinear texture exactly)
 lights white metal spheres (reference (i): glTF's single-scattering GGX, ``roughconductor``; ``probe_spp``) and
 the Lambertian sphere (``env_spp``). Without the probe file the probe scenes are left out with the reason.
+Rectangular area light (d): Mitsuba's ``rectangle`` with an ``area`` emitter of radiance = the light's nits, over the
+Lambertian plane and sphere (``env_spp``; three.js only — ``KIND_SKIP``).
 """
 
 from __future__ import annotations
@@ -41,10 +43,14 @@ FURNACE_BUDGET = 2 * engines.HALF_FLOAT_RTOL + engines.SWIFTSHADER_TRIG_ATOL
 DIRECT_BUDGET_OF_PEAK = 2.5e-3
 # Scenes judged with that budget: the same per-fragment Lambert shading of a tessellated sphere (on the plane, where
 # interpolated positions and normals are exact, the margin is generous).
-PEAK_BUDGET_KINDS = ("directional", "point", "spot", "hemisphere", "probe_lambert")
+PEAK_BUDGET_KINDS = ("directional", "point", "spot", "hemisphere", "probe_lambert", "rect")
 SPOT_CONE_OFFSET_DEG = 1.0  # power: a cone falloff off by 1° (the outer angle 30° → 31°)
 # engines rendering only some kinds: three's LightProbe built as its removed HemisphereLightProbe did (issue 26668)
 KIND_ENGINES = {"hemisphere": {"three": ("three_probe",)}}
+# engines left out of a kind, with the reason (reported as skipped)
+KIND_SKIP = {"rect": {"babylon": "Babylon 9.35's RectAreaLight loads its LTC tables from assets.babylonjs.com "
+                                 "(Lights/LTC/ltcTextureTool.js: Tools.LoadFileAsync of areaLightsLTC.bin); the "
+                                 "render machine has no network"}}
 # (b) probe on metal spheres: the furnace budget per unit radiance (2 half-float lookups + SwiftShader trig), relative
 PROBE_BUDGET_REL = FURNACE_BUDGET
 
@@ -89,6 +95,7 @@ def scene_list(s: Settings, probe: np.ndarray | None = None) -> list[tuple[rs.Re
     out += [(rs.lambert_sun_scene(s.resolution, s.sun_lux), "directional")]
     out += [(sc, "spot" if sc.name.startswith("spot") else "point") for sc in rs.punctual_scenes(s.resolution)]
     out += [(rs.hemisphere_scene(s.resolution), "hemisphere")]
+    out += [(sc, "rect") for sc in rs.rect_scenes(s.rect_resolution)]
     if probe is None:
         return out
     out += [(sc, "probe") for sc in rs.probe_scenes(probe, "uffizi", s.probe_resolution, s.probe_roughness, (1.0,))]
@@ -119,6 +126,8 @@ def references(scene: rs.RenderScene, kind: str,
         return {"mitsuba": render_reference(scene, s.env_spp, s.passes, s.seed)}, hit
     if kind == "probe":
         return {"mitsuba": render_reference(scene, s.probe_spp, s.passes, s.seed)}, hit
+    if kind == "rect":  # an area emitter: next-event estimation on the rectangle, Monte Carlo noise
+        return {"mitsuba": render_reference(scene, s.env_spp, s.passes, s.seed)}, hit
     if kind == "probe_lambert":  # the diffuse limit: the hemisphere's sample count (its power check needs ~1 %)
         return {"mitsuba": render_reference(scene, s.env_spp, s.passes, s.seed)}, hit
     if kind == "spot":
@@ -170,6 +179,9 @@ def measure_scene(scene: rs.RenderScene, kind: str, s: Settings) -> SceneResult:
     res = SceneResult(scene, kind, {k: t[0] for k, t in truths.items()}, {}, hit, {k: t[1] for k, t in truths.items()},
                       power_refs=power_references(scene, kind, s), dof=max(s.passes - 1, 1))
     for name in engine_names(kind, s):
+        if name in KIND_SKIP.get(kind, {}):
+            res.skipped[name] = KIND_SKIP[kind][name]
+            continue
         try:
             er = engines.render(name, scene)
         except Exception as exc:  # an engine that cannot start is skipped with its reason, never a crash

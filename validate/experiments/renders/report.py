@@ -77,7 +77,7 @@ def findings(m: Measurements) -> list[str]:
                 out.append(f"{sr.scene.name}, {name} vs {kind}: {pct(j.fraction_accepted)} of {j.n_pixels} pixels "
                            f"accepted (z* = {j.critical_z:.2f}), mean |rel| {pm(j.mean_rel, j.mean_rel_unc)}, max "
                            f"{pm(j.max_rel, j.max_rel_unc)}, bias {j.mean_signed_rel:+.3%}.")
-    out += punctual_findings(m) + hemisphere_findings(m) + probe_findings(m)
+    out += punctual_findings(m) + hemisphere_findings(m) + probe_findings(m) + rect_findings(m)
     metal = [s for s in m.scenes if "model" in s.reference_energy]
     if metal:
         loss = ", ".join(f"r {s.scene.material.roughness:g}: {s.reference_energy['model'][0]:.4f} ± "
@@ -210,6 +210,56 @@ def probe_findings(m: Measurements) -> list[str]:
     return out
 
 
+RECT_NOTE = ("A square 0.6 × 0.6 m area light of 10 nits beside the view (no camera ray meets it), tilted onto the "
+             "Lambertian plane and facing the Lambertian sphere, against Mitsuba's rectangle with an area emitter of "
+             "that radiance (next-event estimation; per-pixel standard error from 8 passes). three.js's "
+             "RectAreaLight with RectAreaLightUniformsLib.init()'s LTC tables; Babylon is skipped (its LTC tables "
+             "come from assets.babylonjs.com). Pixels are judged apart where the whole rectangle is above the "
+             "surface's horizon (Lambert's polygon formula exact, no clipping) and where it is clipped.")
+
+
+def rect_table(m: Measurements) -> Table | None:
+    """(d) per scene and engine, the judgement on all pixels, on those wholly above the horizon and the rest."""
+    from ...scenes.render_scenes import rect_above_horizon
+
+    rows: list[list[Any]] = []
+    for sr in (s for s in m.scenes if s.kind == "rect"):
+        ref, se = sr.references["mitsuba"], sr.stderrs["mitsuba"]
+        b, text = budget(sr.kind, ref)
+        above = rect_above_horizon(sr.scene)
+        for name, er in sr.engines.items():
+            power = (er.info.get("light_power_lm") or [None])[0]
+            for part, mk in (("all", sr.mask), ("above horizon", sr.mask & above), ("clipped", sr.mask & ~above)):
+                if not mk.any():
+                    continue
+                j = judge(er.image, ref, se, sr.dof, mk, b, text)
+                rows.append([sr.scene.name, name, part, j.n_pixels, f"{100 * j.fraction_accepted:.2f}",
+                             fpm(j.mean_rel, j.mean_rel_unc, scale=100), fpm(j.max_rel, j.max_rel_unc, scale=100),
+                             fpm(j.mean_signed_rel, j.mean_rel_unc, scale=100),
+                             "" if power is None else f"{power:.4g}"])
+        for name, why in sr.skipped.items():
+            rows.append([sr.scene.name, name, "skipped", why, "", "", "", "", ""])
+    if not rows:
+        return None
+    return Table(["scene", "engine", "pixels judged", "pixels", "accepted (%)", "mean rel. err. (%)",
+                  "max rel. err. (%)", "mean rel. bias (%)", "light.power (lm)"], rows,
+                 caption="(d) rectangular area light")
+
+
+def rect_findings(m: Measurements) -> list[str]:
+    """three issue 19214: RectAreaLight.intensity is luminance (nits); its .power is π·A·intensity lm."""
+    out = []
+    for sr in (s for s in m.scenes if s.kind == "rect" and s.scene.geometry == "sphere"):
+        li = sr.scene.lights[0]
+        for er in sr.engines.values():
+            power = (er.info.get("light_power_lm") or [None])[0]
+            if power is not None:
+                out.append(f"three issue 19214: RectAreaLight(intensity {li.intensity:g}, {li.width:g} × {li.height:g} m)"
+                           f".power = {power:.4g} lm = π·A·intensity ({np.pi * li.area() * li.intensity:.4g}): "
+                           "intensity is luminance per area (nits); a light given .power = Φ has L = Φ/(πA).")
+    return out
+
+
 SECTIONS = (("furnace", "(a) White furnace", [REFERENCE_NOTE]),
             ("directional", "(c) Directional light, Lambertian", []),
             ("point", "(c) Point lights, KHR_lights_punctual units", [PUNCTUAL_NOTE]),
@@ -231,6 +281,12 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
                            tables=[t] if t is not None else []))
     elif m.probe_note:
         out.append(Section("(b) Probe on spheres (roughness, prefilter and split-sum)", [m.probe_note]))
+    rect = [s for s in m.scenes if s.kind == "rect"]
+    if rect:
+        t = rect_table(m)
+        out.append(Section("(d) Rectangular area light", [RECT_NOTE],
+                           figures=[f for f in (scene_figure(s, ctx) for s in rect) if f is not None],
+                           tables=[t] if t is not None else []))
     out.append(Section("Engines not rendered", [FILAMENT_NOTE]))
     return out
 
