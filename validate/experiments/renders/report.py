@@ -254,7 +254,8 @@ def rect_findings(m: Measurements) -> list[str]:
         for er in sr.engines.values():
             power = (er.info.get("light_power_lm") or [None])[0]
             if power is not None:
-                out.append(f"three issue 19214: RectAreaLight(intensity {li.intensity:g}, {li.width:g} × {li.height:g} m)"
+                out.append(f"three issue 19214: RectAreaLight(intensity {li.intensity:g}, "
+                           f"{li.width:g} × {li.height:g} m)"
                            f".power = {power:.4g} lm = π·A·intensity ({np.pi * li.area() * li.intensity:.4g}): "
                            "intensity is luminance per area (nits); a light given .power = Φ has L = Φ/(πA).")
     return out
