@@ -343,3 +343,43 @@ def test_three_lambert_sphere_under_the_probe_equals_mitsuba() -> None:
     j = judge(er.image[..., :3].astype(np.float64), ref.mean, ref.stderr, 7, mask, 2.5e-3 * np.nanmax(ref.mean), "")
     assert j.fraction_accepted >= MIN_ACCEPTED
     assert judge(er.image[..., :3] * np.pi, ref.mean, ref.stderr, 7, mask, 0.0, "").fraction_accepted < MIN_ACCEPTED
+
+
+# (d) the rectangular area light: Lambert's polygon formula against a quadrature of the form factor
+def test_rect_form_factor_is_the_integral_over_the_rectangle() -> None:
+    """F·n = (1/π) ∫_A cos θ cos θ' / d² dA, by a 200² midpoint rule over the rectangle, at three sphere points."""
+    scene = rs.rect_scenes(16)[1]
+    li = scene.lights[0]
+    exact, sphere = rs.rect_form_factors(scene)
+    above = rs.rect_above_horizon(scene)
+    corners = rs.rect_corners(li)
+    ex, ey = corners[1] - corners[0], corners[3] - corners[0]
+    nl = np.cross(ex, ey) / np.linalg.norm(np.cross(ex, ey))
+    t = (np.arange(200) + 0.5) / 200
+    q = corners[0] + t[:, None, None] * ex + t[None, :, None] * ey
+    da = np.linalg.norm(ex) * np.linalg.norm(ey) / 200**2
+    p = scene.surface_points()
+    for i, j in np.argwhere(above)[[0, len(np.argwhere(above)) // 2, -1]]:
+        v = q - p[i, j]
+        d2 = (v**2).sum(-1)
+        cos_r = (v @ p[i, j]) / np.sqrt(d2)
+        cos_l = np.abs(v @ nl) / np.sqrt(d2)
+        np.testing.assert_allclose(exact[i, j], (cos_r * cos_l / d2).sum() * da / np.pi, rtol=1e-4)
+        assert sphere[i, j] > exact[i, j]  # power: three's clipped-sphere form factor is not the integral here
+
+
+@pytest.mark.slow
+def test_three_rect_area_light_in_nits_with_its_form_factor_divided_out() -> None:
+    from validate.reference.render_reference import render_reference
+
+    scene = rs.rect_scenes(SMALL)[1]
+    ref = render_reference(scene, 256, 8, 0)
+    er = _engine_or_skip("three", scene)
+    mask = interior_mask(ref.hit, er.image[..., 3]) & rs.rect_above_horizon(scene)
+    exact, sphere = rs.rect_form_factors(scene)
+    fixed = er.image[..., :3] * np.where(sphere > 0, exact / np.where(sphere > 0, sphere, 1.0), 1.0)[..., None]
+    b = 2.5e-3 * np.nanmax(ref.mean)
+    assert judge(fixed, ref.mean, ref.stderr, 7, mask, b, "").fraction_accepted >= MIN_ACCEPTED
+    area = scene.lights[0].area()
+    assert judge(fixed / (np.pi * area), ref.mean, ref.stderr, 7, mask, b, "").fraction_accepted < MIN_ACCEPTED
+    assert judge(er.image[..., :3], ref.mean, ref.stderr, 7, mask, b, "").fraction_accepted < MIN_ACCEPTED
