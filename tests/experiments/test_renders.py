@@ -1,6 +1,7 @@
 """Issue 21, first slice: engines' pixels against Mitsuba (scenes, reference, per-pixel z, check_render).
 
-Default run: the judgement on synthetic images, the RGBE writer, check_render on an analytic Lambert shader
+Default run: the judgement on synthetic images, the RGBE writer, the probe conventions (Mitsuba node lattice, the
+engines' quarter turn), the contrast ratio, the rectangle's form factor, check_render on an analytic Lambert shader
 (Mitsuba only, 16² pixels), and three.js's Lambertian sphere under a directional light (64², one scene,
 skipped with the reason without Chromium / node_modules). The furnace and Babylon are ``slow``.
 """
