@@ -33,6 +33,12 @@ Babylon's diffuse IBL of the probe is stated as the regression it has (``PROBE_L
 image, within the bound). White metal at roughness 0.25 and 0.5 (three issues
 17911/26796, PR 32311): the contrast ratio std_px(engine)/std_px(truth) is stated as the regression each engine has
 (below 1: blurrier than glTF's GGX path-traced); power: the path tracer's own image as the engine (c = 1).
+
+(d) Rectangular area light, three.js: two regressions (``RECT_REGRESSIONS``; power: the corrected behaviour, the truth
+on the plane, the image × exact/clipped-sphere form factor on the sphere) and the units claim of three issue 19214 —
+with its form factor approximation divided out, the sphere where the rectangle is wholly above the horizon equals
+Mitsuba's area emitter of radiance = intensity (≥ 99.75 %); power: × 1.02, else the intensity read as lumens
+(image × 1/(πA)).
 """
 
 from __future__ import annotations
