@@ -341,9 +341,9 @@ def test_three_lambert_sphere_under_the_probe_equals_mitsuba() -> None:
     ref = render_reference(scene, 256, 8, 0)
     er = _engine_or_skip("three", scene)
     mask = interior_mask(ref.hit, er.image[..., 3])
-    j = judge(er.image[..., :3].astype(np.float64), ref.mean, ref.stderr, 7, mask, 2.5e-3 * np.nanmax(ref.mean), "")
-    assert j.fraction_accepted >= MIN_ACCEPTED
-    assert judge(er.image[..., :3] * np.pi, ref.mean, ref.stderr, 7, mask, 0.0, "").fraction_accepted < MIN_ACCEPTED
+    ratio = float(er.image[..., :3][mask].mean() / ref.mean[mask].mean())
+    assert abs(ratio - 1) < 0.01  # the experiment's bound (R&H 2001's 1 % average error of order-2 SH irradiance)
+    assert abs(1.02 * ratio - 1) > 0.01  # power: the probe 2 % brighter
 
 
 # (d) the rectangular area light: Lambert's polygon formula against a quadrature of the form factor
