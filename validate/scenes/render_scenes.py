@@ -182,7 +182,27 @@ class HemisphereLight:
         return np.repeat(img, 2 * height, axis=1)
 
 
-Light = DirectionalLight | PointLight | SpotLight | HemisphereLight
+@dataclass(frozen=True)
+class RectLight:
+    """(d) A one-sided rectangular area light of uniform luminance ``intensity`` (nits = cd/m², read as radiance
+    W/(sr·m²), three.js RectAreaLight's unit), centre ``position``, facing ``target``, ``width`` × ``height`` m."""
+
+    position: tuple[float, float, float]
+    target: tuple[float, float, float]
+    width: float
+    height: float
+    intensity: float
+    color: tuple[float, float, float] = (1.0, 1.0, 1.0)
+
+    def area(self) -> float:
+        return self.width * self.height
+
+    def to_json(self) -> dict[str, Any]:
+        return {"type": "rect", "position": list(self.position), "target": list(self.target), "width": self.width,
+                "height": self.height, "intensity": self.intensity, "color": list(self.color)}
+
+
+Light = DirectionalLight | PointLight | SpotLight | HemisphereLight | RectLight
 GEOMETRIES = ("sphere", "plane")
 PLANE_HALF_SIZE = 3.0
 
@@ -290,6 +310,11 @@ def mitsuba_light(li: Light) -> dict[str, Any]:
     if isinstance(li, HemisphereLight):
         return {"type": "envmap", "bitmap": mi.Bitmap(np.ascontiguousarray(li.texels(), np.float32))}
     rgb = {"type": "rgb", "value": [li.intensity * c for c in li.color]}
+    if isinstance(li, RectLight):  # Mitsuba ``rectangle`` ([−1, 1]², normal +z) with an ``area`` emitter (one-sided)
+        frame = mi.ScalarTransform4f().look_at(origin=list(li.position), target=list(li.target), up=[0.0, 1.0, 0.0])
+        return {"type": "rectangle", "emitter": {"type": "area", "radiance": rgb},
+                "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.0, 0.0, 0.0]}},
+                "to_world": frame.scale([li.width / 2, li.height / 2, 1.0])}
     if isinstance(li, DirectionalLight):
         return {"type": "directional", "direction": li.unit_direction().tolist(), "irradiance": rgb}
     if isinstance(li, PointLight):
@@ -317,12 +342,32 @@ def mitsuba_bsdf(m: Material) -> dict[str, Any]:
 
 
 def mitsuba_environment(env: Environment) -> dict[str, Any]:
+    """Constant radiance, or Mitsuba ``envmap`` on :func:`mitsuba_envmap_nodes` of the texels (no ``filter_type``:
+    Mitsuba 3.9's envmap has no such parameter and rejects it as unreferenced; it always interpolates bilinearly)."""
     if env.texels is None:
         return {"type": "constant", "radiance": {"type": "rgb", "value": list(env.radiance)}}
     import mitsuba as mi
 
-    return {"type": "envmap", "bitmap": mi.Bitmap(np.ascontiguousarray(env.texels, np.float32)),
-            "filter_type": "bilinear"}
+    return {"type": "envmap", "bitmap": mi.Bitmap(np.ascontiguousarray(mitsuba_envmap_nodes(env.texels), np.float32))}
+
+
+def mitsuba_envmap_nodes(texels: np.ndarray) -> np.ndarray:
+    """(2H + 1, W, 3) bitmap on which Mitsuba's ``envmap`` evaluates exactly the engines' bilinear texture.
+
+    The texels (H, W) follow the probes' convention: texel (i, j) is the direction at the texel *centre*
+    θ = π(i + ½)/H, φ = 2π(j + ½)/W, d = (sin φ sin θ, cos θ, −cos φ sin θ); a GPU samples them bilinearly
+    between centres, clamped to row 0 / H − 1 towards the poles. Mitsuba 3.9's envmap (measured:
+    ``emitter.eval`` on an index-valued bitmap) reads columns at centres φ = 2π(j + ½)/W, the same, but rows at
+    *nodes* θ = π m/(M − 1). With M = 2H + 1 the nodes fall on the poles, on every texel centre (m = 2i + 1) and
+    half-way between: node values pole = edge row, centre = the texel, half-way = the mean of the two rows make
+    Mitsuba's piecewise-linear interpolation in θ identical to the GPU's (and it is linear in φ in both)."""
+    t = np.asarray(texels, np.float64)
+    h = t.shape[0]
+    out = np.empty((2 * h + 1, *t.shape[1:]))
+    out[1::2] = t
+    out[2:-1:2] = 0.5 * (t[:-1] + t[1:])
+    out[0], out[-1] = t[0], t[-1]
+    return out
 
 
 def environment_texels(env: Environment) -> np.ndarray:
@@ -333,16 +378,34 @@ def environment_texels(env: Environment) -> np.ndarray:
 
 
 def engine_environment(env: Environment) -> dict[str, Any]:
-    """The same texels twice: float32 RGBA for three's DataTexture, and an RGBE .hdr file served to Babylon's
-    HDRCubeTexture (its own loader, panorama-to-cube and prefilter)."""
+    """The same texels twice: float32 RGBA for three's DataTexture (:func:`engine_texels`), and an RGBE .hdr file
+    served to Babylon's HDRCubeTexture (its own loader, panorama-to-cube and prefilter), turned a further quarter
+    (the probes' columns rolled by W/2): in a right-handed scene Babylon's shader flips z of the lookup
+    (REFLECTIONMAP_OPPOSITEZ) on top of its panorama's atan2(z, x). Measured on a 128 × 64 map with one bright
+    lobe at (1, 0.6, 0.5)/|·|: Mitsuba, three (W/4) and Babylon (W/2) put the peak of a roughness-0.1 metal
+    sphere on the same 32² pixel (row 11, column 22) to within a pixel; no mirror and no other quarter does."""
     from ..gl.browser_page import encode_f32, publish  # noqa: PLC0415 - only the engine side needs it
 
-    rgb = environment_texels(env)
+    rgb = engine_texels(environment_texels(env))
     h, w = rgb.shape[:2]
     rgba = np.concatenate([rgb, np.ones((h, w, 1))], axis=-1)
     url = publish(f"{env.digest()}.hdr".replace("[", "_").replace("]", "_").replace(",", "_").replace(" ", ""),
-                  rgbe_bytes(rgb))
+                  rgbe_bytes(np.roll(rgb, w // 4, axis=1)))
     return {"type": "equirect", "width": w, "height": h, "data": encode_f32(rgba), "key": env.digest(), "url": url}
+
+
+def engine_texels(texels: np.ndarray) -> np.ndarray:
+    """The probes' texels as three.js and Babylon index an equirect panorama.
+
+    Both read u = atan2(d_z, d_x)/2π + ½ (three's equirectUv, common.glsl; Babylon's
+    PanoramaToCubeMapTools.CalcProjectionSpherical), row 0 at the zenith. With the probes' d = (sin φ sin θ, cos θ,
+    −cos φ sin θ), atan2(d_z, d_x) = φ − π/2, so u_engine = u + ¼: column j' holds the probes' column j' − W/4
+    (``np.roll`` by W/4; W must be a multiple of 4). A constant or azimuth-independent map is unchanged."""
+    t = np.asarray(texels)
+    w = t.shape[1]
+    if w % 4:
+        raise ValidateError(f"environment texels: width {w} is not a multiple of 4 (the engines' quarter-turn)")
+    return np.roll(t, w // 4, axis=1)
 
 
 def rgbe_bytes(rgb: np.ndarray) -> bytes:
@@ -431,3 +494,98 @@ def hemisphere_scene(resolution: int = 64) -> RenderScene:
 
 def describe(scene: RenderScene) -> str:
     return json.dumps(scene.key(), sort_keys=True)
+
+
+# (b) the shared probes on spheres over roughness × metalness
+PROBE_FILE = "ict_uffizi_256x128.hdr"  # ../shared/probes: the Uffizi gallery, lat-long 256 × 128, max 15.9, mean 1.86
+PROBE_SIZE = (64, 128)  # resampled lat-long (H, W): 2 × 2 box means of the 256 × 128 file, ≈ 2.8° per texel
+
+
+def resample_probe(radiance: np.ndarray, size: tuple[int, int] = PROBE_SIZE) -> np.ndarray:
+    """(H, W, 3) box means of a lat-long map whose shape is an integer multiple of ``size`` (probes' convention)."""
+    r = np.asarray(radiance, np.float64)
+    h, w = size
+    if r.shape[0] % h or r.shape[1] % w:
+        raise ValidateError(f"probe {r.shape[1]}×{r.shape[0]} is not a multiple of {w}×{h}")
+    return r.reshape(h, r.shape[0] // h, w, r.shape[1] // w, 3).mean(axis=(1, 3))
+
+
+def probe_scenes(texels: np.ndarray, name: str, resolution: int, roughness: tuple[float, ...],
+                 metallic: tuple[float, ...]) -> list[RenderScene]:
+    """(b) white spheres (baseColor 1) over ``metallic`` × ``roughness`` lit only by the probe ``texels``."""
+    env = Environment(name, texels=np.asarray(texels, np.float64))
+    return [RenderScene(f"probe_{'metal' if mt == 1.0 else 'dielectric'}_r{r:g}", Material(metallic=mt, roughness=r),
+                        environment=env, resolution=resolution) for mt in metallic for r in roughness]
+
+
+def probe_lambert_scene(texels: np.ndarray, name: str, resolution: int) -> RenderScene:
+    """(b) the Lambertian sphere (no specular layer) under the probe: the diffuse-dominated limit."""
+    return RenderScene("probe_lambert", LAMBERT, environment=Environment(name, texels=np.asarray(texels, np.float64)),
+                       resolution=resolution)
+
+
+# (d) a square area light beside the view (x > HALF_EXTENT: no camera ray meets it), tilted 45° down onto the plane;
+# every point of the plane sees all of it above its horizon, where an LTC diffuse integral is the exact polygon
+# form factor. L = 10 nits over 0.36 m² gives E ≈ 1–2 lux on the lit side.
+RECT_LIGHT = RectLight((1.6, 0.0, 0.8), (0.8, 0.0, 0.0), 0.6, 0.6, 10.0)
+
+
+def rect_scene(resolution: int = 64) -> RenderScene:
+    """(d) the Lambertian plane under ``RECT_LIGHT``."""
+    return RenderScene("rect_plane", LAMBERT, lights=(RECT_LIGHT,), resolution=resolution, geometry="plane")
+
+
+RECT_ON_SPHERE = RectLight((1.6, 0.0, 0.8), (0.0, 0.0, 0.0), 0.6, 0.6, 10.0)  # 1.79 m from the centre, facing it
+
+
+def rect_scenes(resolution: int = 64) -> list[RenderScene]:
+    """(d) the Lambertian plane under ``RECT_LIGHT`` and the Lambertian sphere under ``RECT_ON_SPHERE``."""
+    return [rect_scene(resolution), RenderScene("rect_sphere", LAMBERT, lights=(RECT_ON_SPHERE,),
+                                                resolution=resolution)]
+
+
+def rect_corners(li: RectLight) -> np.ndarray:
+    """(4, 3) corners of the rectangle: centre ± width/2 along x' ± height/2 along y' of the frame that turns +z
+    towards the target (Mitsuba's look_at with up +y: x' = normalize(up × d), y' = d × x')."""
+    d = np.asarray(li.target, float) - np.asarray(li.position, float)
+    d /= np.linalg.norm(d)
+    x = np.cross([0.0, 1.0, 0.0], d)
+    x /= np.linalg.norm(x)
+    y = np.cross(d, x)
+    c = np.asarray(li.position, float)
+    return np.array([c + sx * li.width / 2 * x + sy * li.height / 2 * y for sx, sy in ((-1, -1), (1, -1), (1, 1),
+                                                                                      (-1, 1))])
+
+
+def rect_above_horizon(scene: RenderScene) -> np.ndarray:
+    """(R, R) bool: pixels whose surface point sees the whole rectangle above its tangent plane (every corner in
+    front: (corner − p)·n > 0) — where the diffuse integral of a polygon needs no horizon clipping and Lambert's
+    polygon formula (the LTC with the identity matrix) is exact."""
+    [li] = [x for x in scene.lights if isinstance(x, RectLight)]
+    p = scene.surface_points()
+    n = p if scene.geometry == "sphere" else np.broadcast_to([0.0, 0.0, 1.0], p.shape)
+    with np.errstate(invalid="ignore"):
+        return np.all([((k - p) * n).sum(-1) > 0 for k in rect_corners(li)], axis=0)
+
+
+def rect_form_factors(scene: RenderScene) -> tuple[np.ndarray, np.ndarray]:
+    """(R, R) exact form factor F·n of the scene's rectangle at each surface point (Lambert's polygon formula:
+    F = (1/2π) Σ_edges acos(v̂_i·v̂_j) (v̂_i × v̂_j)/|v̂_i × v̂_j|, v̂ the unit vectors to the corners; exact where
+    the whole rectangle is above the horizon, ``rect_above_horizon``) and three.js's clipped-sphere form factor
+    (|F|² + F·n)/(|F| + 1) (lights_physical_pars_fragment LTC_ClippedSphereFormFactor, after Heitz 2017), which it
+    uses everywhere. Radiance of a Lambertian (ρ) point: ρ L × form factor."""
+    [li] = [x for x in scene.lights if isinstance(x, RectLight)]
+    p = scene.surface_points()
+    n = p if scene.geometry == "sphere" else np.broadcast_to([0.0, 0.0, 1.0], p.shape)
+    v = rect_corners(li)[:, None, None, :] - p[None]
+    v = v / np.linalg.norm(v, axis=-1, keepdims=True)
+    f = np.zeros(p.shape)
+    for i in range(4):
+        a, b = v[i], v[(i + 1) % 4]
+        c = np.cross(a, b)
+        f += np.arccos(np.clip((a * b).sum(-1), -1, 1))[..., None] * c / np.linalg.norm(c, axis=-1, keepdims=True)
+    f /= 2 * np.pi
+    # the corners run counter-clockwise seen from the lit side, so F points away from the light: flip it
+    fz = -(f * n).sum(-1)
+    ln = np.linalg.norm(f, axis=-1)
+    return fz, (ln**2 + fz) / (ln + 1)

@@ -1,7 +1,9 @@
 """Experiment ``renders``: engines' pixels (three.js, Babylon.js) against the Mitsuba path tracer (issue 21).
 
-Scenes (:mod:`validate.scenes.render_scenes`: (a) furnace, (c) directional, point and spot lights, (f) hemisphere
-light) are rendered by Mitsuba at pixel centres
+Scenes (:mod:`validate.scenes.render_scenes`: (a) furnace, (b) the shared probe ``ict_uffizi_256x128.hdr`` of
+``--probes`` on white metal spheres over roughness and a Lambertian sphere, (c) directional, point and spot lights,
+(d) a rectangular area light on the plane and the sphere (three.js), (f) hemisphere light) are rendered by Mitsuba
+at pixel centres
 (:mod:`validate.reference.render_reference`) and by each engine through its own pipeline in headless
 Chromium (:mod:`validate.local_models.render`), then judged per pixel (:mod:`validate.metrics.pixel_z`).
 Without Chromium or node_modules every engine is skipped with the reason.
@@ -18,8 +20,8 @@ from .settings import FULL, QUICK
 
 NAME = "renders"
 TITLE = "Engines' pixels against the path tracer: three.js and Babylon.js vs Mitsuba"
-DESCRIPTION = ("Furnace, directional, point, spot and hemisphere lights rendered by the engines, judged per pixel with "
-               "uncertainty")
+DESCRIPTION = ("Furnace, probe, directional, point, spot and hemisphere lights rendered by the engines, judged "
+               "per pixel with uncertainty")
 ORDER = 95
 
 

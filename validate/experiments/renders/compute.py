@@ -12,6 +12,12 @@ three.js's smoothstep profile (``smoothstep``) — :mod:`validate.scenes.spot_pr
 same spot with its outer cone 1° wider (``SPOT_CONE_OFFSET_DEG``).
 Hemisphere (f): Mitsuba's ``envmap`` of radiance sky above / ground below the horizon, path-traced with
 ``env_spp`` samples per pass (Monte Carlo noise, unlike the delta lights, whose passes are noise free).
+Probe (b): ``rs.PROBE_FILE`` of ``--probes`` resampled to ``rs.PROBE_SIZE``; Mitsuba's ``envmap`` on the node lattice
+of :func:`validate.scenes.render_scenes.mitsuba_envmap_nodes` (its lookup is the engines' bilinear texture exactly)
+lights white metal spheres (reference (i): glTF's single-scattering GGX, ``roughconductor``; ``probe_spp``) and
+the Lambertian sphere (``env_spp``). Without the probe file the probe scenes are left out with the reason.
+Rectangular area light (d): Mitsuba's ``rectangle`` with an ``area`` emitter of radiance = the light's nits, over the
+Lambertian plane and sphere (``env_spp``; three.js only — ``KIND_SKIP``).
 """
 
 from __future__ import annotations
@@ -37,10 +43,16 @@ FURNACE_BUDGET = 2 * engines.HALF_FLOAT_RTOL + engines.SWIFTSHADER_TRIG_ATOL
 DIRECT_BUDGET_OF_PEAK = 2.5e-3
 # Scenes judged with that budget: the same per-fragment Lambert shading of a tessellated sphere (on the plane, where
 # interpolated positions and normals are exact, the margin is generous).
-PEAK_BUDGET_KINDS = ("directional", "point", "spot", "hemisphere")
+PEAK_BUDGET_KINDS = ("directional", "point", "spot", "hemisphere", "probe_lambert", "rect")
 SPOT_CONE_OFFSET_DEG = 1.0  # power: a cone falloff off by 1° (the outer angle 30° → 31°)
 # engines rendering only some kinds: three's LightProbe built as its removed HemisphereLightProbe did (issue 26668)
 KIND_ENGINES = {"hemisphere": {"three": ("three_probe",)}}
+# engines left out of a kind, with the reason (reported as skipped)
+KIND_SKIP = {"rect": {"babylon": "Babylon 9.35's RectAreaLight loads its LTC tables from assets.babylonjs.com "
+                                 "(Lights/LTC/ltcTextureTool.js: Tools.LoadFileAsync of areaLightsLTC.bin); the "
+                                 "render machine has no network"}}
+# (b) probe on metal spheres: the furnace budget per unit radiance (2 half-float lookups + SwiftShader trig), relative
+PROBE_BUDGET_REL = FURNACE_BUDGET
 
 
 @dataclass
@@ -58,7 +70,7 @@ class EngineResult:
 @dataclass
 class SceneResult:
     scene: rs.RenderScene
-    kind: str  # "furnace" | "directional" | "point" | "spot" | "hemisphere"
+    kind: str  # "furnace" | "directional" | "point" | "spot" | "hemisphere" | "probe" | "probe_lambert"
     references: dict[str, np.ndarray]  # kind → (R, R, 3) truth image (NaN off the sphere)
     reference_energy: dict[str, tuple[float, float]]  # kind → mean ± standard error over the mask
     mask: np.ndarray
@@ -75,13 +87,31 @@ class Measurements:
     scenes: list[SceneResult]
     reference_wall_s: float = 0.0
     startup: dict[str, Any] = field(default_factory=dict)
+    probe_note: str = ""  # which probe (b) rendered, or why none
 
 
-def scene_list(s: Settings) -> list[tuple[rs.RenderScene, str]]:
+def scene_list(s: Settings, probe: np.ndarray | None = None) -> list[tuple[rs.RenderScene, str]]:
     out = [(sc, "furnace") for sc in rs.furnace_scenes(s.resolution, s.furnace_roughness)]
     out += [(rs.lambert_sun_scene(s.resolution, s.sun_lux), "directional")]
     out += [(sc, "spot" if sc.name.startswith("spot") else "point") for sc in rs.punctual_scenes(s.resolution)]
-    return out + [(rs.hemisphere_scene(s.resolution), "hemisphere")]
+    out += [(rs.hemisphere_scene(s.resolution), "hemisphere")]
+    out += [(sc, "rect") for sc in rs.rect_scenes(s.rect_resolution)]
+    if probe is None:
+        return out
+    out += [(sc, "probe") for sc in rs.probe_scenes(probe, "uffizi", s.probe_resolution, s.probe_roughness, (1.0,))]
+    return out + [(rs.probe_lambert_scene(probe, "uffizi", s.probe_resolution), "probe_lambert")]
+
+
+def load_probe(ctx: Any) -> tuple[np.ndarray | None, str]:
+    """The probe texels (``rs.PROBE_FILE`` of ``ctx.probes_dir`` resampled to ``rs.PROBE_SIZE``) or why not."""
+    from ...scenes.loaders import load_environment
+
+    if ctx.probes_dir is None:
+        return None, "no --probes directory: the probe scenes (b) are not rendered"
+    path = ctx.probes_dir / rs.PROBE_FILE
+    if not path.is_file():
+        return None, f"{path}: not found: the probe scenes (b) are not rendered"
+    return rs.resample_probe(load_environment(path, "latlong", False).radiance), f"{rs.PROBE_FILE} → {rs.PROBE_SIZE}"
 
 
 def references(scene: rs.RenderScene, kind: str,
@@ -93,6 +123,12 @@ def references(scene: rs.RenderScene, kind: str,
     if kind in ("directional", "point"):
         return {"mitsuba": render_reference(scene, s.spp, s.passes, s.seed)}, hit
     if kind == "hemisphere":
+        return {"mitsuba": render_reference(scene, s.env_spp, s.passes, s.seed)}, hit
+    if kind == "probe":
+        return {"mitsuba": render_reference(scene, s.probe_spp, s.passes, s.seed)}, hit
+    if kind == "rect":  # an area emitter: next-event estimation on the rectangle, Monte Carlo noise
+        return {"mitsuba": render_reference(scene, s.env_spp, s.passes, s.seed)}, hit
+    if kind == "probe_lambert":  # the diffuse limit: the hemisphere's sample count (its power check needs ~1 %)
         return {"mitsuba": render_reference(scene, s.env_spp, s.passes, s.seed)}, hit
     if kind == "spot":
         r = scene.resolution
@@ -112,6 +148,8 @@ def truth(ref: RenderReference | None, hit: np.ndarray, passes: int) -> tuple[np
 
 
 def budget(kind: str, mean: np.ndarray) -> tuple[np.ndarray | float, str]:
+    if kind == "probe":
+        return PROBE_BUDGET_REL * mean, f"{PROBE_BUDGET_REL:.2e} × the reference (the furnace budget per unit radiance)"
     if kind in PEAK_BUDGET_KINDS:
         peak = float(np.nanmax(mean))
         return DIRECT_BUDGET_OF_PEAK * peak, f"{DIRECT_BUDGET_OF_PEAK:.2%} of the peak radiance (measured margin)"
@@ -141,6 +179,9 @@ def measure_scene(scene: rs.RenderScene, kind: str, s: Settings) -> SceneResult:
     res = SceneResult(scene, kind, {k: t[0] for k, t in truths.items()}, {}, hit, {k: t[1] for k, t in truths.items()},
                       power_refs=power_references(scene, kind, s), dof=max(s.passes - 1, 1))
     for name in engine_names(kind, s):
+        if name in KIND_SKIP.get(kind, {}):
+            res.skipped[name] = KIND_SKIP[kind][name]
+            continue
         try:
             er = engines.render(name, scene)
         except Exception as exc:  # an engine that cannot start is skipped with its reason, never a crash
@@ -164,8 +205,10 @@ def measure_scene(scene: rs.RenderScene, kind: str, s: Settings) -> SceneResult:
 def compute(ctx: Any, s: Settings) -> Measurements:
     from ...gl import runtime
 
-    out = [measure_scene(sc, kind, s) for sc, kind in ctx.progress(scene_list(s), "renders: scenes")]
-    return Measurements(s, out, startup={"webgl2_s": runtime.startup_seconds("webgl2"), **time_info(out)})
+    probe, probe_note = load_probe(ctx)
+    out = [measure_scene(sc, kind, s) for sc, kind in ctx.progress(scene_list(s, probe), "renders: scenes")]
+    return Measurements(s, out, startup={"webgl2_s": runtime.startup_seconds("webgl2"), **time_info(out)},
+                        probe_note=probe_note)
 
 
 def time_info(scenes: list[SceneResult]) -> dict[str, Any]:
@@ -174,3 +217,24 @@ def time_info(scenes: list[SceneResult]) -> dict[str, Any]:
         for e, r in sr.engines.items():
             t.setdefault(e, {})[sr.scene.name] = {"frame_ms": r.frame_ms, "wall_s": round(r.wall_s, 3)}
     return t
+
+
+CONTRAST_DRAWS = 64  # parametric draws of the reference noise for the contrast ratio's uncertainty
+
+
+def contrast_ratio(image: np.ndarray, mean: np.ndarray, stderr: np.ndarray, mask: np.ndarray,
+                   seed: int = 0) -> tuple[float, float]:
+    """Sharpness of an engine's reflection against the reference: c = std_px(engine) / std_px(truth) of the
+    channel-mean radiance over the judged pixels (> 1: the reflection is crisper than the path tracer's, < 1:
+    blurrier — three issues 17911/26796, PR 32311). The truth's pixel variance is debiased for its Monte Carlo
+    noise, var(truth) = var_px(m) − mean_px(s²) (s = the per-pixel standard error of the channel mean); the
+    uncertainty is the standard deviation of c over ``CONTRAST_DRAWS`` parametric redraws m + s·N(0, 1) of the
+    reference (each debiased with 2 s², the redraw's noise added to the estimate's own)."""
+    e, m = image[mask].mean(axis=-1), mean[mask].mean(axis=-1)
+    s2 = (stderr[mask] ** 2).sum(axis=-1) / 9.0  # channel mean of three channels, treated as independent
+    sd_e = float(e.std())
+    c = sd_e / np.sqrt(max(float(m.var() - s2.mean()), 1e-30))
+    rng = np.random.default_rng(seed)
+    draws = [sd_e / np.sqrt(max(float((m + np.sqrt(s2) * rng.standard_normal(m.size)).var() - 2 * s2.mean()), 1e-30))
+             for _ in range(CONTRAST_DRAWS)]
+    return float(c), float(np.std(draws, ddof=1))

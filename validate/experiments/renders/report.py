@@ -77,7 +77,7 @@ def findings(m: Measurements) -> list[str]:
                 out.append(f"{sr.scene.name}, {name} vs {kind}: {pct(j.fraction_accepted)} of {j.n_pixels} pixels "
                            f"accepted (z* = {j.critical_z:.2f}), mean |rel| {pm(j.mean_rel, j.mean_rel_unc)}, max "
                            f"{pm(j.max_rel, j.max_rel_unc)}, bias {j.mean_signed_rel:+.3%}.")
-    out += punctual_findings(m) + hemisphere_findings(m)
+    out += punctual_findings(m) + hemisphere_findings(m) + probe_findings(m) + rect_findings(m)
     metal = [s for s in m.scenes if "model" in s.reference_energy]
     if metal:
         loss = ", ".join(f"r {s.scene.material.roughness:g}: {s.reference_energy['model'][0]:.4f} ± "
@@ -156,6 +156,111 @@ def hemisphere_findings(m: Measurements) -> list[str]:
     return out
 
 
+PROBE_NOTE = ("The probe (ict_uffizi_256x128.hdr from --probes, 2 × 2 box means → 128 × 64 lat-long, texel centres "
+              "in the probes' convention) lights white spheres: metal over roughness, and a Lambertian sphere. "
+              "Mitsuba's envmap gets a (2H + 1)-row node lattice on which its bilinear lookup equals the GPU's "
+              "bilinear texture exactly; three.js takes the texels as a float equirect DataTexture → PMREMGenerator, "
+              "Babylon as an RGBE .hdr → HDRCubeTexture (its nearest-texel panorama-to-cube, spherical polynomial "
+              "and prefilter). Reference (i) only: glTF 2.0's single-scattering GGX metal (Mitsuba roughconductor); "
+              "the engines' multiscatter compensation shows as the energy ratio above 1 at high roughness. The "
+              "multiscatter microsurface reference (ii) and metallic 0 with a specular layer are not rendered "
+              "(the suite's dielectric mapping, roughplastic, is not glTF's fresnel_mix).")
+
+
+def probe_table(m: Measurements) -> Table | None:
+    """(b) per engine × roughness: per-pixel judgement, energy ratio and contrast ratio (compute.contrast_ratio)."""
+    from .compute import contrast_ratio
+
+    rows: list[list[Any]] = []
+    for sr in (s for s in m.scenes if s.kind in ("probe", "probe_lambert")):
+        ref, se = sr.references["mitsuba"], sr.stderrs["mitsuba"]
+        mat = sr.scene.material
+        for name, er in sr.engines.items():
+            j = er.judgements["mitsuba"]
+            cv, cu = contrast_ratio(er.image, ref, se, sr.mask, m.settings.seed)
+            ratio = float(er.image[sr.mask].mean() / ref[sr.mask].mean())
+            rows.append([name, "Lambert" if sr.kind == "probe_lambert" else "metal", f"{mat.roughness:g}",
+                         j.n_pixels, f"{100 * j.fraction_accepted:.2f}", fpm(j.mean_rel, j.mean_rel_unc, scale=100),
+                         fpm(j.max_rel, j.max_rel_unc, scale=100), fpm(j.mean_signed_rel, j.mean_rel_unc, scale=100),
+                         f"{ratio:.4f}", fpm(cv, cu)])
+    if not rows:
+        return None
+    return Table(["engine", "material", "roughness", "pixels", "accepted (%)", "mean rel. err. (%)",
+                  "max rel. err. (%)", "mean rel. bias (%)", "energy ratio engine/Mitsuba",
+                  "contrast ratio std(engine)/std(truth)"], rows, caption="(b) probe: white spheres")
+
+
+def probe_findings(m: Measurements) -> list[str]:
+    """three issues 17911/26796 (roughness 0.2–0.3 too shiny) and PR 32311 (middle roughness too crisp)."""
+    from .compute import contrast_ratio
+
+    out = [f"(b) probe: {m.probe_note} (H, W)."] if m.probe_note else []
+    for sr in (s for s in m.scenes if s.kind == "probe"):
+        r = sr.scene.material.roughness
+        for name, er in sr.engines.items():
+            cv, cu = contrast_ratio(er.image, sr.references["mitsuba"], sr.stderrs["mitsuba"], sr.mask,
+                                    m.settings.seed)
+            j = er.judgements["mitsuba"]
+            issue = (" (three 17911/26796: 'too shiny' would be c > 1)" if 0.2 <= r <= 0.3 else
+                     " (PR 32311: 'too crisp' would be c > 1)" if r == 0.5 else "")
+            out.append(f"{sr.scene.name}, {name}: contrast ratio c = {fpm(cv, cu)}{issue}; bias "
+                       f"{fpm(j.mean_signed_rel, j.mean_rel_unc, '%')}, mean |rel| "
+                       f"{fpm(j.mean_rel, j.mean_rel_unc, '%')}, {pct(j.fraction_accepted)} of {j.n_pixels} px "
+                       "accepted.")
+    return out
+
+
+RECT_NOTE = ("A square 0.6 × 0.6 m area light of 10 nits beside the view (no camera ray meets it), tilted onto the "
+             "Lambertian plane and facing the Lambertian sphere, against Mitsuba's rectangle with an area emitter of "
+             "that radiance (next-event estimation; per-pixel standard error from 8 passes). three.js's "
+             "RectAreaLight with RectAreaLightUniformsLib.init()'s LTC tables; Babylon is skipped (its LTC tables "
+             "come from assets.babylonjs.com). Pixels are judged apart where the whole rectangle is above the "
+             "surface's horizon (Lambert's polygon formula exact, no clipping) and where it is clipped.")
+
+
+def rect_table(m: Measurements) -> Table | None:
+    """(d) per scene and engine, the judgement on all pixels, on those wholly above the horizon and the rest."""
+    from ...scenes.render_scenes import rect_above_horizon
+
+    rows: list[list[Any]] = []
+    for sr in (s for s in m.scenes if s.kind == "rect"):
+        ref, se = sr.references["mitsuba"], sr.stderrs["mitsuba"]
+        b, text = budget(sr.kind, ref)
+        above = rect_above_horizon(sr.scene)
+        for name, er in sr.engines.items():
+            power = (er.info.get("light_power_lm") or [None])[0]
+            for part, mk in (("all", sr.mask), ("above horizon", sr.mask & above), ("clipped", sr.mask & ~above)):
+                if not mk.any():
+                    continue
+                j = judge(er.image, ref, se, sr.dof, mk, b, text)
+                rows.append([sr.scene.name, name, part, j.n_pixels, f"{100 * j.fraction_accepted:.2f}",
+                             fpm(j.mean_rel, j.mean_rel_unc, scale=100), fpm(j.max_rel, j.max_rel_unc, scale=100),
+                             fpm(j.mean_signed_rel, j.mean_rel_unc, scale=100),
+                             "" if power is None else f"{power:.4g}"])
+        for name, why in sr.skipped.items():
+            rows.append([sr.scene.name, name, "skipped", why, "", "", "", "", ""])
+    if not rows:
+        return None
+    return Table(["scene", "engine", "pixels judged", "pixels", "accepted (%)", "mean rel. err. (%)",
+                  "max rel. err. (%)", "mean rel. bias (%)", "light.power (lm)"], rows,
+                 caption="(d) rectangular area light")
+
+
+def rect_findings(m: Measurements) -> list[str]:
+    """three issue 19214: RectAreaLight.intensity is luminance (nits); its .power is π·A·intensity lm."""
+    out = []
+    for sr in (s for s in m.scenes if s.kind == "rect" and s.scene.geometry == "sphere"):
+        li = sr.scene.lights[0]
+        for er in sr.engines.values():
+            power = (er.info.get("light_power_lm") or [None])[0]
+            if power is not None:
+                out.append(f"three issue 19214: RectAreaLight(intensity {li.intensity:g}, "
+                           f"{li.width:g} × {li.height:g} m)"
+                           f".power = {power:.4g} lm = π·A·intensity ({np.pi * li.area() * li.intensity:.4g}): "
+                           "intensity is luminance per area (nits); a light given .power = Φ has L = Φ/(πA).")
+    return out
+
+
 SECTIONS = (("furnace", "(a) White furnace", [REFERENCE_NOTE]),
             ("directional", "(c) Directional light, Lambertian", []),
             ("point", "(c) Point lights, KHR_lights_punctual units", [PUNCTUAL_NOTE]),
@@ -169,6 +274,20 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
         scenes = [s for s in m.scenes if s.kind == kind]
         figs = [f for f in (scene_figure(s, ctx) for s in scenes) if f is not None]
         out.append(Section(title, list(notes), figures=figs, tables=[scene_table(s) for s in scenes]))
+    if any(s.kind == "probe" for s in m.scenes):
+        scenes = [s for s in m.scenes if s.kind in ("probe", "probe_lambert")]
+        figs = [f for f in (scene_figure(s, ctx) for s in scenes) if f is not None]
+        t = probe_table(m)
+        out.append(Section("(b) Probe on spheres (roughness, prefilter and split-sum)", [PROBE_NOTE], figures=figs,
+                           tables=[t] if t is not None else []))
+    elif m.probe_note:
+        out.append(Section("(b) Probe on spheres (roughness, prefilter and split-sum)", [m.probe_note]))
+    rect = [s for s in m.scenes if s.kind == "rect"]
+    if rect:
+        t = rect_table(m)
+        out.append(Section("(d) Rectangular area light", [RECT_NOTE],
+                           figures=[f for f in (scene_figure(s, ctx) for s in rect) if f is not None],
+                           tables=[t] if t is not None else []))
     out.append(Section("Engines not rendered", [FILAMENT_NOTE]))
     return out
 
@@ -194,4 +313,5 @@ def settings_json(m: Measurements) -> dict[str, Any]:
     """The settings the run used."""
     s = m.settings
     return {"spp": s.spp, "passes": s.passes, "resolution": s.resolution, "engines": list(s.engines), "seed": s.seed,
-            "env_spp": s.env_spp}
+            "env_spp": s.env_spp, "probe_roughness": list(s.probe_roughness), "probe_resolution": s.probe_resolution,
+            "probe_spp": s.probe_spp, "probe": m.probe_note}

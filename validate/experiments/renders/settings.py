@@ -15,8 +15,15 @@ class Settings:
     furnace_roughness: tuple[float, ...] = (0.25, 0.5, 1.0)
     sun_lux: float = 3.0
     env_spp: int = 1024  # hemisphere (an environment, Monte Carlo noise): relative standard error ≈ 0.5 % per pixel
+    # (b) the probe (ict_uffizi_256x128.hdr of --probes, resampled to 128 × 64) on white metal spheres over roughness,
+    # and a Lambertian sphere; probe_spp per pass (Monte Carlo noise from the environment)
+    probe_roughness: tuple[float, ...] = (0.1, 0.2, 0.25, 0.3, 0.5, 0.75, 1.0)
+    probe_resolution: int = 64
+    probe_spp: int = 256
+    rect_resolution: int = 64  # (d) rectangular area light on the plane and the sphere
 
 
 # quick: three.js only (Babylon's page load and first prefilter cost ~80 s on 2 cores); full: both engines
-QUICK = Settings(spp=16, passes=8, engines=("three",), env_spp=256)
+QUICK = Settings(spp=16, passes=8, engines=("three",), env_spp=256, probe_roughness=(0.25, 0.5), probe_resolution=32,
+                 probe_spp=128, rect_resolution=32)
 FULL = Settings(spp=128, passes=8)

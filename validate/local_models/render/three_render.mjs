@@ -6,6 +6,9 @@
 // render target, NoToneMapping, LinearSRGBColorSpace; read back with readRenderTargetPixels (row 0 = bottom).
 import * as THREE from 'three';
 import {f32ToB64, environmentTexels} from './common.mjs';
+import {RectAreaLightUniformsLib} from '/node_modules/three/examples/jsm/lights/RectAreaLightUniformsLib.js';
+
+let ltcReady = false;  // RectAreaLight's LTC tables (RectAreaLightUniformsLib.init, once per page)
 
 export const version = THREE.REVISION;
 let renderer = null;
@@ -64,6 +67,11 @@ function hemisphere(l, probe) {
 // returns the light's `power` getter (three's luminous power in lm) for point and spot lights, else null
 function addLight(scene, l, opts) {
   if (l.type === 'hemisphere') { scene.add(hemisphere(l, opts.hemisphereProbe)); return null; }
+  if (l.type === 'rect') {  // luminance in nits (RectAreaLight.intensity; its .power = π·w·h·intensity lm)
+    if (!ltcReady) { RectAreaLightUniformsLib.init(); ltcReady = true; }
+    const light = new THREE.RectAreaLight(rgb(l.color), l.intensity, l.width, l.height);
+    light.position.set(...l.position); light.lookAt(...l.target); scene.add(light); return light.power;
+  }
   if (l.type === 'point') {
     const light = new THREE.PointLight(rgb(l.color), l.intensity, 0, 2);
     light.position.set(...l.position); scene.add(light); return light.power;
