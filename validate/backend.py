@@ -183,8 +183,11 @@ def padded_count(n: int) -> int:
     (every allocation its own mapping, so no slack hides the over-read), crash on every run — in
     ``segment_visible``, and in a 20-line script with one sphere and nothing else loaded (no GL); 135 155
     crash; 135 168 (a multiple of 16) and any count padded to a multiple of 64 never crash. In an ordinary
-    run the fault needs an unlucky heap layout, hence the rare ``-11`` of ``all --quick``. Padding costs at
-    most 63 extra rays and leaves the first ``n`` results bit-identical (lanes are independent)."""
+    run the fault needs an unlucky heap layout, hence the rare ``-11`` of ``all --quick``. Only rays whose
+    components come from numpy (zero-copy or strided import) were seen to fault; rays computed by drjit kernels
+    (``dr.arange``/``dr.gather``, a sensor's ``sample_ray``) ran clean at the same counts, so only the former
+    are padded. Padding costs at most 63 extra rays and leaves the first ``n`` results bit-identical (lanes
+    are independent)."""
     return max(RAY_PACKET, -(-int(n) // RAY_PACKET) * RAY_PACKET)
 
 
