@@ -68,7 +68,7 @@ from typing import Any
 
 import numpy as np
 
-from ..backend import init, pad_rows, padded_count
+from ..backend import init
 from ..errors import ValidateError
 from ..geometry import face_direction
 from ..scenes.environment import Environment
@@ -374,11 +374,10 @@ def _ray(origins: np.ndarray, directions: np.ndarray) -> Any:
 def gbuffer(scene: Any, camera: Camera) -> dict[str, np.ndarray]:
     """Normals, positions, views and hit mask (S·S,) of the pixel-centre rays."""
     o, d = camera.rays()
-    m = o.shape[0]
-    si = scene.ray_intersect(_ray(pad_rows(o, padded_count(m)), pad_rows(d, padded_count(m))))  # backend.padded_count
-    mask = np.array(si.is_valid(), dtype=bool)[:m]
-    n = np.array(si.sh_frame.n, dtype=np.float64).reshape(3, -1).T[:m]
-    p = np.array(si.p, dtype=np.float64).reshape(3, -1).T[:m]
+    si = scene.ray_intersect(_ray(o, d))
+    mask = np.array(si.is_valid(), dtype=bool)
+    n = np.array(si.sh_frame.n, dtype=np.float64).reshape(3, -1).T
+    p = np.array(si.p, dtype=np.float64).reshape(3, -1).T
     n[~mask] = np.nan
     p[~mask] = np.nan
     v = -d.astype(np.float64)
