@@ -166,3 +166,41 @@ def load_scene(description: dict[str, Any]) -> Any:
 
     init()
     return mi.load_dict(description, optimize=False)
+
+
+RAY_PACKET = 64  # rays: every array handed to a Mitsuba scene query is padded to a multiple of this (see below)
+
+
+def padded_count(n: int) -> int:
+    """``n`` rounded up to a multiple of :data:`RAY_PACKET` (at least one packet).
+
+    Why: on the LLVM variant, ``Scene.ray_test`` / ``ray_intersect`` (Mitsuba 3.9.1, drjit 1.x, Embree)
+    read a ray component array *past its end* when its length is not a multiple of the packet width.
+    Normally the bytes past the end are mapped (malloc slack) and only masked-off lanes see them, but when a
+    large buffer's end lies within a few dozen bytes of an unmapped page the read faults: SIGSEGV in a
+    drjit worker thread (``nt [1]``). Measured here: 135 154 rays (the ``lights`` disc frame's shadow
+    rays, 135 154 mod 16 = 2) from numpy, run with ``GLIBC_TUNABLES=glibc.malloc.mmap_threshold=4096``
+    (every allocation its own mapping, so no slack hides the over-read), crash on every run — in
+    ``segment_visible``, and in a 20-line script with one sphere and nothing else loaded (no GL); 135 155
+    crash; 135 168 (a multiple of 16) and any count padded to a multiple of 64 never crash. In an ordinary
+    run the fault needs an unlucky heap layout, hence the rare ``-11`` of ``all --quick``. Only rays whose
+    components come from numpy (zero-copy or strided import) were seen to fault; rays computed by drjit kernels
+    (``dr.arange``/``dr.gather``, a sensor's ``sample_ray``) ran clean at the same counts, so only the former
+    are padded. Padding costs at most 63 extra rays. The first ``n`` results of a ``ray_test`` (and of
+    ``ray_intersect`` on analytic shapes) are unchanged, but on a triangle mesh the rays of the former partial
+    packet may hit ULPs apart (likely Embree's packet vs single-ray traversal): measured 1e-9 relative in
+    ``ibl``'s dented-sphere G-buffer, which is therefore left unpadded. Checked bit-identical on ``--quick``
+    results.json with fresh caches: brdfs, lights, shadows, uberlight."""
+    return max(RAY_PACKET, -(-int(n) // RAY_PACKET) * RAY_PACKET)
+
+
+def pad_rows(a: Any, count: int) -> Any:
+    """``a`` (N, …) as a C-contiguous float32 array of ``count`` ≥ N rows: the last row repeated (a row of zeros
+    when N = 0). Used with :func:`padded_count` for arrays that become rays of a scene query."""
+    import numpy as np
+
+    a = np.asarray(a, dtype=np.float32)
+    if a.shape[0] > count:
+        raise ValidateError(f"pad_rows: {a.shape[0]} rows do not fit in {count}")
+    filler = a[-1:] if a.shape[0] else np.zeros((1, *a.shape[1:]), dtype=np.float32)
+    return np.ascontiguousarray(np.concatenate([a, np.repeat(filler, count - a.shape[0], axis=0)]))

@@ -39,7 +39,7 @@ from typing import Any
 
 import numpy as np
 
-from ..backend import init
+from ..backend import init, pad_rows, padded_count
 from ..errors import ValidateError
 from ..scenes import brdf_scenes as bs
 from .cache import cached
@@ -107,13 +107,13 @@ def _intersect(scene: Any, origins: np.ndarray, dirs: np.ndarray) -> tuple[np.nd
     """(hit mask, hit points, geometric normals oriented to +z) of rays."""
     import mitsuba as mi
 
-    o = origins.astype(np.float32)
-    d = dirs.astype(np.float32)
+    m = origins.shape[0]
+    o, d = pad_rows(origins, padded_count(m)), pad_rows(dirs, padded_count(m))  # see backend.padded_count
     ray = mi.Ray3f(mi.Point3f(o[:, 0], o[:, 1], o[:, 2]), mi.Vector3f(d[:, 0], d[:, 1], d[:, 2]))
     si = scene.ray_intersect(ray)
-    hit = np.array(si.is_valid(), dtype=bool)
-    p = np.array(si.p, dtype=np.float64).reshape(3, -1).T
-    n = np.array(si.n, dtype=np.float64).reshape(3, -1).T
+    hit = np.array(si.is_valid(), dtype=bool)[:m]
+    p = np.array(si.p, dtype=np.float64).reshape(3, -1).T[:m]
+    n = np.array(si.n, dtype=np.float64).reshape(3, -1).T[:m]
     n = np.where(n[:, 2:3] < 0.0, -n, n)
     return hit, p, n
 
@@ -121,10 +121,10 @@ def _intersect(scene: Any, origins: np.ndarray, dirs: np.ndarray) -> tuple[np.nd
 def _occluded(scene: Any, origins: np.ndarray, dirs: np.ndarray) -> np.ndarray:
     import mitsuba as mi
 
-    o = origins.astype(np.float32)
-    d = dirs.astype(np.float32)
+    m = origins.shape[0]
+    o, d = pad_rows(origins, padded_count(m)), pad_rows(dirs, padded_count(m))  # see backend.padded_count
     ray = mi.Ray3f(mi.Point3f(o[:, 0], o[:, 1], o[:, 2]), mi.Vector3f(d[:, 0], d[:, 1], d[:, 2]))
-    return np.array(scene.ray_test(ray), dtype=bool)
+    return np.array(scene.ray_test(ray), dtype=bool)[:m]
 
 
 def _cosine_about(n: np.ndarray, u1: np.ndarray, u2: np.ndarray) -> np.ndarray:
@@ -236,11 +236,13 @@ def mesh_gbuffer(verts: np.ndarray, faces: np.ndarray, x: np.ndarray, y: np.ndar
     params.update()
     scene = mi.load_dict({"type": "scene", "mesh": mesh})
     o = np.stack([x.ravel(), y.ravel(), np.full(x.size, 3.0)], -1).astype(np.float32)
+    m = o.shape[0]
+    o = pad_rows(o, padded_count(m))  # padded: Mitsuba's query reads past a ragged end (backend.padded_count)
     ray = mi.Ray3f(mi.Point3f(o[:, 0], o[:, 1], o[:, 2]), mi.Vector3f(0.0, 0.0, -1.0))
     si = scene.ray_intersect(ray)
-    hit = np.array(si.is_valid(), dtype=bool)
-    prim = np.array(si.prim_index, dtype=np.int64)
-    p = np.array(si.p, dtype=np.float64).reshape(3, -1).T
+    hit = np.array(si.is_valid(), dtype=bool)[:m]
+    prim = np.array(si.prim_index, dtype=np.int64)[:m]
+    p = np.array(si.p, dtype=np.float64).reshape(3, -1).T[:m]
     prim = np.where(hit, prim, 0)
     a, b, c = (verts[faces[prim, k]] for k in range(3))
     n = np.cross(b - a, c - a)

@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from ..backend import init
+from ..backend import init, pad_rows, padded_count
 from ..errors import ValidateError
 from ..scenes.shadow_scenes import ShadowScene
 from ..stats import mean_and_stderr
@@ -183,9 +183,10 @@ def segment_visible(geometry: Any, origins: np.ndarray, normals: np.ndarray, tar
         d = targets[s:s + CHUNK_RAYS] - o
         dist = np.linalg.norm(d, axis=1)
         d = d / np.maximum(dist, 1e-30)[:, None]
-        ray = mi.Ray3f(_to_mi(o, mi.Point3f), _to_mi(d, mi.Vector3f))
-        ray.maxt = mi.Float(dist.astype(np.float32))
-        out[s:s + CHUNK_RAYS] = ~np.array(geometry.ray_test(ray))
+        m, count = o.shape[0], padded_count(o.shape[0])  # padded: Mitsuba's query reads past a ragged end
+        ray = mi.Ray3f(_to_mi(pad_rows(o, count), mi.Point3f), _to_mi(pad_rows(d, count), mi.Vector3f))
+        ray.maxt = mi.Float(pad_rows(dist, count))
+        out[s:s + CHUNK_RAYS] = ~np.array(geometry.ray_test(ray))[:m]
     return out
 
 
