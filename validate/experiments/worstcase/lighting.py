@@ -26,6 +26,7 @@ References
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -66,11 +67,13 @@ class Family:
         return th
 
 
+@functools.lru_cache(maxsize=8)
 def texel_geometry(height: int) -> tuple[np.ndarray, np.ndarray]:
-    """(directions (H·W, 3), solid angles (H·W,)) of an H×2H map, row-major, float64."""
+    """(directions (H·W, 3), solid angles (H·W,)) of an H×2H map, row-major, float64 (cached, read-only)."""
     w = 2 * height
-    return (latlong.texel_directions(height, w).reshape(-1, 3),
-            latlong.texel_solid_angles(height, w).reshape(-1))
+    d, dw = latlong.texel_directions(height, w).reshape(-1, 3), latlong.texel_solid_angles(height, w).reshape(-1)
+    d.flags.writeable = dw.flags.writeable = False
+    return d, dw
 
 
 def upsample_plan(coarse: int, height: int) -> tuple[np.ndarray, np.ndarray]:
@@ -153,10 +156,15 @@ class Raster:
 
 
 def truth_numpy(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    """E_c(n) = Σ_j L_jc max(0, n·ω_j) ΔΩ_j (float64) for an (H, 2H, 3) map at normals (N, 3) → (N, 3)."""
+    """E_c(n) = Σ_j L_jc max(0, n·ω_j) ΔΩ_j (float64) for an (H, 2H, 3) map at normals (N, 3) → (N, 3).
+    The sum runs over the lit texels only (a zero texel adds nothing): a certificate's delta maps cost their
+    one to three texels, not H·2H."""
     h = radiance.shape[0]
     d, dw = texel_geometry(h)
     lw = radiance.reshape(-1, 3).astype(np.float64) * dw[:, None]
+    lit = np.flatnonzero(np.any(lw != 0.0, axis=1))
+    if len(lit) < len(lw):
+        d, lw = d[lit], lw[lit]
     return np.maximum(np.asarray(normals, dtype=np.float64) @ d.T, 0.0) @ lw
 
 
