@@ -15,13 +15,13 @@ class Settings:
     FULL certifies every linear technique but searches only sh9 (against its certificate) and the nonlinear
     built-ins; ``worst TECHNIQUE`` searches any other one (default 400 evaluations, 4 restarts).
 
-    FULL's search budget, 200 evaluations over 2 restarts, is the first two restarts of the 400 / 4 run
-    measured on 2026-12-01 (same seeds, same 100 evaluations per restart: the same trajectories). The best of
-    restarts (1, 2) against the best of all four: sh9 9.354 % vs 9.365 % (99.8 % and 99.9 % of 3/32, the claim
-    needs 99 %), sh1_geomerics 24.91 % vs 24.91 %, zh3_hallucinated 24.98 % vs 24.98 %, zh3_stored 31.93 % vs
-    31.93 %, sh9_cmgen_auto 5.939 % vs 5.939 %, babylon_sh 34.09 % vs 35.68 % (a finding, no claim; its
-    third restart found 4.7 % more). Restarts 3 and 4 doubled FULL's cost (SPSA through an engine: ~2 s of
-    CPU per 10 evaluations) for no change in any claim."""
+    FULL's search budget, 200 evaluations over 2 restarts, is the first two restarts of the 400 / 4 search
+    (``worst TECHNIQUE``'s default; same seeds, 100 evaluations per restart: the same trajectories), measured
+    on 2026-12-01 with ``worst``: best of restarts 1–2 against the best of 1–4, sh9 9.366 % vs 9.366 % (99.9 %
+    of 3/32; the claim needs 99 %), zh3_hallucinated 24.89 % vs 24.92 %, sh1_geomerics 24.95 % vs 24.95 %,
+    babylon_sh 34.09 % vs 35.68 % (a finding, no claim: its third restart found 4.7 % more), sh9_cmgen_auto
+    5.939 % vs 5.939 %. Restarts 3–4 doubled the searches' cost (SPSA through an engine: ~1 s of CPU per 10
+    evaluations) and changed no claim; ``worst TECHNIQUE`` runs the longer search."""
 
     coarse: int
     levels: int
