@@ -74,8 +74,9 @@ def worst_normal(fn: Technique, radiance: np.ndarray, metric: str) -> tuple[floa
     of 8 neighbours at radii :data:`REFINE_START` · 2⁻ᵏ around the best (monotone: never below the dense max)."""
     base, stat = check_metric(metric)
     dense = fibonacci_sphere(DENSE_NORMALS)
-    peak = float(luminance(truth_numpy(radiance, dense)).max())
-    e = errors_at(fn, radiance, dense, base, peak)
+    truth = truth_numpy(radiance, dense)
+    peak = float(luminance(truth).max())
+    e = per_normal(fn(radiance, dense), truth, flux_numpy(radiance), base, peak)
     if stat == "mean":
         return float(e.mean()), dense[int(np.argmax(e))]
     best, n = float(e.max()), dense[int(np.argmax(e))]

@@ -26,7 +26,10 @@ References
 
 from __future__ import annotations
 
+import functools
+import hashlib
 import math
+from collections import OrderedDict
 from dataclasses import dataclass
 from typing import Any
 
@@ -66,11 +69,13 @@ class Family:
         return th
 
 
+@functools.lru_cache(maxsize=8)
 def texel_geometry(height: int) -> tuple[np.ndarray, np.ndarray]:
-    """(directions (H·W, 3), solid angles (H·W,)) of an H×2H map, row-major, float64."""
+    """(directions (H·W, 3), solid angles (H·W,)) of an H×2H map, row-major, float64 (cached, read-only)."""
     w = 2 * height
-    return (latlong.texel_directions(height, w).reshape(-1, 3),
-            latlong.texel_solid_angles(height, w).reshape(-1))
+    d, dw = latlong.texel_directions(height, w).reshape(-1, 3), latlong.texel_solid_angles(height, w).reshape(-1)
+    d.flags.writeable = dw.flags.writeable = False
+    return d, dw
 
 
 def upsample_plan(coarse: int, height: int) -> tuple[np.ndarray, np.ndarray]:
@@ -153,11 +158,42 @@ class Raster:
 
 
 def truth_numpy(radiance: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    """E_c(n) = Σ_j L_jc max(0, n·ω_j) ΔΩ_j (float64) for an (H, 2H, 3) map at normals (N, 3) → (N, 3)."""
+    """E_c(n) = Σ_j L_jc max(0, n·ω_j) ΔΩ_j (float64) for an (H, 2H, 3) map at normals (N, 3) → (N, 3).
+    The sum runs over the lit texels only (a zero texel adds nothing): a certificate's delta maps cost their
+    one to three texels, not H·2H."""
     h = radiance.shape[0]
     d, dw = texel_geometry(h)
     lw = radiance.reshape(-1, 3).astype(np.float64) * dw[:, None]
-    return np.maximum(np.asarray(normals, dtype=np.float64) @ d.T, 0.0) @ lw
+    normals = np.asarray(normals, dtype=np.float64)
+    lit = np.flatnonzero(np.any(lw != 0.0, axis=1))
+    if len(lit) < len(lw) // 2:
+        return np.maximum(normals @ d[lit].T, 0.0) @ lw[lit]
+    if len(normals) < 64 or len(normals) * len(dw) > KERNEL_CACHE_ENTRIES:  # not kept
+        return np.maximum(normals @ d.T, 0.0) @ lw
+    return cosine_kernel(normals, h) @ radiance.reshape(-1, 3).astype(np.float64)
+
+
+_KERNELS: OrderedDict[tuple[bytes, int], np.ndarray] = OrderedDict()
+KERNEL_CACHE = 2  # kernels kept (LRU): a search's normal set and worst_normal's dense one
+KERNEL_CACHE_ENTRIES = 1 << 23  # at most 4096 normals × a 32×64 map each (64 MiB of float64)
+
+
+def cosine_kernel(normals: np.ndarray, height: int) -> np.ndarray:
+    """K[n, j] = max(0, n·ω_j) ΔΩ_j (N, H·2H) float64, kept for the last :data:`KERNEL_CACHE` normal sets and
+    map heights (a search evaluates the same normals on hundreds of maps); none above
+    :data:`KERNEL_CACHE_ENTRIES` entries."""
+    d, dw = texel_geometry(height)
+    key = (hashlib.blake2b(np.ascontiguousarray(normals).tobytes(), digest_size=16).digest(), height)
+    if key in _KERNELS:
+        _KERNELS.move_to_end(key)
+        return _KERNELS[key]
+    k = np.maximum(normals @ d.T, 0.0) * dw[None, :]
+    if k.size <= KERNEL_CACHE_ENTRIES:
+        k.flags.writeable = False
+        _KERNELS[key] = k
+        while len(_KERNELS) > KERNEL_CACHE:
+            _KERNELS.popitem(last=False)
+    return k
 
 
 def flux_numpy(radiance: np.ndarray) -> np.ndarray:

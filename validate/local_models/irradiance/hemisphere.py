@@ -48,6 +48,16 @@ def _as_float(a: np.ndarray) -> Any:
     return to_dr(a)
 
 
+def _scalars(array_type: Any, values: list[float]) -> list[Any]:
+    """The values as scalars of a drjit expression: opaque on a JIT variant (a Python float is a literal baked
+    into the kernel, so each new value would compile a new kernel), plain floats otherwise."""
+    import drjit as dr
+
+    if dr.is_jit_v(array_type):
+        return [dr.opaque(array_type, float(v)) for v in values]
+    return [float(v) for v in values]
+
+
 def sky_weight(cos_theta: Any) -> Any:
     """f = ½ (1 + cos θ) on any array type (numpy or drjit) [1, 2]."""
     return (cos_theta + 1.0) * 0.5
@@ -93,7 +103,8 @@ def hemisphere_lighting(normals: np.ndarray, sky: np.ndarray, ground: np.ndarray
         raise ValidateError(f"hemisphere lighting: sky and ground must be RGB triples, got {sky.shape}, {ground.shape}")
     w = blend_weight(np.clip(n @ u, -1.0, 1.0), formula)
     wf = _as_float(w)
-    out = [np.array(wf * float(sky[c]) + (1.0 - wf) * float(ground[c]), dtype=np.float64) for c in range(3)]
+    colour = _scalars(type(wf), [*sky, *ground])  # opaque on a JIT variant: one kernel for every colour pair
+    out = [np.array(wf * colour[c] + (1.0 - wf) * colour[3 + c], dtype=np.float64) for c in range(3)]
     return np.stack(out, axis=-1)
 
 

@@ -275,21 +275,27 @@ def project_environment(radiance: np.ndarray, lmax: int = 2) -> np.ndarray:
 
 
 def render_irradiance(coeffs: np.ndarray, normals: np.ndarray, lmax: int | None = None) -> np.ndarray:
-    """E(n) = Σ_l A_l Σ_m L_lm Y_lm(n) [1, eq. 8] at normals (N, 3); returns (N, 3)."""
+    """E(n) = Σ_l A_l Σ_m L_lm Y_lm(n) [1, eq. 8] at normals (N, 3); returns (N, 3).
+
+    On a JIT variant each A_l L_lm enters as an opaque scalar (``dr.opaque``), not a literal: a literal is
+    baked into the kernel, so every new map compiled a new kernel (~0.1 s each); opaque, the kernel of a
+    given (N, lmax) is compiled once and reused (the same float32 products either way)."""
     import drjit as dr
 
     if lmax is None:
         lmax = degree_of(coeffs.shape[0] - 1)
     x, y, z = (_to_float(normals[:, i]) for i in range(3))
     basis = eval_basis(x, y, z, lmax)
+    jit = _is_jit(x)
     out = []
     for c in range(3):
         acc = x * 0.0
         for k, yk in enumerate(basis):
             a = clamped_cosine_al(degree_of(k))
             if a != 0.0 and coeffs[k, c] != 0.0:
-                acc = acc + yk * float(a * coeffs[k, c])
-        if _is_jit(acc):
+                v = float(a * coeffs[k, c])
+                acc = acc + yk * (dr.opaque(type(x), v) if jit else v)
+        if jit:
             dr.eval(acc)
         out.append(np.array(acc, dtype=np.float64))
     return np.stack(out, axis=-1)

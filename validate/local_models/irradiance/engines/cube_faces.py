@@ -180,7 +180,11 @@ def render_faces(radiance: np.ndarray, face_size: int, supersample: int | None =
     n, h, w = face_size, radiance.shape[0], radiance.shape[1]
     rows, cols = hot_texels(radiance)
     hot = np.sort(rows.astype(np.int64) * w + cols)
-    faces = _supersampled(radiance, n, supersample or supersample_for(h, n), hot)
+    lit = np.flatnonzero(np.any(radiance.reshape(-1, 3) != 0.0, axis=1))
+    if len(hot) and len(lit) <= len(hot) and np.all(_is_hot(lit, hot)):  # L₀ = 0 (a few suns, nothing else)
+        faces = np.zeros((6, n, n, 3))
+    else:
+        faces = _supersampled(radiance, n, supersample or supersample_for(h, n), hot)
     if len(rows):
         flux = _splat_hot(radiance, rows, cols, n, hot_nodes_for(h, n)).reshape(6, n, n, 3)
         faces += flux / cube_texel_solid_angles(n)[None, :, :, None]
