@@ -229,12 +229,13 @@ UNITS = frozenset({
     "sr⁻¹",       # a BRDF value or a lobe's density over solid angle
     "sr",         # a solid angle
     "sr⁻²",       # a squared density over solid angle integrated over it: the LTC fit's ∫ |E·D − f cos|³ dω
+    "lm",         # lumens: luminous flux (an engine light's `.power`, three.js)
 })
 # Columns that hold words, not quantities: names of things and verdicts.
 LABEL_COLUMNS = frozenset({
     "technique", "environment", "light", "model", "scene", "shape", "side", "check", "case", "result", "status",
     "listing", "section", "file", "engine", "reference", "method", "metric", "setting", "step", "comparison",
-    "kind", "probe", "seed", "reading", "BSDF", "parameter",
+    "kind", "probe", "seed", "reading", "BSDF", "parameter", "material", "pixel set",
     "power check", "table row",
     # the report's own pages (validate/report/): claims, techniques, settings, overview, changes; the bench tables
     "experiment", "title", "claim", "description", "family", "origin", "key", "unit",

@@ -185,9 +185,9 @@ def probe_table(m: Measurements) -> Table | None:
                          f"{ratio:.4f}", fpm(cv, cu)])
     if not rows:
         return None
-    return Table(["engine", "material", "roughness", "pixels", "accepted (%)", "mean rel. err. (%)",
-                  "max rel. err. (%)", "mean rel. bias (%)", "energy ratio engine/Mitsuba",
-                  "contrast ratio std(engine)/std(truth)"], rows, caption="(b) probe: white spheres")
+    return Table(["engine", "material", "roughness (–)", "pixels (px)", "accepted (%)", "mean rel. err. (%)",
+                  "max rel. err. (%)", "mean rel. bias (%)", "energy ratio engine/Mitsuba (×)",
+                  "contrast ratio std(engine)/std(truth) (×)"], rows, caption="(b) probe: white spheres")
 
 
 def probe_findings(m: Measurements) -> list[str]:
@@ -241,7 +241,7 @@ def rect_table(m: Measurements) -> Table | None:
             rows.append([sr.scene.name, name, "skipped", why, "", "", "", "", ""])
     if not rows:
         return None
-    return Table(["scene", "engine", "pixels judged", "pixels", "accepted (%)", "mean rel. err. (%)",
+    return Table(["scene", "engine", "pixel set", "pixels (px)", "accepted (%)", "mean rel. err. (%)",
                   "max rel. err. (%)", "mean rel. bias (%)", "light.power (lm)"], rows,
                  caption="(d) rectangular area light")
 
