@@ -16,7 +16,16 @@ family's dtype (:mod:`validate.local_models.precision`), and compares it with th
   ~u/α ≈ 2e-3 (measured 2.06e-3: [1]'s design point for 32-bit moments; 5× margin);
 * float32 (specular_arealight): representative point, sphere and tube, ≤ 1e-4 of max L_o: GGX D's
   q = (n·h)²(α² − 1) + 1 → α² at the peak, so a rounding u of (n·h)² moves D by 2u/α² relative (2.4e-5 at
-  α = 0.1); measured 1.6e-5 (sphere) and 2.2e-5 (tube) in float32, 1.3e-13 forced to float64.
+  α = 0.1); measured 1.6e-5 (sphere) and 2.2e-5 (tube) in float32, 1.3e-13 forced to float64;
+* float32 (brdf: classic_brdfs, ganovelli_cook_torrance), relative to max|f_r cos| over three parameter sets
+  (dielectric; coloured conductor under GGX α = 0.1; η = 0.7 with total internal reflection) × 3000 random
+  (n, l, v): the cosines are float32 dot products (absolute error ≈ 3u, u = 6e-8), and each formula amplifies them
+  by its condition number. Lambert, Oren–Nayar (both): ≤ 1e-6, 2e-6 (≈ 10 u; measured 2.8e-7, 6.6e-7); the
+  (r·v)^s, (n·h)^s lobes: s·rel(x) with s ≤ 200 → 200 · 4u = 4.8e-5, bound 5e-5 (measured 2.1e-5); Cook–Torrance
+  (all four): Beckmann's exp(−tan²θ_h/m²) turns the exponent's relative error into D's, tan²θ_h/m² up to ~30 at
+  the lobe's edge for m = 0.1 → 30 · 16u ≈ 3e-5, bound 5e-5 (measured 1.9e-5); Minnaert with K = 0.7:
+  (n·v)^(K−1) amplifies n·v's 3u absolute error by (1 − K)/(n·v), and the largest value of the sample sits at its
+  smallest n·v (≈ 1e-4): 0.3 · 3u / 1e-4 ≈ 5e-4, bound 2e-3 (measured 5.4e-4).
 
 The numbers these bounds are checked against are printed in each assertion message.
 """
@@ -174,6 +183,46 @@ def _np_rep_tube(light: dict, alpha: float, f0: np.ndarray, p: np.ndarray, norma
     return _np_ggx_point(alpha, f0, n, l, v, e)
 
 
+def _np_classic(name: str, p: dict, normals: np.ndarray, lights: np.ndarray, views: np.ndarray) -> np.ndarray:
+    """classic_brdfs' and ganovelli_cook_torrance's techniques as they were in numpy float64."""
+    g, who = bc.Geometry(normals, lights, views), "oracle"
+    alb, ks = bc.param(p, "albedo", who), bc.param(p, "ks", who)
+    diffuse = alb / np.pi * bc.column(g.cl)
+    if name in ("phong", "blinn_phong"):
+        s = p["phong_exponent" if name == "phong" else "exponent"]
+        spec = np.power(np.maximum(g.rv, 0.0), s) if name == "phong" else np.power(g.ch, s)
+        return g.finish((alb * bc.column(g.cl) + ks * bc.column(spec)) / np.pi)
+    if name in ("phong_normalized", "blinn_phong_normalized"):
+        s = p["phong_exponent" if name == "phong_normalized" else "exponent"]
+        lobe = ((s + 2.0) / (2.0 * np.pi) * np.power(np.maximum(g.rv, 0.0), s) if name == "phong_normalized"
+                else (s + 8.0) / (8.0 * np.pi) * np.power(g.ch, s))
+        return g.finish((alb / np.pi + ks * bc.column(lobe)) * bc.column(g.cl))
+    if name == "cook_torrance_printed":
+        return g.finish(diffuse + bc.cook_torrance_printed_terms(p, g))
+    if name == "cook_torrance":
+        return g.finish(diffuse + bc.microfacet_specular(p, g))
+    al, be = bc.alpha_beta(g)
+    if name == "oren_nayar":
+        a, b = bc.oren_nayar_ab(p["sigma"])
+        shape = a + b * np.maximum(g.cos_dphi, 0.0) * np.sin(al) * np.tan(np.minimum(be, np.pi / 2 - 1e-9))
+        return g.finish(alb / np.pi * bc.column(shape * g.cl))
+    if name == "oren_nayar_full":
+        l1, l2 = bc.oren_nayar_full_terms(p["sigma"], alb, g)
+        return g.finish(l1 + l2)
+    if name == "minnaert":
+        shape = np.power(np.maximum(g.cl * g.cv, 1e-300), p["minnaert_k"] - 1.0)
+        return g.finish(alb / np.pi * bc.column(shape * g.cl))
+    if name.startswith("cook_torrance_ganovelli"):
+        with_nl = name.endswith("_nl")
+        f = bc.fresnel_schlick(g.cl, bc.fresnel_f0(bc.param(p, "eta", who), bc.param(p, "k", who)))
+        d = bc.beckmann_d(g.ch, p["alpha"], normalised=False)
+        vh = np.maximum(g.vh, 1e-12)
+        gg = np.minimum(1.0, np.minimum(2.0 * g.ch * g.cv / vh, g.ch * g.cl / vh))
+        sp = d * gg / np.maximum(g.cl * g.cv, 1e-12) * (g.cl if with_nl else 1.0)
+        return g.finish(diffuse + f * (sp / np.pi)[:, None])
+    return g.finish(diffuse)  # lambert
+
+
 # -- inputs ---------------------------------------------------------------------------------------------------
 def _receivers(n: int = 200, seed: int = 7) -> tuple[np.ndarray, np.ndarray]:
     rng = np.random.default_rng(seed)
@@ -206,6 +255,39 @@ def _l1_coeffs() -> np.ndarray:
     c[1:4] = rng.uniform(-0.4, 0.4, (3, 3))
     c[4:9] = rng.uniform(-0.1, 0.1, (5, 3))
     return c
+
+
+BRDF_PARAMS = [  # a dielectric (the precision test's), a coloured conductor under GGX, a dielectric with η < 1 (TIR)
+    {"albedo": 0.6, "ks": 0.3, "exponent": 20.0, "phong_exponent": 20.0, "alpha": 0.3, "eta": 1.5, "k": 0.0,
+     "sigma": 0.3, "minnaert_k": 1.2},
+    {"albedo": (0.2, 0.5, 0.7), "ks": (0.5, 0.3, 0.1), "exponent": 80.0, "phong_exponent": 5.0, "alpha": 0.1,
+     "distribution": "ggx", "eta": (0.2, 0.9, 1.1), "k": (3.9, 2.4, 2.2), "sigma": 0.6, "minnaert_k": 0.7},
+    {"albedo": 0.8, "ks": 1.0, "exponent": 200.0, "phong_exponent": 200.0, "alpha": 0.6, "eta": 0.7, "k": 0.0,
+     "sigma": 1.0, "minnaert_k": 2.0},
+]
+
+
+def _brdf_directions(n: int = 3000, seed: int = 21) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Random normals, lights, views (half of the pairs below a horizon: zero in both)."""
+    rng = np.random.default_rng(seed)
+    return tuple(unit(rng.normal(size=(n, 3))) for _ in range(3))  # type: ignore[return-value]
+
+
+def _brdf_case(name: str, ref: Callable[..., np.ndarray],
+               params: list[dict] | None = None) -> Callable[[], tuple[np.ndarray, np.ndarray]]:
+    def run() -> tuple[np.ndarray, np.ndarray]:
+        n, l, v = _brdf_directions()
+        fam = lm.FAMILIES["brdf"]
+        got = np.concatenate([fam.call(name, p, n, l, v) for p in params or BRDF_PARAMS])
+        return got, np.concatenate([ref(name, p, n, l, v) for p in params or BRDF_PARAMS])
+    return run
+
+
+# brdf (float32): relative to max|f_r cos| over BRDF_PARAMS × 3000 random (n, l, v); see the module docstring
+BRDF_BOUNDS = {"lambert": 1e-6, "oren_nayar": 2e-6, "oren_nayar_full": 2e-6, "minnaert": 2e-3,
+               **dict.fromkeys(("phong", "blinn_phong", "phong_normalized", "blinn_phong_normalized"), 5e-5),
+               **dict.fromkeys(("cook_torrance", "cook_torrance_printed", "cook_torrance_ganovelli",
+                                "cook_torrance_ganovelli_nl"), 5e-5)}
 
 
 # -- cases: name → (port, numpy original, bound, kind) ------------------------------------------------------
@@ -281,6 +363,7 @@ CASES = {
     "esm": (_shadow("esm"), 2e-5, "absolute"),
     "vsm": (_shadow("vsm"), 2e-4, "absolute"),
     "msm": (_shadow("msm"), 1e-2, "absolute"),
+    **{name: (_brdf_case(name, _np_classic), bound, "relative") for name, bound in BRDF_BOUNDS.items()},
 }
 
 
