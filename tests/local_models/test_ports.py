@@ -25,7 +25,10 @@ family's dtype (:mod:`validate.local_models.precision`), and compares it with th
   (all four): Beckmann's exp(−tan²θ_h/m²) turns the exponent's relative error into D's, tan²θ_h/m² up to ~30 at
   the lobe's edge for m = 0.1 → 30 · 16u ≈ 3e-5, bound 5e-5 (measured 1.9e-5); Minnaert with K = 0.7:
   (n·v)^(K−1) amplifies n·v's 3u absolute error by (1 − K)/(n·v), and the largest value of the sample sits at its
-  smallest n·v (≈ 1e-4): 0.3 · 3u / 1e-4 ≈ 5e-4, bound 2e-3 (measured 5.4e-4).
+  smallest n·v (≈ 1e-4): 0.3 · 3u / 1e-4 ≈ 5e-4, bound 2e-3 (measured 5.4e-4);
+* float32 (brdf: brdf_multiscatter, GGX α = 0.3 conductor and Beckmann α = 0.7 dielectric, metalness 0.5 and 1):
+  the microfacet term's 5e-5 above; the tables' linear interpolation in drjit (63 segments summed) adds
+  ≤ 63 u · TV(E) ≈ 4e-6 (TV(E) ≤ 1); measured ≤ 5.0e-6 (scalar), 2.4e-6 (llvm).
 
 The numbers these bounds are checked against are printed in each assertion message.
 """
@@ -42,6 +45,7 @@ import validate.local_models as lm
 from validate.geometry import unit
 from validate.local_models import precision
 from validate.local_models.arealight import disc_sh, sphere_cap
+from validate.local_models.brdf import brdf_multiscatter as ms
 from validate.local_models.brdf import common as bc
 from validate.local_models.irradiance import sh, windowed_sh, zh3
 from validate.local_models.shadow import shadow_esm, shadow_msm, shadow_vsm
@@ -223,6 +227,48 @@ def _np_classic(name: str, p: dict, normals: np.ndarray, lights: np.ndarray, vie
     return g.finish(diffuse)  # lambert
 
 
+def _np_multiscatter(name: str, p: dict, normals: np.ndarray, lights: np.ndarray, views: np.ndarray) -> np.ndarray:
+    """brdf_multiscatter's techniques as they were in numpy float64 (tables, F_avg: the module's own set-up)."""
+    g, who = bc.Geometry(normals, lights, views), "oracle"
+    alpha, dist = round(float(p["alpha"]), 6), p["distribution"]
+    t = ms.tables(dist, alpha)
+    col = bc.column
+    diffuse = bc.param(p, "albedo", who) / np.pi * col(g.cl)
+    single = bc.microfacet_specular(p, g, who)
+    f0 = bc.fresnel_f0(bc.param(p, "eta", who), bc.param(p, "k", who))
+
+    def fms_ems(f0_: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        ems = 1.0 - col(t.lookup(t.e, g.cv))
+        fss_ess = f0_ * col(t.lookup(t.a, g.cv)) + col(t.lookup(t.b, g.cv))
+        f_avg = f0_ + (1.0 - f0_) / 21.0
+        return fss_ess, ems * fss_ess * f_avg / (1.0 - ems * f_avg)
+
+    def schlick_single(f0_: np.ndarray) -> np.ndarray:
+        d_only = bc.microfacet_specular({"alpha": alpha, "distribution": dist, "eta": 0.0, "k": 1.0}, g, who)
+        return d_only * bc.fresnel_schlick(g.vh, f0_)
+
+    if name == "ggx_kulla_conty":
+        f_avg, ea = ms.f_avg_exact(bc.param(p, "eta", who), bc.param(p, "k", who)), t.e_avg
+        lobe = (1.0 - t.lookup(t.e, g.cv)) * (1.0 - t.lookup(t.e, g.cl)) / (np.pi * (1.0 - ea)) * np.maximum(g.cl, 0)
+        return g.finish(diffuse + single + col(lobe) * (f_avg ** 2 * ea / (1.0 - f_avg * (1.0 - ea))))
+    if name == "ggx_fdez_aguera":
+        return g.finish(diffuse + single + fms_ems(f0)[1] / np.pi * col(g.cl))
+    if name == "ggx_turquin":
+        return g.finish(diffuse + single * (1.0 + f0 * col(1.0 / np.maximum(t.lookup(t.e, g.cv), 1e-6) - 1.0)))
+    m, cos_l = float(p.get("metalness", 1.0)), col(g.cl)
+    base = np.broadcast_to(np.asarray(p.get("base_color", f0)), (3,))
+    if name == "ggx_metalness_blended_f0_bug":
+        fb = (1.0 - m) * ms.DIELECTRIC_F0 + m * base
+        ss_e, ms_e = fms_ems(fb)
+        diffuse = base * (1.0 - m) * (1.0 - ss_e - ms_e) / np.pi * cos_l
+        return g.finish(schlick_single(fb) + ms_e / np.pi * cos_l + diffuse)
+    d0 = np.full(3, ms.DIELECTRIC_F0)
+    d_ss, d_ms = fms_ems(d0)
+    dielectric = schlick_single(d0) + d_ms / np.pi * cos_l + base * (1.0 - d_ss - d_ms) / np.pi * cos_l
+    metal = schlick_single(base) + fms_ems(base)[1] / np.pi * cos_l
+    return g.finish((1.0 - m) * dielectric + m * metal)
+
+
 # -- inputs ---------------------------------------------------------------------------------------------------
 def _receivers(n: int = 200, seed: int = 7) -> tuple[np.ndarray, np.ndarray]:
     rng = np.random.default_rng(seed)
@@ -288,6 +334,13 @@ BRDF_BOUNDS = {"lambert": 1e-6, "oren_nayar": 2e-6, "oren_nayar_full": 2e-6, "mi
                **dict.fromkeys(("phong", "blinn_phong", "phong_normalized", "blinn_phong_normalized"), 5e-5),
                **dict.fromkeys(("cook_torrance", "cook_torrance_printed", "cook_torrance_ganovelli",
                                 "cook_torrance_ganovelli_nl"), 5e-5)}
+MULTISCATTER_BOUNDS = dict.fromkeys(("ggx_kulla_conty", "ggx_fdez_aguera", "ggx_turquin", "ggx_metalness_fdez_aguera",
+                                     "ggx_metalness_blended_f0_bug"), 5e-5)
+MULTISCATTER_PARAMS = [  # GGX and Beckmann, a conductor and a dielectric; the metalness pair at m = 0.5 and 1
+    {"albedo": 0.3, "alpha": 0.3, "distribution": "ggx", "eta": (0.2, 0.9, 1.1), "k": (3.9, 2.4, 2.2),
+     "metalness": 0.5, "base_color": (0.9, 0.6, 0.3)},
+    {"albedo": (0.1, 0.4, 0.2), "alpha": 0.7, "distribution": "beckmann", "eta": 1.5, "k": 0.0, "metalness": 1.0},
+]
 
 
 # -- cases: name → (port, numpy original, bound, kind) ------------------------------------------------------
@@ -364,6 +417,8 @@ CASES = {
     "vsm": (_shadow("vsm"), 2e-4, "absolute"),
     "msm": (_shadow("msm"), 1e-2, "absolute"),
     **{name: (_brdf_case(name, _np_classic), bound, "relative") for name, bound in BRDF_BOUNDS.items()},
+    **{name: (_brdf_case(name, _np_multiscatter, MULTISCATTER_PARAMS), bound, "relative")
+       for name, bound in MULTISCATTER_BOUNDS.items()},
 }
 
 
