@@ -432,3 +432,77 @@ def test_port_equals_its_numpy_original(case: str, backend: str) -> None:
     err = np.abs(got - want).max() / (np.abs(want).max() if kind == "relative" else 1.0)
     assert err <= bound, f"{case} on {backend}: {kind} difference {err:.3g} > {bound:g}"
     print(f"{case} {backend}: {kind} difference {err:.3g} (bound {bound:g})")
+
+
+# -- texture lookups routed through the policy (irradiance maps, the split sum's DFG table) -------------------
+def _np_dfg(table: object, mu: np.ndarray, alpha: float) -> tuple[np.ndarray, np.ndarray]:
+    """The DFG table's bilinear, edge-clamped lookup (cell centres (i + ½)/n) in numpy float64."""
+    n = table.size  # type: ignore[attr-defined]
+    x = np.clip(mu * n - 0.5, 0.0, n - 1.0)
+    y = np.clip(np.full_like(mu, alpha) * n - 0.5, 0.0, n - 1.0)
+    x0, y0 = np.minimum(np.floor(x), n - 2).astype(int), np.minimum(np.floor(y), n - 2).astype(int)
+    wx, wy = x - x0, y - y0
+
+    def bil(t: np.ndarray) -> np.ndarray:
+        top = t[y0, x0] * (1 - wx) + t[y0, x0 + 1] * wx
+        return top * (1 - wy) + (t[y0 + 1, x0] * (1 - wx) + t[y0 + 1, x0 + 1] * wx) * wy
+    return bil(table.a), bil(table.b)  # type: ignore[attr-defined]
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_texture_lookups_compute_in_the_family_dtype_on_every_backend(backend: str) -> None:
+    """CubeMap / LatLongMap.lookup (irradiance family) and DFGTable.lookup (specular family) ask the policy for
+    their drjit types (float32) and equal their numpy float64 forms within 1e-5 of max|E| (bilinear weights and
+    texel coordinates in float32: a coordinate of up to 2n ≈ 64 texels carries 64 u ≈ 4e-6 of a texel)."""
+    from validate.local_models.irradiance import irradiance_map as im
+    from validate.local_models.specular import split_sum as ss
+
+    coeffs = _l1_coeffs()
+    q = _receivers(500, seed=4)[1]
+    maps = (im.irradiance_cube_from_sh(coeffs, 16), im.irradiance_latlong_from_sh(coeffs, 16))
+    with precision.computing_in(backend=backend), precision.tracing() as seen:
+        got = [m.lookup(q) for m in maps]
+        table = ss.default_dfg_table()
+        mu = np.linspace(0.0, 1.0, 301)
+        dfg = table.lookup(mu, 0.37)
+    assert seen and set(seen) == {"float32"}
+    for m, g in zip(maps, got, strict=True):
+        err = np.abs(g - m.lookup_numpy(q)).max() / np.abs(g).max()
+        assert err < 1e-5, f"{type(m).__name__} on {backend}: {err:.3g}"
+    for g, w in zip(dfg, _np_dfg(table, mu, 0.37), strict=True):
+        assert np.abs(g - w).max() < 1e-5, f"DFG on {backend}: {np.abs(g - w).max():.3g}"
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_shadow_map_lookups_compute_in_float32_on_every_backend(backend: str) -> None:
+    """visibility_hard / _pcf / _pcss ask the policy for float32 (the shadow family) and give on every backend what
+    they give on llvm (the Mitsuba variant's): hard exactly, PCF and PCSS within 1e-5 (float32 texel coordinates
+    and tap sums: a few u; measured on scalar 1.2e-7 (PCF), 3.0e-7 (PCSS)).
+    The map: 32² texels of random blocker depths over a receiver plane (window s, t ∈ [0, 1])."""
+    from validate.local_models.shadow import shadow_map as smod
+
+    res = 32
+    view = smod.LightView(np.zeros(3), np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0]),
+                          np.array([0.0, 1.0, 0.0]), 0.0, 0.0, 1.0, 1.0, 3.0)
+    rng = np.random.default_rng(2)
+    z_occ = np.where(rng.uniform(size=res * res) < 0.5, rng.uniform(1.2, 1.9, res * res), np.inf)
+    depth = np.where(np.isfinite(z_occ), view.depth_scale * (1 - 1 / z_occ), 1.0)
+    with precision.computing_in(backend="llvm"):
+        sm = smod.ShadowMap(view, res, precision.to_dr(depth), precision.to_dr(np.zeros(res * res)))
+    xw = rng.uniform(2.0, res - 2.0, (400, 2))
+    p = np.c_[xw / res * 2.0, np.full(400, 2.0)]
+    n = np.tile([0.0, 0.0, -1.0], (400, 1))
+
+    def run() -> list[np.ndarray]:
+        return [smod.visibility_hard(sm, p, n), smod.visibility_pcf(sm, p, n, kernel=3),
+                smod.visibility_pcss(sm, p, n, light_radius=0.05).visibility]
+
+    with precision.computing_in(backend="llvm"):
+        want = run()
+    with precision.computing_in(backend=backend), precision.tracing() as seen:
+        got = run()
+    assert seen and set(seen) == {"float32"}
+    assert np.array_equal(got[0], want[0])
+    for g, w in zip(got[1:], want[1:], strict=True):
+        assert np.abs(g - w).max() <= 1e-5, f"{backend}: {np.abs(g - w).max():.3g}"
+    assert 0.05 < want[1].mean() < 0.95  # the map really shadows part of the receivers

@@ -287,11 +287,10 @@ def _unit(a: tuple[Any, Any, Any]) -> tuple[Any, Any, Any]:
 
 
 def acos_dr(x: Any) -> Any:
-    """arccos(clip(x, −1, 1)) as atan2(√((1 − x)(1 + x)), x) (``drjit.acos`` fails on ``drjit.scalar.ArrayXf64``:
-    drjit 1.5's select_ sizes; the factored 1 − x² keeps the relative accuracy near |x| = 1)."""
-    dr = _dr()
-    c = dr.clip(x, -1.0, 1.0)
-    return dr.atan2(dr.sqrt(dr.maximum((1.0 - c) * (1.0 + c), 0.0)), c)
+    """:func:`validate.local_models.precision.acos` (arccos on every drjit backend)."""
+    from ..precision import acos  # noqa: PLC0415
+
+    return acos(x)
 
 
 class GeometryDr:
@@ -325,6 +324,7 @@ class GeometryDr:
         dr = _dr()
         zero = dr.zeros(type(self.cl), self.size)
         ch = [dr.select(self.front, dr.maximum(zero + c, 0.0), 0.0) for c in RGB.of(f_cos).ch]
+        dr.eval(*ch)  # one kernel for the three channels (they share every geometric term)
         return rgb_to_np(*ch, self.size)
 
 
