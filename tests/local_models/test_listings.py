@@ -14,8 +14,9 @@ import pytest
 
 from validate.errors import ValidateError
 from validate.gl.listing_harness import Edit, apply_edits
+from validate.local_models import precision
 from validate.local_models.brdf import ganovelli_cook_torrance as gct
-from validate.local_models.brdf.common import Geometry, fresnel_f0
+from validate.local_models.brdf.common import GeometryDr, fresnel_f0
 from validate.local_models.light import ganovelli_lamps as g6
 from validate.local_models.listings import runner
 from validate.local_models.listings.catalog import LISTINGS, SEED_FILES, SHADERS, listing
@@ -126,11 +127,12 @@ def test_ganovelli_cook_torrance_readings_at_normal_incidence() -> None:
     reading is F₀/(π m²), the n·l reading the same (n·l = 1), exact to float64 rounding."""
     n = np.array([[0.0, 0.0, 1.0]])
     params = {"alpha": 0.3, "eta": 0.2, "k": 3.0}
-    g = Geometry(n, n, n)
     f0 = fresnel_f0(params["eta"], params["k"])
-    for with_nl in (False, True):
-        spec = gct.ganovelli_specular(params, g, with_nl, 1.0)
-        np.testing.assert_allclose(spec[0], f0 / (math.pi * 0.09), rtol=1e-12)
+    with precision.computing_in("float64"):  # the family computes in float32; the closed form is checked in float64
+        g = GeometryDr(n, n, n)
+        for with_nl in (False, True):
+            spec = gct.ganovelli_specular(params, g, with_nl, 1.0).to_np(1)
+            np.testing.assert_allclose(spec[0], f0 / (math.pi * 0.09), rtol=1e-12)
 
 
 def test_ganovelli_g2_as_printed_lacks_the_factor_two() -> None:
@@ -139,10 +141,12 @@ def test_ganovelli_g2_as_printed_lacks_the_factor_two() -> None:
     th_l, th_v = math.radians(80.0), math.radians(10.0)
     lt = np.array([[math.sin(th_l), 0.0, math.cos(th_l)]])
     vw = np.array([[-math.sin(th_v), 0.0, math.cos(th_v)]])
-    g = Geometry(n, lt, vw)
     p = {"alpha": 0.3, "eta": 0.2, "k": 3.0}
-    one, two = gct.ganovelli_specular(p, g, False, 1.0), gct.ganovelli_specular(p, g, False, 2.0)
-    assert 2.0 * g.ch[0] * g.cl[0] / g.vh[0] < 1.0  # G2 with the 2 is still below 1: G = G2 in both
+    with precision.computing_in("float64"):
+        g = GeometryDr(n, lt, vw)
+        one, two = (gct.ganovelli_specular(p, g, False, f).to_np(1) for f in (1.0, 2.0))
+        ch, cl, vh = (precision.to_np(x)[0] for x in (g.ch, g.cl, g.vh))
+    assert 2.0 * ch * cl / vh < 1.0  # G2 with the 2 is still below 1: G = G2 in both
     np.testing.assert_allclose(two, 2.0 * one, rtol=1e-12)
 
 

@@ -16,7 +16,19 @@ family's dtype (:mod:`validate.local_models.precision`), and compares it with th
   ~u/α ≈ 2e-3 (measured 2.06e-3: [1]'s design point for 32-bit moments; 5× margin);
 * float32 (specular_arealight): representative point, sphere and tube, ≤ 1e-4 of max L_o: GGX D's
   q = (n·h)²(α² − 1) + 1 → α² at the peak, so a rounding u of (n·h)² moves D by 2u/α² relative (2.4e-5 at
-  α = 0.1); measured 1.6e-5 (sphere) and 2.2e-5 (tube) in float32, 1.3e-13 forced to float64.
+  α = 0.1); measured 1.6e-5 (sphere) and 2.2e-5 (tube) in float32, 1.3e-13 forced to float64;
+* float32 (brdf: classic_brdfs, ganovelli_cook_torrance), relative to max|f_r cos| over three parameter sets
+  (dielectric; coloured conductor under GGX α = 0.1; η = 0.7 with total internal reflection) × 3000 random
+  (n, l, v): the cosines are float32 dot products (absolute error ≈ 3u, u = 6e-8), and each formula amplifies them
+  by its condition number. Lambert, Oren–Nayar (both): ≤ 1e-6, 2e-6 (≈ 10 u; measured 2.8e-7, 6.6e-7); the
+  (r·v)^s, (n·h)^s lobes: s·rel(x) with s ≤ 200 → 200 · 4u = 4.8e-5, bound 5e-5 (measured 2.1e-5); Cook–Torrance
+  (all four): Beckmann's exp(−tan²θ_h/m²) turns the exponent's relative error into D's, tan²θ_h/m² up to ~30 at
+  the lobe's edge for m = 0.1 → 30 · 16u ≈ 3e-5, bound 5e-5 (measured 1.9e-5); Minnaert with K = 0.7:
+  (n·v)^(K−1) amplifies n·v's 3u absolute error by (1 − K)/(n·v), and the largest value of the sample sits at its
+  smallest n·v (≈ 1e-4): 0.3 · 3u / 1e-4 ≈ 5e-4, bound 2e-3 (measured 5.4e-4);
+* float32 (brdf: brdf_multiscatter, GGX α = 0.3 conductor and Beckmann α = 0.7 dielectric, metalness 0.5 and 1):
+  the microfacet term's 5e-5 above; the tables' linear interpolation in drjit (63 segments summed) adds
+  ≤ 63 u · TV(E) ≈ 4e-6 (TV(E) ≤ 1); measured ≤ 5.0e-6 (scalar), 2.4e-6 (llvm).
 
 The numbers these bounds are checked against are printed in each assertion message.
 """
@@ -33,6 +45,7 @@ import validate.local_models as lm
 from validate.geometry import unit
 from validate.local_models import precision
 from validate.local_models.arealight import disc_sh, sphere_cap
+from validate.local_models.brdf import brdf_multiscatter as ms
 from validate.local_models.brdf import common as bc
 from validate.local_models.irradiance import sh, windowed_sh, zh3
 from validate.local_models.shadow import shadow_esm, shadow_msm, shadow_vsm
@@ -174,6 +187,88 @@ def _np_rep_tube(light: dict, alpha: float, f0: np.ndarray, p: np.ndarray, norma
     return _np_ggx_point(alpha, f0, n, l, v, e)
 
 
+def _np_classic(name: str, p: dict, normals: np.ndarray, lights: np.ndarray, views: np.ndarray) -> np.ndarray:
+    """classic_brdfs' and ganovelli_cook_torrance's techniques as they were in numpy float64."""
+    g, who = bc.Geometry(normals, lights, views), "oracle"
+    alb, ks = bc.param(p, "albedo", who), bc.param(p, "ks", who)
+    diffuse = alb / np.pi * bc.column(g.cl)
+    if name in ("phong", "blinn_phong"):
+        s = p["phong_exponent" if name == "phong" else "exponent"]
+        spec = np.power(np.maximum(g.rv, 0.0), s) if name == "phong" else np.power(g.ch, s)
+        return g.finish((alb * bc.column(g.cl) + ks * bc.column(spec)) / np.pi)
+    if name in ("phong_normalized", "blinn_phong_normalized"):
+        s = p["phong_exponent" if name == "phong_normalized" else "exponent"]
+        lobe = ((s + 2.0) / (2.0 * np.pi) * np.power(np.maximum(g.rv, 0.0), s) if name == "phong_normalized"
+                else (s + 8.0) / (8.0 * np.pi) * np.power(g.ch, s))
+        return g.finish((alb / np.pi + ks * bc.column(lobe)) * bc.column(g.cl))
+    if name == "cook_torrance_printed":
+        return g.finish(diffuse + bc.cook_torrance_printed_terms(p, g))
+    if name == "cook_torrance":
+        return g.finish(diffuse + bc.microfacet_specular(p, g))
+    al, be = bc.alpha_beta(g)
+    if name == "oren_nayar":
+        a, b = bc.oren_nayar_ab(p["sigma"])
+        shape = a + b * np.maximum(g.cos_dphi, 0.0) * np.sin(al) * np.tan(np.minimum(be, np.pi / 2 - 1e-9))
+        return g.finish(alb / np.pi * bc.column(shape * g.cl))
+    if name == "oren_nayar_full":
+        l1, l2 = bc.oren_nayar_full_terms(p["sigma"], alb, g)
+        return g.finish(l1 + l2)
+    if name == "minnaert":
+        shape = np.power(np.maximum(g.cl * g.cv, 1e-300), p["minnaert_k"] - 1.0)
+        return g.finish(alb / np.pi * bc.column(shape * g.cl))
+    if name.startswith("cook_torrance_ganovelli"):
+        with_nl = name.endswith("_nl")
+        f = bc.fresnel_schlick(g.cl, bc.fresnel_f0(bc.param(p, "eta", who), bc.param(p, "k", who)))
+        d = bc.beckmann_d(g.ch, p["alpha"], normalised=False)
+        vh = np.maximum(g.vh, 1e-12)
+        gg = np.minimum(1.0, np.minimum(2.0 * g.ch * g.cv / vh, g.ch * g.cl / vh))
+        sp = d * gg / np.maximum(g.cl * g.cv, 1e-12) * (g.cl if with_nl else 1.0)
+        return g.finish(diffuse + f * (sp / np.pi)[:, None])
+    return g.finish(diffuse)  # lambert
+
+
+def _np_multiscatter(name: str, p: dict, normals: np.ndarray, lights: np.ndarray, views: np.ndarray) -> np.ndarray:
+    """brdf_multiscatter's techniques as they were in numpy float64 (tables, F_avg: the module's own set-up)."""
+    g, who = bc.Geometry(normals, lights, views), "oracle"
+    alpha, dist = round(float(p["alpha"]), 6), p["distribution"]
+    t = ms.tables(dist, alpha)
+    col = bc.column
+    diffuse = bc.param(p, "albedo", who) / np.pi * col(g.cl)
+    single = bc.microfacet_specular(p, g, who)
+    f0 = bc.fresnel_f0(bc.param(p, "eta", who), bc.param(p, "k", who))
+
+    def fms_ems(f0_: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        ems = 1.0 - col(t.lookup(t.e, g.cv))
+        fss_ess = f0_ * col(t.lookup(t.a, g.cv)) + col(t.lookup(t.b, g.cv))
+        f_avg = f0_ + (1.0 - f0_) / 21.0
+        return fss_ess, ems * fss_ess * f_avg / (1.0 - ems * f_avg)
+
+    def schlick_single(f0_: np.ndarray) -> np.ndarray:
+        d_only = bc.microfacet_specular({"alpha": alpha, "distribution": dist, "eta": 0.0, "k": 1.0}, g, who)
+        return d_only * bc.fresnel_schlick(g.vh, f0_)
+
+    if name == "ggx_kulla_conty":
+        f_avg, ea = ms.f_avg_exact(bc.param(p, "eta", who), bc.param(p, "k", who)), t.e_avg
+        lobe = (1.0 - t.lookup(t.e, g.cv)) * (1.0 - t.lookup(t.e, g.cl)) / (np.pi * (1.0 - ea)) * np.maximum(g.cl, 0)
+        return g.finish(diffuse + single + col(lobe) * (f_avg ** 2 * ea / (1.0 - f_avg * (1.0 - ea))))
+    if name == "ggx_fdez_aguera":
+        return g.finish(diffuse + single + fms_ems(f0)[1] / np.pi * col(g.cl))
+    if name == "ggx_turquin":
+        return g.finish(diffuse + single * (1.0 + f0 * col(1.0 / np.maximum(t.lookup(t.e, g.cv), 1e-6) - 1.0)))
+    m, cos_l = float(p.get("metalness", 1.0)), col(g.cl)
+    base = np.broadcast_to(np.asarray(p.get("base_color", f0)), (3,))
+    if name == "ggx_metalness_blended_f0_bug":
+        fb = (1.0 - m) * ms.DIELECTRIC_F0 + m * base
+        ss_e, ms_e = fms_ems(fb)
+        diffuse = base * (1.0 - m) * (1.0 - ss_e - ms_e) / np.pi * cos_l
+        return g.finish(schlick_single(fb) + ms_e / np.pi * cos_l + diffuse)
+    d0 = np.full(3, ms.DIELECTRIC_F0)
+    d_ss, d_ms = fms_ems(d0)
+    dielectric = schlick_single(d0) + d_ms / np.pi * cos_l + base * (1.0 - d_ss - d_ms) / np.pi * cos_l
+    metal = schlick_single(base) + fms_ems(base)[1] / np.pi * cos_l
+    return g.finish((1.0 - m) * dielectric + m * metal)
+
+
 # -- inputs ---------------------------------------------------------------------------------------------------
 def _receivers(n: int = 200, seed: int = 7) -> tuple[np.ndarray, np.ndarray]:
     rng = np.random.default_rng(seed)
@@ -206,6 +301,46 @@ def _l1_coeffs() -> np.ndarray:
     c[1:4] = rng.uniform(-0.4, 0.4, (3, 3))
     c[4:9] = rng.uniform(-0.1, 0.1, (5, 3))
     return c
+
+
+BRDF_PARAMS = [  # a dielectric (the precision test's), a coloured conductor under GGX, a dielectric with η < 1 (TIR)
+    {"albedo": 0.6, "ks": 0.3, "exponent": 20.0, "phong_exponent": 20.0, "alpha": 0.3, "eta": 1.5, "k": 0.0,
+     "sigma": 0.3, "minnaert_k": 1.2},
+    {"albedo": (0.2, 0.5, 0.7), "ks": (0.5, 0.3, 0.1), "exponent": 80.0, "phong_exponent": 5.0, "alpha": 0.1,
+     "distribution": "ggx", "eta": (0.2, 0.9, 1.1), "k": (3.9, 2.4, 2.2), "sigma": 0.6, "minnaert_k": 0.7},
+    {"albedo": 0.8, "ks": 1.0, "exponent": 200.0, "phong_exponent": 200.0, "alpha": 0.6, "eta": 0.7, "k": 0.0,
+     "sigma": 1.0, "minnaert_k": 2.0},
+]
+
+
+def _brdf_directions(n: int = 3000, seed: int = 21) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Random normals, lights, views (half of the pairs below a horizon: zero in both)."""
+    rng = np.random.default_rng(seed)
+    return tuple(unit(rng.normal(size=(n, 3))) for _ in range(3))  # type: ignore[return-value]
+
+
+def _brdf_case(name: str, ref: Callable[..., np.ndarray],
+               params: list[dict] | None = None) -> Callable[[], tuple[np.ndarray, np.ndarray]]:
+    def run() -> tuple[np.ndarray, np.ndarray]:
+        n, l, v = _brdf_directions()
+        fam = lm.FAMILIES["brdf"]
+        got = np.concatenate([fam.call(name, p, n, l, v) for p in params or BRDF_PARAMS])
+        return got, np.concatenate([ref(name, p, n, l, v) for p in params or BRDF_PARAMS])
+    return run
+
+
+# brdf (float32): relative to max|f_r cos| over BRDF_PARAMS × 3000 random (n, l, v); see the module docstring
+BRDF_BOUNDS = {"lambert": 1e-6, "oren_nayar": 2e-6, "oren_nayar_full": 2e-6, "minnaert": 2e-3,
+               **dict.fromkeys(("phong", "blinn_phong", "phong_normalized", "blinn_phong_normalized"), 5e-5),
+               **dict.fromkeys(("cook_torrance", "cook_torrance_printed", "cook_torrance_ganovelli",
+                                "cook_torrance_ganovelli_nl"), 5e-5)}
+MULTISCATTER_BOUNDS = dict.fromkeys(("ggx_kulla_conty", "ggx_fdez_aguera", "ggx_turquin", "ggx_metalness_fdez_aguera",
+                                     "ggx_metalness_blended_f0_bug"), 5e-5)
+MULTISCATTER_PARAMS = [  # GGX and Beckmann, a conductor and a dielectric; the metalness pair at m = 0.5 and 1
+    {"albedo": 0.3, "alpha": 0.3, "distribution": "ggx", "eta": (0.2, 0.9, 1.1), "k": (3.9, 2.4, 2.2),
+     "metalness": 0.5, "base_color": (0.9, 0.6, 0.3)},
+    {"albedo": (0.1, 0.4, 0.2), "alpha": 0.7, "distribution": "beckmann", "eta": 1.5, "k": 0.0, "metalness": 1.0},
+]
 
 
 # -- cases: name → (port, numpy original, bound, kind) ------------------------------------------------------
@@ -281,6 +416,9 @@ CASES = {
     "esm": (_shadow("esm"), 2e-5, "absolute"),
     "vsm": (_shadow("vsm"), 2e-4, "absolute"),
     "msm": (_shadow("msm"), 1e-2, "absolute"),
+    **{name: (_brdf_case(name, _np_classic), bound, "relative") for name, bound in BRDF_BOUNDS.items()},
+    **{name: (_brdf_case(name, _np_multiscatter, MULTISCATTER_PARAMS), bound, "relative")
+       for name, bound in MULTISCATTER_BOUNDS.items()},
 }
 
 
@@ -294,3 +432,77 @@ def test_port_equals_its_numpy_original(case: str, backend: str) -> None:
     err = np.abs(got - want).max() / (np.abs(want).max() if kind == "relative" else 1.0)
     assert err <= bound, f"{case} on {backend}: {kind} difference {err:.3g} > {bound:g}"
     print(f"{case} {backend}: {kind} difference {err:.3g} (bound {bound:g})")
+
+
+# -- texture lookups routed through the policy (irradiance maps, the split sum's DFG table) -------------------
+def _np_dfg(table: object, mu: np.ndarray, alpha: float) -> tuple[np.ndarray, np.ndarray]:
+    """The DFG table's bilinear, edge-clamped lookup (cell centres (i + ½)/n) in numpy float64."""
+    n = table.size  # type: ignore[attr-defined]
+    x = np.clip(mu * n - 0.5, 0.0, n - 1.0)
+    y = np.clip(np.full_like(mu, alpha) * n - 0.5, 0.0, n - 1.0)
+    x0, y0 = np.minimum(np.floor(x), n - 2).astype(int), np.minimum(np.floor(y), n - 2).astype(int)
+    wx, wy = x - x0, y - y0
+
+    def bil(t: np.ndarray) -> np.ndarray:
+        top = t[y0, x0] * (1 - wx) + t[y0, x0 + 1] * wx
+        return top * (1 - wy) + (t[y0 + 1, x0] * (1 - wx) + t[y0 + 1, x0 + 1] * wx) * wy
+    return bil(table.a), bil(table.b)  # type: ignore[attr-defined]
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_texture_lookups_compute_in_the_family_dtype_on_every_backend(backend: str) -> None:
+    """CubeMap / LatLongMap.lookup (irradiance family) and DFGTable.lookup (specular family) ask the policy for
+    their drjit types (float32) and equal their numpy float64 forms within 1e-5 of max|E| (bilinear weights and
+    texel coordinates in float32: a coordinate of up to 2n ≈ 64 texels carries 64 u ≈ 4e-6 of a texel)."""
+    from validate.local_models.irradiance import irradiance_map as im
+    from validate.local_models.specular import split_sum as ss
+
+    coeffs = _l1_coeffs()
+    q = _receivers(500, seed=4)[1]
+    maps = (im.irradiance_cube_from_sh(coeffs, 16), im.irradiance_latlong_from_sh(coeffs, 16))
+    with precision.computing_in(backend=backend), precision.tracing() as seen:
+        got = [m.lookup(q) for m in maps]
+        table = ss.default_dfg_table()
+        mu = np.linspace(0.0, 1.0, 301)
+        dfg = table.lookup(mu, 0.37)
+    assert seen and set(seen) == {"float32"}
+    for m, g in zip(maps, got, strict=True):
+        err = np.abs(g - m.lookup_numpy(q)).max() / np.abs(g).max()
+        assert err < 1e-5, f"{type(m).__name__} on {backend}: {err:.3g}"
+    for g, w in zip(dfg, _np_dfg(table, mu, 0.37), strict=True):
+        assert np.abs(g - w).max() < 1e-5, f"DFG on {backend}: {np.abs(g - w).max():.3g}"
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_shadow_map_lookups_compute_in_float32_on_every_backend(backend: str) -> None:
+    """visibility_hard / _pcf / _pcss ask the policy for float32 (the shadow family) and give on every backend what
+    they give on llvm (the Mitsuba variant's): hard exactly, PCF and PCSS within 1e-5 (float32 texel coordinates
+    and tap sums: a few u; measured on scalar 1.2e-7 (PCF), 3.0e-7 (PCSS)).
+    The map: 32² texels of random blocker depths over a receiver plane (window s, t ∈ [0, 1])."""
+    from validate.local_models.shadow import shadow_map as smod
+
+    res = 32
+    view = smod.LightView(np.zeros(3), np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0]),
+                          np.array([0.0, 1.0, 0.0]), 0.0, 0.0, 1.0, 1.0, 3.0)
+    rng = np.random.default_rng(2)
+    z_occ = np.where(rng.uniform(size=res * res) < 0.5, rng.uniform(1.2, 1.9, res * res), np.inf)
+    depth = np.where(np.isfinite(z_occ), view.depth_scale * (1 - 1 / z_occ), 1.0)
+    with precision.computing_in(backend="llvm"):
+        sm = smod.ShadowMap(view, res, precision.to_dr(depth), precision.to_dr(np.zeros(res * res)))
+    xw = rng.uniform(2.0, res - 2.0, (400, 2))
+    p = np.c_[xw / res * 2.0, np.full(400, 2.0)]
+    n = np.tile([0.0, 0.0, -1.0], (400, 1))
+
+    def run() -> list[np.ndarray]:
+        return [smod.visibility_hard(sm, p, n), smod.visibility_pcf(sm, p, n, kernel=3),
+                smod.visibility_pcss(sm, p, n, light_radius=0.05).visibility]
+
+    with precision.computing_in(backend="llvm"):
+        want = run()
+    with precision.computing_in(backend=backend), precision.tracing() as seen:
+        got = run()
+    assert seen and set(seen) == {"float32"}
+    assert np.array_equal(got[0], want[0])
+    for g, w in zip(got[1:], want[1:], strict=True):
+        assert np.abs(g - w).max() <= 1e-5, f"{backend}: {np.abs(g - w).max():.3g}"
+    assert 0.05 < want[1].mean() < 0.95  # the map really shadows part of the receivers

@@ -105,12 +105,6 @@ FAMILY_REL = {"specular_arealight": 1e-4}
 # Numpy-only (or partly numpy per receiver) built-ins of the covered families, still to port (issue 22 item 3).
 NOT_PORTED = {
     ("specular_arealight", "ltc"),  # its evaluation and AD fit are being changed elsewhere (issue 22): left alone
-    *(("brdf", name) for name in (
-        "lambert", "phong", "blinn_phong", "phong_normalized", "blinn_phong_normalized", "cook_torrance_printed",
-        "cook_torrance", "oren_nayar", "oren_nayar_full", "minnaert",  # classic_brdfs.py
-        "ggx_kulla_conty", "ggx_fdez_aguera", "ggx_turquin", "ggx_metalness_fdez_aguera",
-        "ggx_metalness_blended_f0_bug",  # brdf_multiscatter.py
-        "cook_torrance_ganovelli", "cook_torrance_ganovelli_nl")),  # ganovelli_cook_torrance.py
 }
 
 

@@ -118,6 +118,42 @@ def float_type(precision: str | None = None, backend: str | None = None) -> Any:
     return module.Float64 if p == "float64" else module.Float
 
 
+def uint_type(backend: str | None = None) -> Any:
+    """The dynamic drjit uint32 array type on ``backend`` (default: the active one), for texel indices."""
+    import drjit as dr
+
+    b = backend or active_backend()
+    if b == "scalar":
+        return dr.scalar.ArrayXu
+    return dr.cuda.ad.UInt32 if b == "cuda" else dr.llvm.ad.UInt32
+
+
+def int_type(backend: str | None = None) -> Any:
+    """The dynamic drjit int32 array type on ``backend`` (default: the active one)."""
+    import drjit as dr
+
+    b = backend or active_backend()
+    if b == "scalar":
+        return dr.scalar.ArrayXi
+    return dr.cuda.ad.Int32 if b == "cuda" else dr.llvm.ad.Int32
+
+
+def on_active(x: Any) -> Any:
+    """A drjit float array made elsewhere (a Mitsuba-rendered map) as the active dtype and backend: itself when its
+    type already is :func:`float_type`'s, else converted through numpy (a copy)."""
+    t = float_type()
+    return x if type(x) is t else to_dr(np.array(x))
+
+
+def acos(x: Any) -> Any:
+    """arccos(clip(x, −1, 1)) as atan2(√((1 − x)(1 + x)), x): the same on every backend (drjit 1.5's ``acos``
+    fails on ``drjit.scalar.ArrayXf64``, a select_ size error); the factored 1 − x² keeps the accuracy near |x| = 1."""
+    import drjit as dr
+
+    c = dr.clip(x, -1.0, 1.0)
+    return dr.atan2(dr.sqrt(dr.maximum((1.0 - c) * (1.0 + c), 0.0)), c)
+
+
 def to_dr(a: Any) -> Any:
     """numpy (any shape; flattened) or a number → a flat drjit array of the active dtype and backend."""
     p = active()

@@ -32,6 +32,10 @@ them), each by a 64 × 128 quadrature over the half vector, distributed by D(h)(
 inverted in closed form, Gauss–Legendre in the CDF variable × uniform φ): accurate to ~10⁻⁴ for α ≥ 0.02 (the
 rule follows the lobe, so smaller α stay accurate at grazing μ only as far as 64 μ nodes resolve E(μ)).
 
+Precision: the tables and F_avg are per-(distribution, α) set-up in numpy float64; the per-direction evaluation
+(the single-scattering term, the table interpolation :meth:`Tables.lookup_dr`, the compensation lobes) is drjit in
+the family's float32 (:mod:`validate.local_models.precision`, :mod:`.common`'s ``*_dr`` terms).
+
 References
   [1] C. Kulla, A. Conty, "Revisiting physically based shading at Imageworks", SIGGRAPH 2017 course
       (Physically Based Shading in Theory and Practice), slides 16–18; S. Hill, "A multi-faceted exploration
@@ -53,13 +57,14 @@ import numpy as np
 from ...errors import ValidateError
 from ..families import brdf
 from .common import (
-    Geometry,
-    column,
+    RGB,
+    GeometryDr,
     fresnel_exact,
     fresnel_f0,
-    fresnel_schlick,
-    microfacet_specular,
+    fresnel_schlick_dr,
+    microfacet_specular_dr,
     param,
+    rgb_param,
     smith_g1,
 )
 
@@ -85,6 +90,20 @@ class Tables:
 
     def lookup(self, table: np.ndarray, mu: np.ndarray) -> np.ndarray:
         return np.interp(np.clip(mu, 0.0, 1.0), self.mu, table)
+
+    def lookup_dr(self, table: np.ndarray, mu: Any) -> Any:
+        """:meth:`lookup` on a drjit array: the same piecewise-linear interpolant (constant beyond the end nodes)
+        written as y₀ + Σ_j s_j clip(μ − μ_j, 0, μ_{j+1} − μ_j), s_j the segment's slope — no gather, so it runs
+        alike on every drjit backend."""
+        import drjit as dr
+
+        x = dr.clip(mu, 0.0, 1.0)
+        dx = np.diff(self.mu)
+        slope = np.diff(table) / dx
+        out = float(table[0]) + 0.0 * x
+        for xj, dj, sj in zip(self.mu[:-1], dx, slope, strict=True):
+            out = dr.fma(float(sj), dr.clip(x - float(xj), 0.0, float(dj)), out)
+        return out
 
 
 def _half_vectors(distribution: str, alpha: float) -> tuple[np.ndarray, np.ndarray]:
@@ -140,31 +159,34 @@ def f_avg_exact(eta: np.ndarray, k: np.ndarray) -> np.ndarray:
     return np.sum(2.0 * (wmu * mu)[:, None] * fresnel_exact(mu, eta, k), axis=0)
 
 
-def _single(params: Mapping[str, Any], g: Geometry, who: str) -> np.ndarray:
-    return microfacet_specular({**params, "alpha": params.get("alpha", 0.3)}, g, who)
+def _single(params: Mapping[str, Any], g: GeometryDr, who: str) -> RGB:
+    return microfacet_specular_dr({**params, "alpha": params.get("alpha", 0.3)}, g, who)
 
 
-def _diffuse(params: Mapping[str, Any], g: Geometry, who: str) -> np.ndarray:
-    return param(params, "albedo", who) / np.pi * column(g.cl)
+def _diffuse(params: Mapping[str, Any], g: GeometryDr, who: str) -> RGB:
+    return rgb_param(params, "albedo", who) / np.pi * g.cl
 
 
-def kulla_conty_lobe(t: Tables, mu_o: np.ndarray, mu_i: np.ndarray, f_avg: np.ndarray) -> np.ndarray:
+def kulla_conty_lobe(t: Tables, mu_o: Any, mu_i: Any, f_avg: np.ndarray) -> RGB:
     """F_ms f_ms(l, v) (n·l) [1]: (1 − E(μ_o))(1 − E(μ_i)) / (π (1 − E_avg)) · F_avg² E_avg / (1 − F_avg (1 − E_avg))
-    · μ_i, (N, 3)."""
+    · μ_i, on drjit arrays (F_avg per channel, numbers)."""
+    import drjit as dr
+
     ea = t.e_avg
-    f_ms = f_avg ** 2 * ea / (1.0 - f_avg * (1.0 - ea))
-    lobe = (1.0 - t.lookup(t.e, mu_o)) * (1.0 - t.lookup(t.e, mu_i)) / (np.pi * (1.0 - ea)) * np.maximum(mu_i, 0.0)
-    return column(lobe) * f_ms
+    f_ms = RGB.of(f_avg ** 2 * ea / (1.0 - f_avg * (1.0 - ea)))
+    lobe = ((1.0 - t.lookup_dr(t.e, mu_o)) * (1.0 - t.lookup_dr(t.e, mu_i)) / (np.pi * (1.0 - ea))
+            * dr.maximum(mu_i, 0.0))
+    return f_ms * lobe
 
 
-def fms_ems(t: Tables, mu: np.ndarray, f0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(FssEss, FmsEms) of Fdez-Agüera [2] eq. 9–15 at F₀ (RGB or (N, 3)): FssEss = F₀ A + B, Ems = 1 − E,
-    F_avg = F₀ + (1 − F₀)/21, FmsEms = Ems FssEss F_avg / (1 − Ems F_avg)."""
-    ess = column(t.lookup(t.e, mu))
-    fss_ess = f0 * column(t.lookup(t.a, mu)) + column(t.lookup(t.b, mu))
-    ems = 1.0 - ess
+def fms_ems(t: Tables, mu: Any, f0: RGB) -> tuple[RGB, RGB]:
+    """(FssEss, FmsEms) of Fdez-Agüera [2] eq. 9–15 at F₀ (per channel) on drjit arrays: FssEss = F₀ A + B,
+    Ems = 1 − E, F_avg = F₀ + (1 − F₀)/21, FmsEms = Ems FssEss F_avg / (1 − Ems F_avg)."""
+    f0 = RGB.of(f0)
+    ems = 1.0 - t.lookup_dr(t.e, mu)
+    fss_ess = f0 * t.lookup_dr(t.a, mu) + t.lookup_dr(t.b, mu)
     f_avg = f0 + (1.0 - f0) / 21.0
-    return fss_ess, ems * fss_ess * f_avg / (1.0 - ems * f_avg)
+    return fss_ess, fss_ess * f_avg * ems / (1.0 - f_avg * ems)
 
 
 @brdf.register("ggx_kulla_conty", "single-scattering microfacet + Kulla–Conty 2017 multiple-scattering lobe "
@@ -173,7 +195,7 @@ def ggx_kulla_conty(params: Mapping[str, Any], normals: np.ndarray, lights: np.n
                     views: np.ndarray) -> np.ndarray:
     who = "ggx_kulla_conty"
     alpha, dist = _alpha_dist(params, who)
-    g = Geometry(normals, lights, views)
+    g = GeometryDr(normals, lights, views)
     t = tables(dist, alpha)
     f_avg = f_avg_exact(param(params, "eta", who), param(params, "k", who))
     ms = kulla_conty_lobe(t, g.cv, g.cl, f_avg)
@@ -186,22 +208,24 @@ def ggx_fdez_aguera(params: Mapping[str, Any], normals: np.ndarray, lights: np.n
                     views: np.ndarray) -> np.ndarray:
     who = "ggx_fdez_aguera"
     alpha, dist = _alpha_dist(params, who)
-    g = Geometry(normals, lights, views)
+    g = GeometryDr(normals, lights, views)
     t = tables(dist, alpha)
-    f0 = fresnel_f0(param(params, "eta", who), param(params, "k", who))
+    f0 = RGB.of(fresnel_f0(param(params, "eta", who), param(params, "k", who)))
     _, ms = fms_ems(t, g.cv, f0)
-    return g.finish(_diffuse(params, g, who) + _single(params, g, who) + ms / np.pi * column(g.cl))
+    return g.finish(_diffuse(params, g, who) + _single(params, g, who) + ms / np.pi * g.cl)
 
 
 @brdf.register("ggx_turquin", "single-scattering microfacet × (1 + F0 (1/E(μo) − 1)) (Turquin 2019 eq. 16)",
                compensation=True)
 def ggx_turquin(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray, views: np.ndarray) -> np.ndarray:
+    import drjit as dr
+
     who = "ggx_turquin"
     alpha, dist = _alpha_dist(params, who)
-    g = Geometry(normals, lights, views)
+    g = GeometryDr(normals, lights, views)
     t = tables(dist, alpha)
-    f0 = fresnel_f0(param(params, "eta", who), param(params, "k", who))
-    scale = 1.0 + f0 * column(1.0 / np.maximum(t.lookup(t.e, g.cv), 1e-6) - 1.0)
+    f0 = RGB.of(fresnel_f0(param(params, "eta", who), param(params, "k", who)))
+    scale = 1.0 + f0 * (1.0 / dr.maximum(t.lookup_dr(t.e, g.cv), 1e-6) - 1.0)
     return g.finish(_diffuse(params, g, who) + _single(params, g, who) * scale)
 
 
@@ -215,29 +239,31 @@ def _metalness(params: Mapping[str, Any], who: str) -> tuple[np.ndarray, np.ndar
     return m, np.broadcast_to(np.asarray(base, dtype=np.float64), (3,))
 
 
-def _schlick_single(g: Geometry, alpha: float, dist: str, f0: np.ndarray) -> np.ndarray:
-    """f_ss (n·l) with Schlick's F(v·h) at F₀, (N, 3)."""
-    d_only = microfacet_specular({"alpha": alpha, "distribution": dist, "eta": 0.0, "k": 1.0}, g, "metalness")
-    return d_only * fresnel_schlick(g.vh, f0)
+def _schlick_single(g: GeometryDr, alpha: float, dist: str, f0: RGB) -> RGB:
+    """f_ss (n·l) with Schlick's F(v·h) at F₀ (drjit arrays)."""
+    d_only = microfacet_specular_dr({"alpha": alpha, "distribution": dist}, g, "metalness", fresnel=RGB(1.0))
+    return d_only * fresnel_schlick_dr(g.vh, f0)
 
 
-def metalness_parts(params: Mapping[str, Any], g: Geometry, who: str, blended_bug: bool) -> np.ndarray:
+def metalness_parts(params: Mapping[str, Any], g: GeometryDr, who: str, blended_bug: bool) -> RGB:
     """Metalness workflow with Fdez-Agüera compensation: correct (per path, mixed after) or the blended-F₀ bug."""
     alpha, dist = _alpha_dist(params, who)
     m, base = _metalness(params, who)
+    m, base_rgb = float(m), RGB.of(base)
     t = tables(dist, alpha)
-    cos_l = column(g.cl)
+    cos_l = g.cl
     if blended_bug:
-        f0 = (1.0 - m) * DIELECTRIC_F0 + m * base
+        f0 = base_rgb * m + (1.0 - m) * DIELECTRIC_F0
         ss_e, ms_e = fms_ems(t, g.cv, f0)
-        diffuse = base * (1.0 - m) * (1.0 - ss_e - ms_e) / np.pi * cos_l
+        diffuse = base_rgb * (1.0 - m) * (1.0 - ss_e - ms_e) / np.pi * cos_l
         return _schlick_single(g, alpha, dist, f0) + ms_e / np.pi * cos_l + diffuse
-    d_ss, d_ms = fms_ems(t, g.cv, np.full(3, DIELECTRIC_F0))
-    dielectric = (_schlick_single(g, alpha, dist, np.full(3, DIELECTRIC_F0)) + d_ms / np.pi * cos_l
-                  + base * (1.0 - d_ss - d_ms) / np.pi * cos_l)
-    _, m_ms = fms_ems(t, g.cv, base)
-    metal = _schlick_single(g, alpha, dist, base) + m_ms / np.pi * cos_l
-    return (1.0 - m) * dielectric + m * metal
+    dielectric_f0 = RGB(DIELECTRIC_F0)
+    d_ss, d_ms = fms_ems(t, g.cv, dielectric_f0)
+    dielectric = (_schlick_single(g, alpha, dist, dielectric_f0) + d_ms / np.pi * cos_l
+                  + base_rgb * (1.0 - d_ss - d_ms) / np.pi * cos_l)
+    _, m_ms = fms_ems(t, g.cv, base_rgb)
+    metal = _schlick_single(g, alpha, dist, base_rgb) + m_ms / np.pi * cos_l
+    return dielectric * (1.0 - m) + metal * m
 
 
 @brdf.register("ggx_metalness_fdez_aguera", "metalness workflow, Fdez-Agüera compensation per path (dielectric "
@@ -245,7 +271,7 @@ def metalness_parts(params: Mapping[str, Any], g: Geometry, who: str, blended_bu
                compensation=True, metalness=True)
 def ggx_metalness_fdez_aguera(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray,
                               views: np.ndarray) -> np.ndarray:
-    g = Geometry(normals, lights, views)
+    g = GeometryDr(normals, lights, views)
     return g.finish(metalness_parts(params, g, "ggx_metalness_fdez_aguera", blended_bug=False))
 
 
@@ -254,7 +280,7 @@ def ggx_metalness_fdez_aguera(params: Mapping[str, Any], normals: np.ndarray, li
                metalness=True, regression=True)
 def ggx_metalness_blended_f0_bug(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray,
                                  views: np.ndarray) -> np.ndarray:
-    g = Geometry(normals, lights, views)
+    g = GeometryDr(normals, lights, views)
     return g.finish(metalness_parts(params, g, "ggx_metalness_blended_f0_bug", blended_bug=True))
 
 

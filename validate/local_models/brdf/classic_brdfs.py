@@ -14,6 +14,10 @@ Contract (family ``brdf``)
   ('beckmann' | 'ggx'), ``eta``, ``k`` (complex index of refraction η + ik of the specular interface),
   ``sigma`` (Oren–Nayar facet-slope standard deviation, radians), ``minnaert_k``.
 
+Precision
+  Per direction in drjit, in the family's float32 (:mod:`validate.local_models.precision`; the terms are
+  :mod:`.common`'s ``*_dr``); the parameters are read and checked in numpy at the boundary.
+
 The shader's light unit
   A textbook shader returns C = I · S(n, l, v) with the light's colour I. Its diffuse term
   S = k_d max(0, n·l) equals the physical L_o = (ρ/π) E_⊥ cos θ for albedo ρ = k_d when I = E_⊥/π,
@@ -84,14 +88,14 @@ import numpy as np
 
 from ..families import brdf
 from .common import (
-    Geometry,
-    alpha_beta,
-    column,
-    cook_torrance_printed_terms,
-    microfacet_specular,
+    GeometryDr,
+    alpha_beta_dr,
+    below_half_pi,
+    cook_torrance_printed_dr,
+    microfacet_specular_dr,
     oren_nayar_ab,
-    oren_nayar_full_terms,
-    param,
+    oren_nayar_full_dr,
+    rgb_param,
     scalar_param,
 )
 
@@ -104,57 +108,65 @@ FLOAT32 = ("Mitsuba evaluates BSDFs in float32 (2⁻²⁴ ≈ 6·10⁻⁸ per op
 
 @brdf.register("lambert", "Lambert: ρ/π · (n·l)", thresholds={"max_rel.diffuse_r0.8": 1e-4}, source=FLOAT32)
 def lambert(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray, views: np.ndarray) -> np.ndarray:
-    g = Geometry(normals, lights, views)
-    return g.finish(param(params, "albedo", "lambert") / np.pi * column(g.cl))
+    g = GeometryDr(normals, lights, views)
+    return g.finish(rgb_param(params, "albedo", "lambert") / np.pi * g.cl)
 
 
 @brdf.register("phong", "textbook Phong: [k_d (n·l) + k_s max(0, r·v)^s] / π, not normalised (Ganovelli §6.8)")
 def phong(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray, views: np.ndarray) -> np.ndarray:
-    g = Geometry(normals, lights, views)
+    import drjit as dr
+
+    g = GeometryDr(normals, lights, views)
     s = scalar_param(params, "phong_exponent", "phong", 0.0)
-    spec = np.power(np.maximum(g.rv, 0.0), s)
-    return g.finish((param(params, "albedo", "phong") * column(g.cl)
-                     + param(params, "ks", "phong") * column(spec)) / np.pi)
+    spec = dr.power(dr.maximum(g.rv, 0.0), s)
+    return g.finish((rgb_param(params, "albedo", "phong") * g.cl
+                     + rgb_param(params, "ks", "phong") * spec) / np.pi)
 
 
 @brdf.register("blinn_phong", "textbook Blinn–Phong: [k_d (n·l) + k_s (n·h)^s] / π, not normalised")
 def blinn_phong(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray, views: np.ndarray) -> np.ndarray:
-    g = Geometry(normals, lights, views)
+    import drjit as dr
+
+    g = GeometryDr(normals, lights, views)
     s = scalar_param(params, "exponent", "blinn_phong", 0.0)
-    spec = np.power(g.ch, s)
-    return g.finish((param(params, "albedo", "blinn_phong") * column(g.cl)
-                     + param(params, "ks", "blinn_phong") * column(spec)) / np.pi)
+    spec = dr.power(g.ch, s)
+    return g.finish((rgb_param(params, "albedo", "blinn_phong") * g.cl
+                     + rgb_param(params, "ks", "blinn_phong") * spec) / np.pi)
 
 
 @brdf.register("phong_normalized", "modified Phong: [ρ/π + k_s (s+2)/(2π) max(0, r·v)^s] (n·l) (Lafortune 1994)",
                thresholds={"max_rel.modphong_s20": 1e-4}, source=FLOAT32)
 def phong_normalized(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray,
                      views: np.ndarray) -> np.ndarray:
-    g = Geometry(normals, lights, views)
+    import drjit as dr
+
+    g = GeometryDr(normals, lights, views)
     s = scalar_param(params, "phong_exponent", "phong_normalized", 0.0)
-    lobe = (s + 2.0) / (2.0 * np.pi) * np.power(np.maximum(g.rv, 0.0), s)
-    f = param(params, "albedo", "phong_normalized") / np.pi + param(params, "ks", "phong_normalized") * column(lobe)
-    return g.finish(f * column(g.cl))
+    lobe = (s + 2.0) / (2.0 * np.pi) * dr.power(dr.maximum(g.rv, 0.0), s)
+    f = rgb_param(params, "albedo", "phong_normalized") / np.pi + rgb_param(params, "ks", "phong_normalized") * lobe
+    return g.finish(f * g.cl)
 
 
 @brdf.register("blinn_phong_normalized", "normalised Blinn–Phong: [ρ/π + k_s (s+8)/(8π) (n·h)^s] (n·l) (RTR3 §7.6)")
 def blinn_phong_normalized(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray,
                            views: np.ndarray) -> np.ndarray:
-    g = Geometry(normals, lights, views)
+    import drjit as dr
+
+    g = GeometryDr(normals, lights, views)
     s = scalar_param(params, "exponent", "blinn_phong_normalized", 0.0)
-    lobe = (s + 8.0) / (8.0 * np.pi) * np.power(g.ch, s)
-    f = (param(params, "albedo", "blinn_phong_normalized") / np.pi
-         + param(params, "ks", "blinn_phong_normalized") * column(lobe))
-    return g.finish(f * column(g.cl))
+    lobe = (s + 8.0) / (8.0 * np.pi) * dr.power(g.ch, s)
+    f = (rgb_param(params, "albedo", "blinn_phong_normalized") / np.pi
+         + rgb_param(params, "ks", "blinn_phong_normalized") * lobe)
+    return g.finish(f * g.cl)
 
 
 @brdf.register("cook_torrance_printed", "Cook–Torrance after Ganovelli eq. 6.60–6.66, read with an n·l factor and "
                "the 2 in both G terms (neither printed): F_Schlick(n·l) D G_Vcavity / ((n·l)(n·v)), no π or 4")
 def cook_torrance_printed(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray,
                           views: np.ndarray) -> np.ndarray:
-    g = Geometry(normals, lights, views)
-    diffuse = param(params, "albedo", "cook_torrance_printed") / np.pi * column(g.cl)
-    return g.finish(diffuse + cook_torrance_printed_terms(params, g))
+    g = GeometryDr(normals, lights, views)
+    diffuse = rgb_param(params, "albedo", "cook_torrance_printed") / np.pi * g.cl
+    return g.finish(diffuse + cook_torrance_printed_dr(params, g))
 
 
 @brdf.register("cook_torrance", "microfacet BRDF (Walter 2007 eq. 20): F(v·h) D G1(l)G1(v) / (4(n·l)(n·v)), exact "
@@ -166,35 +178,39 @@ def cook_torrance_printed(params: Mapping[str, Any], normals: np.ndarray, lights
                        "([9] eq. 34): " + FLOAT32))
 def cook_torrance(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray,
                   views: np.ndarray) -> np.ndarray:
-    g = Geometry(normals, lights, views)
-    diffuse = param(params, "albedo", "cook_torrance") / np.pi * column(g.cl)
-    return g.finish(diffuse + microfacet_specular(params, g))
+    g = GeometryDr(normals, lights, views)
+    diffuse = rgb_param(params, "albedo", "cook_torrance") / np.pi * g.cl
+    return g.finish(diffuse + microfacet_specular_dr(params, g))
 
 
 @brdf.register("oren_nayar", "Oren–Nayar qualitative model: ρ/π (A + B max(0, cos Δφ) sin α tan β) (eq. 30)")
 def oren_nayar(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray, views: np.ndarray) -> np.ndarray:
-    g = Geometry(normals, lights, views)
+    import drjit as dr
+
+    g = GeometryDr(normals, lights, views)
     a, b = oren_nayar_ab(scalar_param(params, "sigma", "oren_nayar", 0.0))
-    al, be = alpha_beta(g)
-    shape = a + b * np.maximum(g.cos_dphi, 0.0) * np.sin(al) * np.tan(np.minimum(be, np.pi / 2 - 1e-9))
-    return g.finish(param(params, "albedo", "oren_nayar") / np.pi * column(shape * g.cl))
+    al, be = alpha_beta_dr(g)
+    shape = a + b * dr.maximum(g.cos_dphi, 0.0) * dr.sin(al) * dr.tan(dr.minimum(be, below_half_pi()))
+    return g.finish(rgb_param(params, "albedo", "oren_nayar") / np.pi * (shape * g.cl))
 
 
 @brdf.register("oren_nayar_full",
                "Oren–Nayar full model: C1, C2, C3 direct terms + 0.17ρ² inter-reflection (eq. 27–29)")
 def oren_nayar_full(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray,
                     views: np.ndarray) -> np.ndarray:
-    g = Geometry(normals, lights, views)
-    l1, l2 = oren_nayar_full_terms(scalar_param(params, "sigma", "oren_nayar_full", 0.0),
-                                   param(params, "albedo", "oren_nayar_full"), g)
+    g = GeometryDr(normals, lights, views)
+    l1, l2 = oren_nayar_full_dr(scalar_param(params, "sigma", "oren_nayar_full", 0.0),
+                                   rgb_param(params, "albedo", "oren_nayar_full"), g)
     return g.finish(l1 + l2)
 
 
 @brdf.register("minnaert", "Minnaert: ρ/π (cos θ_l cos θ_v)^(K−1) (n·l)")
 def minnaert(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray, views: np.ndarray) -> np.ndarray:
-    g = Geometry(normals, lights, views)
+    import drjit as dr
+
+    g = GeometryDr(normals, lights, views)
     kk = scalar_param(params, "minnaert_k", "minnaert", 0.0)
-    shape = np.power(np.maximum(g.cl * g.cv, 1e-300), kk - 1.0)
-    return g.finish(param(params, "albedo", "minnaert") / np.pi * column(shape * g.cl))
+    shape = dr.power(dr.maximum(g.cl * g.cv, 1e-30), kk - 1.0)
+    return g.finish(rgb_param(params, "albedo", "minnaert") / np.pi * (shape * g.cl))
 
 

@@ -1,9 +1,15 @@
 """The brdf family's shared terms: the shading geometry, Fresnel, microfacet distributions and masking, and the
 Oren–Nayar and Cook–Torrance terms that several techniques (and the specular area-light family) evaluate.
-References are numbered as in :mod:`validate.local_models.brdf.classic_brdfs`; nothing here registers a technique."""
+References are numbered as in :mod:`validate.local_models.brdf.classic_brdfs`; nothing here registers a technique.
+
+Two forms of each term: numpy float64 (per-parameter set-up such as the multiscatter tables and F_avg, and the
+brdfs experiment's term-by-term analysis) and ``*_dr`` on drjit arrays of the family's dtype (float32,
+:mod:`validate.local_models.precision`), which the techniques evaluate per direction (:class:`GeometryDr`, colours
+as :class:`RGB`, the complex Fresnel in real arithmetic, Beckmann's Λ with ``drjit.erf``)."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from typing import Any
 
@@ -183,3 +189,274 @@ def oren_nayar_full_terms(sigma: float, albedo: np.ndarray, g: Geometry) -> tupl
     direct = c1 + cd * c2 * np.tan(be) + (1.0 - np.abs(cd)) * c3 * np.tan(0.5 * (al + be))
     inter = 0.17 * s2 / (s2 + 0.13) * (1.0 - cd * (2.0 * be / np.pi) ** 2)
     return (albedo / np.pi * column(direct * g.cl), albedo * albedo / np.pi * column(inter * g.cl))
+
+
+# ---------------------------------------------------------------------------------------------
+# The same terms on drjit arrays, in the family's dtype (:mod:`validate.local_models.precision`): what the
+# techniques evaluate per direction. The numpy functions above stay for per-parameter set-up (the multiscatter
+# tables, F_avg) and for the brdfs experiment's term-by-term analysis.
+
+def _dr() -> Any:
+    import drjit as dr  # noqa: PLC0415 — drjit is imported lazily across local_models
+
+    return dr
+
+
+class RGB:
+    """Three channels, each a drjit array or a number; +, −, ×, ÷ channel by channel (with an RGB, a drjit array or
+    a number), so a (N, 3) numpy expression ports term for term."""
+
+    __slots__ = ("ch",)
+
+    def __init__(self, r: Any, g: Any = None, b: Any = None):
+        self.ch = (r, r, r) if g is None else (r, g, b)
+
+    @staticmethod
+    def of(x: Any) -> RGB:
+        """An RGB as is; a (3,) numpy / sequence channel by channel; a number or a drjit array on all three."""
+        if isinstance(x, RGB):
+            return x
+        if isinstance(x, np.ndarray) or isinstance(x, (tuple, list)):
+            a = np.asarray(x, dtype=np.float64)
+            return RGB(float(a)) if a.ndim == 0 else RGB(*(float(c) for c in a.reshape(3)))
+        return RGB(x)
+
+    def map(self, f: Any, *others: Any) -> RGB:
+        rest = [RGB.of(o).ch for o in others]
+        return RGB(*(f(c, *(o[i] for o in rest)) for i, c in enumerate(self.ch)))
+
+    def __add__(self, o: Any) -> RGB:
+        return self.map(lambda a, b: a + b, o)
+
+    __radd__ = __add__
+
+    def __sub__(self, o: Any) -> RGB:
+        return self.map(lambda a, b: a - b, o)
+
+    def __rsub__(self, o: Any) -> RGB:
+        return self.map(lambda a, b: b - a, o)
+
+    def __mul__(self, o: Any) -> RGB:
+        return self.map(lambda a, b: a * b, o)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, o: Any) -> RGB:
+        return self.map(lambda a, b: a / b, o)
+
+    def __rtruediv__(self, o: Any) -> RGB:
+        return self.map(lambda a, b: b / a, o)
+
+    def __neg__(self) -> RGB:
+        return self.map(lambda a: -a)
+
+    def to_np(self, n: int) -> np.ndarray:
+        """(n, 3) float64 numpy (numbers broadcast)."""
+        from ..precision import rgb_to_np  # noqa: PLC0415
+
+        return rgb_to_np(*self.ch, n)
+
+
+def rgb_param(params: Mapping[str, Any], key: str, who: str) -> RGB:
+    """:func:`param` as an :class:`RGB` of numbers (a scalar on all three channels)."""
+    return RGB.of(param(params, key, who))
+
+
+def _tiny() -> float:
+    """A positive floor that is not flushed to zero in the active dtype (float32's smallest normal is 1.2e-38)."""
+    from ..precision import active  # noqa: PLC0415
+
+    return 1e-300 if active() == "float64" else 1e-30
+
+
+def below_half_pi() -> float:
+    """The largest angle < π/2 of the active dtype (π/2 − 1e-9 rounds up to float32's π/2, whose tan is < 0)."""
+    from ..precision import active  # noqa: PLC0415
+
+    return np.pi / 2 - 1e-9 if active() == "float64" else float(np.nextafter(np.float32(np.pi / 2), np.float32(0)))
+
+
+def _dot(a: tuple[Any, Any, Any], b: tuple[Any, Any, Any]) -> Any:
+    return _dr().fma(a[0], b[0], _dr().fma(a[1], b[1], a[2] * b[2]))
+
+
+def _unit(a: tuple[Any, Any, Any]) -> tuple[Any, Any, Any]:
+    dr = _dr()
+    inv = dr.rsqrt(dr.maximum(_dot(a, a), _tiny()))
+    return a[0] * inv, a[1] * inv, a[2] * inv
+
+
+def acos_dr(x: Any) -> Any:
+    """:func:`validate.local_models.precision.acos` (arccos on every drjit backend)."""
+    from ..precision import acos  # noqa: PLC0415
+
+    return acos(x)
+
+
+class GeometryDr:
+    """:class:`Geometry` on drjit arrays of the active dtype: the same per-sample cosines (n·l, n·v, n·h, v·h, r·v),
+    horizon mask, cos Δφ and polar angles, from (N, 3) numpy directions converted once
+    (:func:`validate.local_models.precision.vec_to_dr`)."""
+
+    def __init__(self, normals: np.ndarray, lights: np.ndarray, views: np.ndarray):
+        from ..precision import float_type, to_dr, uint_type  # noqa: PLC0415
+
+        dr = _dr()
+        # one packed input gathered nine ways: with nine separate inputs the LLVM kernel's hash follows the
+        # order drjit happens to number them in, so identical calls missed the kernel cache (≈ 60 ms each)
+        size = len(np.asarray(normals).reshape(-1, 3))
+        packed = to_dr(np.concatenate([np.asarray(a, dtype=np.float64).reshape(-1, 3).T.ravel()
+                                       for a in (normals, lights, views)]))
+        idx = dr.arange(uint_type(), size)
+        c = [dr.gather(float_type(), packed, idx + k * size) for k in range(9)]
+        n, l, v = (_unit((c[3 * i], c[3 * i + 1], c[3 * i + 2])) for i in range(3))
+        self.size = size
+        self.cl, self.cv = _dot(n, l), _dot(n, v)
+        h = _unit((l[0] + v[0], l[1] + v[1], l[2] + v[2]))
+        self.ch = dr.clip(_dot(n, h), 0.0, 1.0)
+        self.vh = dr.clip(_dot(v, h), 0.0, 1.0)
+        r = tuple(2.0 * self.cl * n[i] - l[i] for i in range(3))
+        self.rv = _dot(r, v)
+        self.front = (self.cl > 0.0) & (self.cv > 0.0)
+        lt = tuple(l[i] - self.cl * n[i] for i in range(3))
+        vt = tuple(v[i] - self.cv * n[i] for i in range(3))
+        norm = dr.sqrt(_dot(lt, lt)) * dr.sqrt(_dot(vt, vt))
+        self.cos_dphi = dr.select(norm > 1e-12, _dot(lt, vt) / dr.maximum(norm, _tiny()), 0.0)
+        self.theta_l, self.theta_v = acos_dr(self.cl), acos_dr(self.cv)
+
+    def finish(self, f_cos: Any) -> np.ndarray:
+        """(N, 3) float64 numpy, max(0, ·) and zero where l or v is below the horizon."""
+        from ..precision import rgb_to_np  # noqa: PLC0415
+
+        dr = _dr()
+        zero = dr.zeros(type(self.cl), self.size)
+        ch = [dr.select(self.front, dr.maximum(zero + c, 0.0), 0.0) for c in RGB.of(f_cos).ch]
+        dr.eval(*ch)  # one kernel for the three channels (they share every geometric term)
+        return rgb_to_np(*ch, self.size)
+
+
+def fresnel_exact_dr(cos_theta: Any, eta: RGB, k: RGB) -> RGB:
+    """:func:`fresnel_exact` in real arithmetic: ñ = η + ik per channel (numbers), w = 1 − (1 − c²)/ñ², c_t = √w (the
+    principal root, the stable form: Re = √((|w| + Re w)/2), Im = Im w/(2 Re) for Re w ≥ 0 and the mirror for
+    Re w < 0), ñ c_t = p + iq, F = ½[((c − p)² + q²)/((c + p)² + q²) + ((ηc − Re c_t)² + (kc − Im c_t)²)/((ηc +
+    Re c_t)² + (kc + Im c_t)²)]."""
+    dr = _dr()
+    c = dr.clip(cos_theta, 0.0, 1.0)
+    s2 = 1.0 - c * c
+    memo: dict[tuple[float, float], Any] = {}
+
+    def one(e: float, kk: float) -> Any:
+        if math.hypot(e, kk) < 1e-12:
+            e, kk = 1e-12, 0.0
+        if (e, kk) in memo:
+            return memo[(e, kk)]
+        a, b = e * e - kk * kk, 2.0 * e * kk  # ñ²
+        m2 = a * a + b * b
+        x, y = 1.0 - s2 * (a / m2), s2 * (b / m2)  # w = 1 − s²/ñ², 1/ñ² = (a − ib)/|ñ²|²
+        r = dr.sqrt(x * x + y * y)
+        big = dr.sqrt(0.5 * (r + dr.abs(x)))
+        small = y / (2.0 * dr.maximum(big, _tiny()))
+        ctr = dr.select(x >= 0.0, big, dr.abs(small))
+        cti = dr.select(x >= 0.0, small, dr.copysign(big, y))
+        p, q = e * ctr - kk * cti, e * cti + kk * ctr
+        rs = (dr.square(c - p) + q * q) / (dr.square(c + p) + q * q)
+        rp = ((dr.square(e * c - ctr) + dr.square(kk * c - cti))
+              / (dr.square(e * c + ctr) + dr.square(kk * c + cti)))
+        memo[(e, kk)] = 0.5 * (rs + rp)
+        return memo[(e, kk)]
+
+    return RGB(*(one(float(e), float(kk)) for e, kk in zip(RGB.of(eta).ch, RGB.of(k).ch, strict=True)))
+
+
+def fresnel_f0_rgb(eta: np.ndarray, k: np.ndarray) -> RGB:
+    """:func:`fresnel_f0` (per-parameter set-up, numbers) as an :class:`RGB`."""
+    return RGB.of(fresnel_f0(eta, k))
+
+
+def fresnel_schlick_dr(cos_theta: Any, f0: RGB) -> RGB:
+    """Schlick [8] on drjit arrays: F = F₀ + (1 − F₀)(1 − cos θ)⁵."""
+    dr = _dr()
+    w = dr.power(1.0 - dr.clip(cos_theta, 0.0, 1.0), 5)
+    return RGB.of(f0) + (1.0 - RGB.of(f0)) * w
+
+
+def beckmann_d_dr(cos_h: Any, m: float, normalised: bool = True) -> Any:
+    """:func:`beckmann_d` on drjit arrays."""
+    dr = _dr()
+    c2 = dr.maximum(cos_h * cos_h, 1e-12)
+    d = dr.exp(-(1.0 - c2) / (c2 * (m * m))) / ((m * m) * c2 * c2)
+    return dr.select(cos_h > 1e-6, d / np.pi if normalised else d, 0.0)
+
+
+def ggx_d_dr(cos_h: Any, alpha: float) -> Any:
+    """:func:`ggx_d` on drjit arrays."""
+    dr = _dr()
+    a2 = alpha * alpha
+    return dr.select(cos_h > 0.0, a2 / (np.pi * dr.square(cos_h * cos_h * (a2 - 1.0) + 1.0)), 0.0)
+
+
+def smith_g1_dr(cos_theta: Any, alpha: float, distribution: str) -> Any:
+    """:func:`smith_g1` on drjit arrays (Beckmann's Λ with ``drjit.erf``)."""
+    dr = _dr()
+    c = dr.clip(cos_theta, 1e-12, 1.0)
+    tan = dr.sqrt(dr.maximum(1.0 - c * c, 0.0)) / c
+    if distribution == "ggx":
+        return 2.0 / (1.0 + dr.sqrt(1.0 + (alpha * alpha) * tan * tan))
+    a = dr.minimum(1.0 / dr.maximum(alpha * tan, _tiny()), 1e8)
+    tail = dr.exp(-dr.minimum(a * a, 700.0)) / (2.0 * a * math.sqrt(np.pi))
+    lam = dr.select(a < 30.0, 0.5 * (dr.erf(a) - 1.0) + tail, 0.0)
+    return 1.0 / (1.0 + lam)
+
+
+def vcavity_g_dr(g: GeometryDr) -> Any:
+    """:func:`vcavity_g` on drjit arrays."""
+    dr = _dr()
+    vh = dr.maximum(g.vh, 1e-12)
+    return dr.minimum(1.0, dr.minimum(2.0 * g.ch * g.cv / vh, 2.0 * g.ch * g.cl / vh))
+
+
+def alpha_beta_dr(g: GeometryDr) -> tuple[Any, Any]:
+    dr = _dr()
+    return dr.maximum(g.theta_l, g.theta_v), dr.minimum(g.theta_l, g.theta_v)
+
+
+def cook_torrance_printed_dr(params: Mapping[str, Any], g: GeometryDr) -> RGB:
+    """:func:`cook_torrance_printed_terms` with its printed defaults (Schlick F(n·l), V-cavity G, (n·l)(n·v), D
+    without 1/π) on drjit arrays."""
+    dr = _dr()
+    who = "cook_torrance_printed"
+    m = scalar_param(params, "alpha", who, 1e-4)
+    f = fresnel_schlick_dr(g.cl, fresnel_f0_rgb(param(params, "eta", who), param(params, "k", who)))
+    d = beckmann_d_dr(g.ch, m, normalised=False)
+    denom = dr.maximum(g.cl * g.cv, 1e-12)
+    return f * (d * vcavity_g_dr(g) / denom * g.cl / np.pi)
+
+
+def microfacet_specular_dr(params: Mapping[str, Any], g: GeometryDr, who: str = "cook_torrance",
+                           fresnel: RGB | None = None) -> RGB:
+    """:func:`microfacet_specular` on drjit arrays: F(v·h) D G₁(l) G₁(v) / (4 (n·l)(n·v)) · (n·l) [9] eq. 20; F
+    the exact Fresnel of η + ik unless ``fresnel`` is given."""
+    dr = _dr()
+    a = scalar_param(params, "alpha", who, 1e-4)
+    dist = distribution_param(params, who)
+    d = beckmann_d_dr(g.ch, a) if dist == "beckmann" else ggx_d_dr(g.ch, a)
+    gg = smith_g1_dr(g.cl, a, dist) * smith_g1_dr(g.cv, a, dist)
+    f = fresnel if fresnel is not None else fresnel_exact_dr(g.vh, rgb_param(params, "eta", who),
+                                                             rgb_param(params, "k", who))
+    return f * (d * gg / (4.0 * dr.maximum(g.cv, 1e-12)))
+
+
+def oren_nayar_full_dr(sigma: float, albedo: RGB, g: GeometryDr) -> tuple[RGB, RGB]:
+    """:func:`oren_nayar_full_terms` on drjit arrays: (direct L₁, inter-reflection L₂), each f_r·(n·l)."""
+    dr = _dr()
+    s2 = sigma * sigma
+    al, be = alpha_beta_dr(g)
+    be = dr.minimum(be, below_half_pi())
+    cd = g.cos_dphi
+    c1 = 1.0 - 0.5 * s2 / (s2 + 0.33)
+    b = 0.45 * s2 / (s2 + 0.09)
+    c2 = dr.select(cd >= 0.0, b * dr.sin(al), b * (dr.sin(al) - dr.power(2.0 * be / np.pi, 3)))
+    c3 = 0.125 * s2 / (s2 + 0.09) * dr.square(4.0 * al * be / np.pi ** 2)
+    direct = c1 + cd * c2 * dr.tan(be) + (1.0 - dr.abs(cd)) * c3 * dr.tan(0.5 * (al + be))
+    inter = 0.17 * s2 / (s2 + 0.13) * (1.0 - cd * dr.square(2.0 * be / np.pi))
+    return RGB.of(albedo) / np.pi * (direct * g.cl), RGB.of(albedo) * RGB.of(albedo) / np.pi * (inter * g.cl)

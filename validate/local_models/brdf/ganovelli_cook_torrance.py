@@ -43,32 +43,35 @@ from typing import Any
 
 import numpy as np
 
-from ..brdf.common import Geometry, beckmann_d, fresnel_f0, fresnel_schlick, param
+from ..brdf.common import RGB, GeometryDr, beckmann_d_dr, fresnel_f0_rgb, fresnel_schlick_dr, param, rgb_param
 from ..families import brdf
 
 READINGS: dict[str, tuple[bool, float]] = {  # name -> (multiply by N·L, factor in G2)
     "literal": (False, 1.0), "literal_g2x2": (False, 2.0), "with_nl": (True, 1.0), "with_nl_g2x2": (True, 2.0)}
 
 
-def ganovelli_specular(params: Mapping[str, Any], g: Geometry, with_nl: bool = False,
-                       g2_factor: float = 1.0) -> np.ndarray:
-    """(N, 3): S/π = F(N·L) D G / (π (N·L)(N·V)) [× N·L] with the printed D, G1, G2 (module docstring)."""
+def ganovelli_specular(params: Mapping[str, Any], g: GeometryDr, with_nl: bool = False,
+                       g2_factor: float = 1.0) -> RGB:
+    """S/π = F(N·L) D G / (π (N·L)(N·V)) [× N·L] with the printed D, G1, G2 (module docstring), on drjit arrays
+    (:class:`~validate.local_models.brdf.common.GeometryDr`, the family's dtype)."""
+    import drjit as dr
+
     who = "cook_torrance_ganovelli"
     m = float(param(params, "alpha", who))
-    f = fresnel_schlick(g.cl, fresnel_f0(param(params, "eta", who), param(params, "k", who)))
-    d = beckmann_d(g.ch, m, normalised=False)
-    vh = np.maximum(g.vh, 1e-12)
-    gg = np.minimum(1.0, np.minimum(2.0 * g.ch * g.cv / vh, g2_factor * g.ch * g.cl / vh))
-    s = d * gg / np.maximum(g.cl * g.cv, 1e-12) * (g.cl if with_nl else 1.0)
-    return f * (s / np.pi)[:, None]
+    f = fresnel_schlick_dr(g.cl, fresnel_f0_rgb(param(params, "eta", who), param(params, "k", who)))
+    d = beckmann_d_dr(g.ch, m, normalised=False)
+    vh = dr.maximum(g.vh, 1e-12)
+    gg = dr.minimum(1.0, dr.minimum(2.0 * g.ch * g.cv / vh, g2_factor * g.ch * g.cl / vh))
+    s = d * gg / dr.maximum(g.cl * g.cv, 1e-12)
+    return f * ((s * g.cl if with_nl else s) / np.pi)
 
 
 def reading(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray, views: np.ndarray,
             name: str) -> np.ndarray:
     """One reading of :data:`READINGS` plus the Lambert term ρ/π (N·L); zero below either horizon."""
-    g = Geometry(normals, lights, views)
+    g = GeometryDr(normals, lights, views)
     with_nl, g2 = READINGS[name]
-    diffuse = param(params, "albedo", "cook_torrance_ganovelli") / np.pi * g.cl[:, None]
+    diffuse = rgb_param(params, "albedo", "cook_torrance_ganovelli") / np.pi * g.cl
     return g.finish(diffuse + ganovelli_specular(params, g, with_nl, g2))
 
 

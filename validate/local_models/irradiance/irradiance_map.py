@@ -67,10 +67,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...backend import float_type, uint_type
 from ...errors import ValidateError
 from ...geometry import cube_texel_directions, face_coords, face_direction
 from ...scenes import latlong
+from ..precision import acos, float_type, to_dr, to_np, uint_type, vec_to_dr
 from .sh import render_irradiance
 
 MIN_FACE, MAX_FACE = 1, 4096
@@ -398,8 +398,7 @@ class CubeMap:
         import drjit as dr
 
         Float, UInt = float_type(), uint_type()
-        d = np.ascontiguousarray(np.asarray(dirs, dtype=np.float32).reshape(-1, 3))
-        x, y, z = (Float(d[:, k]) for k in range(3))
+        x, y, z = vec_to_dr(dirs)
         n = self.face_size
         p = n + 2
         ax, ay, az = dr.abs(x), dr.abs(y), dr.abs(z)
@@ -421,13 +420,13 @@ class CubeMap:
         pad = self.padded
         out = []
         for c in range(pad.shape[-1]):
-            data = Float(np.ascontiguousarray(pad[..., c].ravel()))
+            data = to_dr(pad[..., c])
             v00 = dr.gather(Float, data, base)
             v01 = dr.gather(Float, data, base + 1)
             v10 = dr.gather(Float, data, base + p)
             v11 = dr.gather(Float, data, base + p + 1)
             v = dr.lerp(dr.lerp(v00, v01, wx), dr.lerp(v10, v11, wx), wy)
-            out.append(np.array(v, dtype=np.float64))
+            out.append(to_np(v))
         return np.stack(out, axis=-1)
 
 
@@ -492,11 +491,10 @@ class LatLongMap:
         import drjit as dr
 
         Float, UInt = float_type(), uint_type()
-        d = np.ascontiguousarray(np.asarray(dirs, dtype=np.float32).reshape(-1, 3))
-        x, y, z = (Float(d[:, k]) for k in range(3))
+        x, y, z = vec_to_dr(dirs)
         h = self.height
         w = 2 * h
-        theta = dr.acos(dr.clip(y, -1.0, 1.0))
+        theta = acos(y)
         phi = dr.atan2(x, -z)
         phi = dr.select(phi < 0, phi + 2 * dr.pi, phi)
         yc = theta * ((h - 1) / dr.pi)
@@ -511,13 +509,13 @@ class LatLongMap:
         r0 = UInt(y0) * w
         out = []
         for c in range(self.data.shape[-1]):
-            data = Float(np.ascontiguousarray(self.data[..., c].ravel()))
+            data = to_dr(self.data[..., c])
             v00 = dr.gather(Float, data, r0 + x0)
             v01 = dr.gather(Float, data, r0 + x1)
             v10 = dr.gather(Float, data, r0 + w + x0)
             v11 = dr.gather(Float, data, r0 + w + x1)
             v = dr.lerp(dr.lerp(v00, v01, wx), dr.lerp(v10, v11, wx), wy)
-            out.append(np.array(v, dtype=np.float64))
+            out.append(to_np(v))
         return np.stack(out, axis=-1)
 
 

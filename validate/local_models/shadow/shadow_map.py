@@ -90,11 +90,11 @@ from typing import Any
 
 import numpy as np
 
-from ...backend import float_type, init, uint_type
+from ...backend import init
 from ...errors import ValidateError
 from ...scenes.shadow_scenes import DiscLight
 from ..arealight.sphere_cap import cap_irradiance_dr
-from ..precision import to_dr
+from ..precision import float_type, int_type, on_active, to_dr, uint_type
 
 DEPTH_BITS = 24
 DEPTH_LSB = 2.0**-DEPTH_BITS  # r of glPolygonOffset for a D24 buffer
@@ -330,8 +330,8 @@ def _fetch(sm: ShadowMap, i: Any, j: Any, offset: PolygonOffset) -> tuple[Any, A
     inside = (i >= 0) & (i < res) & (j >= 0) & (j < res)
     U = uint_type()
     idx = U(dr.clip(j, 0, res - 1)) * res + U(dr.clip(i, 0, res - 1))
-    d = dr.gather(F, sm.depth, idx, inside)
-    dz = dr.gather(F, sm.slope, idx, inside)
+    d = dr.gather(F, on_active(sm.depth), idx, inside)
+    dz = dr.gather(F, on_active(sm.slope), idx, inside)
     return inside, d, d + offset.factor * dz + offset.units * DEPTH_LSB
 
 
@@ -362,10 +362,8 @@ def _bilinear_pcf(sm: ShadowMap, rc: _Receivers, xw: Any, yw: Any, offset: Polyg
 
 
 def _int(a: Any) -> Any:
-    """Float texel coordinates (already floored) → Int32."""
-    import mitsuba as mi
-
-    return mi.Int32(a)
+    """Float texel coordinates (already floored) → Int32 of the active backend."""
+    return int_type()(a)
 
 
 def _to_numpy(a: Any) -> np.ndarray:
@@ -590,4 +588,4 @@ def dr_gather_numpy(values: Any, index: np.ndarray) -> np.ndarray:
     import drjit as dr
 
     U = uint_type()
-    return np.array(dr.gather(float_type(), values, U(np.ascontiguousarray(index, dtype=np.uint32))))
+    return np.array(dr.gather(float_type(), on_active(values), U(np.ascontiguousarray(index, dtype=np.uint32))))

@@ -65,7 +65,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...backend import float_type, uint_type
 from ...errors import ValidateError
 from ..families import specular
 from ..irradiance.irradiance_map import (
@@ -77,6 +76,7 @@ from ..irradiance.irradiance_map import (
     convolve_zonal,
     environment_nodes,
 )
+from ..precision import float_type, to_dr, to_np, uint_type
 from .common import array_digest, block_deg_for_width, cached, face_size_for_width, reflect
 
 ALPHA_RANGE = (1e-3, 1.0)
@@ -226,10 +226,10 @@ class DFGTable:
 
         Float = float_type()
         n = self.size
-        mu = np.asarray(mu, dtype=np.float32).ravel()
-        al = np.broadcast_to(np.asarray(alpha, dtype=np.float32), mu.shape)
-        x = dr.clip(Float(mu) * n - 0.5, 0.0, n - 1.0)
-        y = dr.clip(Float(np.ascontiguousarray(al)) * n - 0.5, 0.0, n - 1.0)
+        mu = np.asarray(mu, dtype=np.float64).ravel()
+        al = np.broadcast_to(np.asarray(alpha, dtype=np.float64), mu.shape)
+        x = dr.clip(to_dr(mu) * n - 0.5, 0.0, n - 1.0)
+        y = dr.clip(to_dr(al) * n - 0.5, 0.0, n - 1.0)
         x0 = dr.minimum(dr.floor(x), n - 2.0)
         y0 = dr.minimum(dr.floor(y), n - 2.0)
         wx, wy = x - x0, y - y0
@@ -238,12 +238,12 @@ class DFGTable:
         base = UInt(y0) * n + UInt(x0)
         out = []
         for table in (self.a, self.b):
-            data = Float(np.ascontiguousarray(table, dtype=np.float32).ravel())
+            data = to_dr(table)
             v00 = dr.gather(Float, data, base)
             v01 = dr.gather(Float, data, base + 1)
             v10 = dr.gather(Float, data, base + n)
             v11 = dr.gather(Float, data, base + n + 1)
-            out.append(np.array(dr.lerp(dr.lerp(v00, v01, wx), dr.lerp(v10, v11, wx), wy), dtype=np.float64))
+            out.append(to_np(dr.lerp(dr.lerp(v00, v01, wx), dr.lerp(v10, v11, wx), wy)))
         return out[0], out[1]
 
 
