@@ -125,6 +125,19 @@ def _supersampled(radiance: np.ndarray, n: int, s: int, hot: np.ndarray | None =
     return acc.reshape(6, n, s, n, s, 3).sum(axis=(2, 4))
 
 
+def _only_hot_lit(radiance: np.ndarray, hot: np.ndarray) -> bool:
+    """Whether every non-zero texel is hot, scanned by row blocks (no full-size temporaries: a map is lit almost
+    everywhere, and its lit-texel indices would be 8 bytes a texel); stops at the first block with more lit texels
+    than there are hot ones."""
+    h, w = radiance.shape[:2]
+    step = max(1, ROW_BLOCK_TEXELS // max(w, 1))
+    for s in _row_blocks(h, w):
+        lit = np.flatnonzero(np.any(radiance[s:s + step] != 0.0, axis=-1).ravel())
+        if len(lit) > len(hot) or not np.all(_is_hot(lit + s * w, hot)):
+            return False
+    return True
+
+
 def _is_hot(idx: np.ndarray, hot: np.ndarray) -> np.ndarray:
     """Whether each flat texel index is in the sorted array ``hot``."""
     pos = np.minimum(np.searchsorted(hot, idx), len(hot) - 1)
@@ -180,8 +193,7 @@ def render_faces(radiance: np.ndarray, face_size: int, supersample: int | None =
     n, h, w = face_size, radiance.shape[0], radiance.shape[1]
     rows, cols = hot_texels(radiance)
     hot = np.sort(rows.astype(np.int64) * w + cols)
-    lit = np.flatnonzero(np.any(radiance.reshape(-1, 3) != 0.0, axis=1))
-    if len(hot) and len(lit) <= len(hot) and np.all(_is_hot(lit, hot)):  # L₀ = 0 (a few suns, nothing else)
+    if len(hot) and _only_hot_lit(radiance, hot):  # L₀ = 0 (a few suns, nothing else)
         faces = np.zeros((6, n, n, 3))
     else:
         faces = _supersampled(radiance, n, supersample or supersample_for(h, n), hot)
