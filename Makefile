@@ -13,8 +13,10 @@ report: setup
 quick: setup
 	.venv/bin/python -m validate all --quick $(PROBES_ARG)
 
+# two pytest workers (pytest-xdist), a test file per worker: the 2-core machine's second core is otherwise idle
+# while a test waits on a subprocess, Node or the browser
 test: setup
-	VALIDATE_PROBES=$(PROBES) .venv/bin/python -m pytest -q
+	VALIDATE_PROBES=$(PROBES) .venv/bin/python -m pytest -q -n 2 --dist loadfile
 
 test-slow: setup
 	VALIDATE_PROBES=$(PROBES) .venv/bin/python -m pytest -q -m slow
