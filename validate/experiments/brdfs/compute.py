@@ -33,7 +33,7 @@ Power (every metric): the technique's output × 1.02, a 2 % bias (``Measured.per
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from functools import partial
+from functools import lru_cache, partial
 from typing import Any
 
 import numpy as np
@@ -128,13 +128,14 @@ def grid_metrics(m: Measurements, mat: bs.Material) -> None:
 
 
 def furnace_albedo(fn: Any, views_deg: tuple[float, ...], nodes: tuple[int, int]) -> np.ndarray:
-    """W(θ_v) = ∫ Y(q(l, v)) dω_l for each view angle (luminance), with ``fn(lights, views) -> q``."""
+    """W(θ_v) = ∫ Y(q(l, v)) dω_l for each view angle (luminance), with ``fn(lights, views) -> q``: one call over
+    every view (the quadrature tiled; q is per sample, so each view's block is what a call of its own returns —
+    the GL listings pay a shader compile per call), each view's sum over its own block as before."""
     dirs, w = bs.hemisphere_quadrature(*nodes)
-    out = []
-    for t in views_deg:
-        v = np.tile(bs.direction(np.radians(t), 0.0), (len(dirs), 1))
-        out.append(float(np.sum(w * luminance(fn(dirs, v)))))
-    return np.asarray(out)
+    views = np.concatenate([np.tile(bs.direction(np.radians(t), 0.0), (len(dirs), 1)) for t in views_deg])
+    q = fn(np.tile(dirs, (len(views_deg), 1)), views)
+    k = len(dirs)
+    return np.asarray([float(np.sum(w * luminance(q[i * k:(i + 1) * k]))) for i in range(len(views_deg))])
 
 
 def furnace_metrics(m: Measurements, mat: bs.Material) -> None:
@@ -302,17 +303,27 @@ def gouraud_params() -> dict[str, Any]:
             "exponent": 80.0, "sigma": 0.3, "minnaert_k": 0.8}
 
 
-def _shade(fn: Any, light: np.ndarray, level: int, size: int) -> dict[str, np.ndarray]:
-    """Per-pixel exact (smooth sphere), Gouraud and per-fragment values (luminance) of ``fn(normals, l, v)``
-    over the pixels where the tessellated sphere is hit."""
+@lru_cache(maxsize=8)
+def _tessellated_gbuffer(level: int, size: int) -> tuple[np.ndarray, ...]:
+    """(vertices, faces, exact normals, hit triangles' vertex indices, barycentrics) of the level-``level``
+    icosphere seen in ``size``² pixels: the same for every technique and exponent, so built and traced once (the
+    arrays are read-only)."""
     verts, faces = bs.icosphere(level)
     x, y, inside = bs.sphere_pixels(size)
     hit, prim, bary = br.mesh_gbuffer(verts, faces, x, y)
     hit &= inside.ravel()
     xs, ys = x.ravel()[hit], y.ravel()[hit]
     exact_n = np.stack([xs, ys, np.sqrt(np.maximum(1.0 - xs * xs - ys * ys, 0.0))], -1)
-    tri = faces[prim[hit]]
-    w = bary[hit]
+    out = (verts, faces, exact_n, faces[prim[hit]], bary[hit])
+    for a in out:
+        a.setflags(write=False)
+    return out
+
+
+def _shade(fn: Any, light: np.ndarray, level: int, size: int) -> dict[str, np.ndarray]:
+    """Per-pixel exact (smooth sphere), Gouraud and per-fragment values (luminance) of ``fn(normals, l, v)``
+    over the pixels where the tessellated sphere is hit."""
+    verts, faces, exact_n, tri, w = _tessellated_gbuffer(level, size)
     view = np.array([0.0, 0.0, 1.0])
 
     def run(n: np.ndarray) -> np.ndarray:
