@@ -401,18 +401,29 @@ def env_radiance_local(fn: Any, radiance: np.ndarray, normals: np.ndarray, views
                        nodes: int) -> np.ndarray:
     """L_o(n, v) = Σ_m w_m L(ω_m) q(ω_m, v; n) over a Gauss–Legendre (cos θ) × uniform φ grid of ``nodes`` × 2·nodes
     directions on the hemisphere about each normal, L by Mitsuba's bilinear envmap lookup; (P, 3)."""
+    return env_radiance_many({"": fn}, radiance, normals, views, nodes)[""]
+
+
+def env_radiance_many(fns: dict[str, Any], radiance: np.ndarray, normals: np.ndarray, views: np.ndarray,
+                      nodes: int) -> dict[str, np.ndarray]:
+    """:func:`env_radiance_local` of every ``fns[name]`` at once: each chunk's directions and map lookups are made
+    once and shared by the techniques (they depend on the normals only), the sums as in the single form."""
     local, w = bs.hemisphere_quadrature(nodes, 2 * nodes)
     t, b = _frames(normals)
-    out = np.zeros((len(normals), 3))
+    out = {name: np.zeros((len(normals), 3)) for name in fns}
     per = max(1, ENV_CHUNK // len(local))
     for s0 in range(0, len(normals), per):
         sl = slice(s0, s0 + per)
         d = (local[None, :, :1] * t[sl, None] + local[None, :, 1:2] * b[sl, None]
              + local[None, :, 2:3] * normals[sl, None]).reshape(-1, 3)
         k = len(d) // len(local)
-        q = fn(np.repeat(normals[sl], len(local), 0), d, np.repeat(views[sl], len(local), 0))
+        nrep, vrep = np.repeat(normals[sl], len(local), 0), np.repeat(views[sl], len(local), 0)
         lrad = latlong.bilinear_lookup(radiance, d)
-        out[sl] = np.sum((w[None, :, None] * (q * lrad).reshape(k, len(local), 3)), axis=1)
+        for a in (nrep, d, vrep):  # shared by the techniques: none may write into them
+            a.setflags(write=False)
+        for name, fn in fns.items():
+            q = fn(nrep, d, vrep)
+            out[name][sl] = np.sum((w[None, :, None] * (q * lrad).reshape(k, len(local), 3)), axis=1)
     return out
 
 
@@ -430,9 +441,10 @@ def env_analysis(m: Measurements, mats: list[bs.Material]) -> None:
         ref = luminance(r.mean.reshape(-1, 3)[mask])
         noise = float(np.sum(r.stderr_y.reshape(-1)[mask]) / np.sum(ref))
         images: dict[str, Any] = {"mitsuba": r.mean}
+        fns = {t.name: partial(family("brdf").call, t, mat.params) for t in m.techniques}
+        per_nodes = [env_radiance_many(fns, env.radiance, n, v, k) for k in (s.env_nodes, s.env_nodes // 2)]
         for tech in m.techniques:
-            vals = [env_radiance_local(lambda nn, ll, vv, t=tech, p=mat.params: family("brdf").call(t, p, nn, ll, vv),
-                                       env.radiance, n, v, k) for k in (s.env_nodes, s.env_nodes // 2)]
+            vals = [x[tech.name] for x in per_nodes]
             e = [_err(luminance(x), ref) for x in vals]
             m.metrics.setdefault(tech.name, {})[f"env_rel_l1.{mat.name}"] = _entry(
                 e[0], noise + abs(e[0] - e[1]), _err(BIAS * luminance(vals[0]), ref))
