@@ -62,14 +62,15 @@ def chi2_case(alpha: float, theta_i: float, kw: dict[str, Any]) -> tuple[dict[st
 
 
 def _furnace(tech: Technique, params: dict[str, Any], mus: tuple[float, ...], nodes: int) -> np.ndarray:
-    """W(μ_v) for each μ in ``mus`` (luminance), q through the registry (contract checked)."""
+    """W(μ_v) for each μ in ``mus`` (luminance), q through the registry (contract checked): one call over every μ
+    (the quadrature tiled; q is per sample, so each μ's block is what a call of its own returns — the GL listings
+    pay a shader compile per call), each μ's sum over its own block."""
     dirs, w = bs.hemisphere_quadrature(nodes, 2 * nodes)
-    n = np.tile([0.0, 0.0, 1.0], (len(dirs), 1))
-    out = []
-    for mu in mus:
-        v = np.tile([np.sqrt(1.0 - mu * mu), 0.0, mu], (len(dirs), 1))
-        out.append(float(np.sum(w * luminance(family("brdf").call(tech, params, n, dirs, v)))))
-    return np.asarray(out)
+    k = len(dirs)
+    n = np.tile([0.0, 0.0, 1.0], (k * len(mus), 1))
+    v = np.concatenate([np.tile([np.sqrt(1.0 - mu * mu), 0.0, mu], (k, 1)) for mu in mus])
+    q = family("brdf").call(tech, params, n, np.tile(dirs, (len(mus), 1)), v)
+    return np.asarray([float(np.sum(w * luminance(q[i * k:(i + 1) * k]))) for i in range(len(mus))])
 
 
 def _f1(alpha: float, m: float = 1.0) -> dict[str, Any]:
