@@ -191,3 +191,26 @@ def test_check_brdf_accepts_a_correct_model_and_rejects_a_wrong_one() -> None:
     assert bad.rel_l1.max > 1.0
     with pytest.raises(ValidateError, match="unknown material"):
         chk.check_brdf(my_ggx, ["no_such_material"])
+
+
+def test_shared_work_gives_each_call_its_own_numbers() -> None:
+    """The speed-ups that share work between calls change no number: the environment lookups shared by the
+    techniques (env_radiance_many) equal one technique at a time, the furnace over several views in one call
+    equals a call per view, and the cached quadrature hands out copies (writing into one leaves the next intact)."""
+    from validate.scenes import procedural
+
+    env = procedural.two_tone()
+    n = np.array([[0.0, 0.0, 1.0], [0.6, 0.0, 0.8], [0.0, 1.0, 0.0]])
+    v = np.array([[0.0, 0.0, 1.0], [0.0, 0.6, 0.8], [0.0, 0.0, 1.0]])
+    mat = bs.conductor(0.3)
+    fns = {t: (lambda nn, ll, vv, t=t: family("brdf").call(t, mat.params, nn, ll, vv))
+           for t in ("lambert", "cook_torrance")}
+    many = bm.env_radiance_many(fns, env.radiance, n, v, 6)
+    for t, fn in fns.items():
+        assert np.array_equal(bm.env_radiance_local(fn, env.radiance, n, v, 6), many[t])
+    fn2 = lambda lt, vw: bm.call("cook_torrance", mat.params, lt, vw)  # noqa: E731
+    both = bm.furnace_albedo(fn2, (0.0, 60.0), (16, 32))
+    assert both.tolist() == [bm.furnace_albedo(fn2, (t,), (16, 32))[0] for t in (0.0, 60.0)]
+    d, w = bs.hemisphere_quadrature(8, 16)
+    d[:] = 0.0
+    assert np.abs(bs.hemisphere_quadrature(8, 16)[0]).sum() > 0

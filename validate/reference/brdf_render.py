@@ -104,16 +104,20 @@ def _mesh_scene(slopes: np.ndarray) -> Any:
 
 
 def _intersect(scene: Any, origins: np.ndarray, dirs: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(hit mask, hit points, geometric normals oriented to +z) of rays."""
+    """(hit mask, hit points, geometric normals oriented to +z) of rays. The three outputs are evaluated in one
+    kernel (``dr.eval``): read one by one, each would launch its own kernel and trace the rays again."""
+    import drjit as dr
     import mitsuba as mi
 
     m = origins.shape[0]
     o, d = pad_rows(origins, padded_count(m)), pad_rows(dirs, padded_count(m))  # see backend.padded_count
     ray = mi.Ray3f(mi.Point3f(o[:, 0], o[:, 1], o[:, 2]), mi.Vector3f(d[:, 0], d[:, 1], d[:, 2]))
     si = scene.ray_intersect(ray)
-    hit = np.array(si.is_valid(), dtype=bool)[:m]
-    p = np.array(si.p, dtype=np.float64).reshape(3, -1).T[:m]
-    n = np.array(si.n, dtype=np.float64).reshape(3, -1).T[:m]
+    valid, pos, nrm = si.is_valid(), si.p, si.n
+    dr.eval(valid, pos, nrm)
+    hit = np.array(valid, dtype=bool)[:m]
+    p = np.array(pos, dtype=np.float64).reshape(3, -1).T[:m]
+    n = np.array(nrm, dtype=np.float64).reshape(3, -1).T[:m]
     n = np.where(n[:, 2:3] < 0.0, -n, n)
     return hit, p, n
 
@@ -226,6 +230,7 @@ def mesh_gbuffer(verts: np.ndarray, faces: np.ndarray, x: np.ndarray, y: np.ndar
                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Orthographic rays along −z through the points (x, y) against a triangle mesh: (hit (P,), triangle index
     (P,), barycentric coordinates (P, 3) of the hit in its triangle's vertices)."""
+    import drjit as dr
     import mitsuba as mi
 
     init()
@@ -240,9 +245,11 @@ def mesh_gbuffer(verts: np.ndarray, faces: np.ndarray, x: np.ndarray, y: np.ndar
     o = pad_rows(o, padded_count(m))  # padded: Mitsuba's query reads past a ragged end (backend.padded_count)
     ray = mi.Ray3f(mi.Point3f(o[:, 0], o[:, 1], o[:, 2]), mi.Vector3f(0.0, 0.0, -1.0))
     si = scene.ray_intersect(ray)
-    hit = np.array(si.is_valid(), dtype=bool)[:m]
-    prim = np.array(si.prim_index, dtype=np.int64)[:m]
-    p = np.array(si.p, dtype=np.float64).reshape(3, -1).T[:m]
+    valid, prim_index, pos = si.is_valid(), si.prim_index, si.p
+    dr.eval(valid, prim_index, pos)  # one kernel, one trace (see :func:`_intersect`)
+    hit = np.array(valid, dtype=bool)[:m]
+    prim = np.array(prim_index, dtype=np.int64)[:m]
+    p = np.array(pos, dtype=np.float64).reshape(3, -1).T[:m]
     prim = np.where(hit, prim, 0)
     a, b, c = (verts[faces[prim, k]] for k in range(3))
     n = np.cross(b - a, c - a)

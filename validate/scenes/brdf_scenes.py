@@ -32,6 +32,7 @@ References
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -141,6 +142,14 @@ def hemisphere_quadrature(n_theta: int, n_phi: int) -> tuple[np.ndarray, np.ndar
     × uniform midpoint φ; Σ w = 2π, exact for polynomials in cos θ of degree < 2 n_theta."""
     if n_theta < 1 or n_phi < 1:
         raise ValidateError(f"hemisphere_quadrature: n_theta={n_theta}, n_phi={n_phi}; both must be ≥ 1")
+    d, w = _hemisphere_quadrature(int(n_theta), int(n_phi))
+    return d.copy(), w.copy()
+
+
+@lru_cache(maxsize=32)
+def _hemisphere_quadrature(n_theta: int, n_phi: int) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`hemisphere_quadrature`, computed once per (n_theta, n_phi): the experiments ask for the same grid
+    thousands of times and ``leggauss`` (an eigenvalue problem) dominated the furnace loops; callers get copies."""
     x, w = np.polynomial.legendre.leggauss(n_theta)
     mu, wmu = 0.5 * (x + 1.0), 0.5 * w
     phi = (np.arange(n_phi) + 0.5) * (2.0 * np.pi / n_phi)
@@ -153,6 +162,13 @@ def brdf_grid(n_theta: int, n_phi: int) -> tuple[np.ndarray, np.ndarray, np.ndar
     """Pairs (l, v) for the error integral ∫∫ · cos θ_v dω_l dω_v over both hemispheres, using isotropy:
     v at azimuth 0, l over Gauss–Legendre cos θ_l × uniform Δφ ∈ [0, π] (mirror symmetry), v over Gauss–Legendre
     cos θ_v. Returns (lights (M, 3), views (M, 3), weights (M,) including cos θ_v and the 2π of v's azimuth)."""
+    lights, views, weights = _brdf_grid(int(n_theta), int(n_phi))
+    return lights.copy(), views.copy(), weights.copy()
+
+
+@lru_cache(maxsize=8)
+def _brdf_grid(n_theta: int, n_phi: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`brdf_grid`, computed once per (n_theta, n_phi); callers get copies."""
     x, w = np.polynomial.legendre.leggauss(n_theta)
     mu, wmu = 0.5 * (x + 1.0), 0.5 * w
     dphi = (np.arange(n_phi) + 0.5) * (np.pi / n_phi)

@@ -33,7 +33,7 @@ Power (every metric): the technique's output × 1.02, a 2 % bias (``Measured.per
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from functools import partial
+from functools import lru_cache, partial
 from typing import Any
 
 import numpy as np
@@ -128,13 +128,14 @@ def grid_metrics(m: Measurements, mat: bs.Material) -> None:
 
 
 def furnace_albedo(fn: Any, views_deg: tuple[float, ...], nodes: tuple[int, int]) -> np.ndarray:
-    """W(θ_v) = ∫ Y(q(l, v)) dω_l for each view angle (luminance), with ``fn(lights, views) -> q``."""
+    """W(θ_v) = ∫ Y(q(l, v)) dω_l for each view angle (luminance), with ``fn(lights, views) -> q``: one call over
+    every view (the quadrature tiled; q is per sample, so each view's block is what a call of its own returns —
+    the GL listings pay a shader compile per call), each view's sum over its own block as before."""
     dirs, w = bs.hemisphere_quadrature(*nodes)
-    out = []
-    for t in views_deg:
-        v = np.tile(bs.direction(np.radians(t), 0.0), (len(dirs), 1))
-        out.append(float(np.sum(w * luminance(fn(dirs, v)))))
-    return np.asarray(out)
+    views = np.concatenate([np.tile(bs.direction(np.radians(t), 0.0), (len(dirs), 1)) for t in views_deg])
+    q = fn(np.tile(dirs, (len(views_deg), 1)), views)
+    k = len(dirs)
+    return np.asarray([float(np.sum(w * luminance(q[i * k:(i + 1) * k]))) for i in range(len(views_deg))])
 
 
 def furnace_metrics(m: Measurements, mat: bs.Material) -> None:
@@ -302,17 +303,27 @@ def gouraud_params() -> dict[str, Any]:
             "exponent": 80.0, "sigma": 0.3, "minnaert_k": 0.8}
 
 
-def _shade(fn: Any, light: np.ndarray, level: int, size: int) -> dict[str, np.ndarray]:
-    """Per-pixel exact (smooth sphere), Gouraud and per-fragment values (luminance) of ``fn(normals, l, v)``
-    over the pixels where the tessellated sphere is hit."""
+@lru_cache(maxsize=8)
+def _tessellated_gbuffer(level: int, size: int) -> tuple[np.ndarray, ...]:
+    """(vertices, faces, exact normals, hit triangles' vertex indices, barycentrics) of the level-``level``
+    icosphere seen in ``size``² pixels: the same for every technique and exponent, so built and traced once (the
+    arrays are read-only)."""
     verts, faces = bs.icosphere(level)
     x, y, inside = bs.sphere_pixels(size)
     hit, prim, bary = br.mesh_gbuffer(verts, faces, x, y)
     hit &= inside.ravel()
     xs, ys = x.ravel()[hit], y.ravel()[hit]
     exact_n = np.stack([xs, ys, np.sqrt(np.maximum(1.0 - xs * xs - ys * ys, 0.0))], -1)
-    tri = faces[prim[hit]]
-    w = bary[hit]
+    out = (verts, faces, exact_n, faces[prim[hit]], bary[hit])
+    for a in out:
+        a.setflags(write=False)
+    return out
+
+
+def _shade(fn: Any, light: np.ndarray, level: int, size: int) -> dict[str, np.ndarray]:
+    """Per-pixel exact (smooth sphere), Gouraud and per-fragment values (luminance) of ``fn(normals, l, v)``
+    over the pixels where the tessellated sphere is hit."""
+    verts, faces, exact_n, tri, w = _tessellated_gbuffer(level, size)
     view = np.array([0.0, 0.0, 1.0])
 
     def run(n: np.ndarray) -> np.ndarray:
@@ -390,18 +401,29 @@ def env_radiance_local(fn: Any, radiance: np.ndarray, normals: np.ndarray, views
                        nodes: int) -> np.ndarray:
     """L_o(n, v) = Σ_m w_m L(ω_m) q(ω_m, v; n) over a Gauss–Legendre (cos θ) × uniform φ grid of ``nodes`` × 2·nodes
     directions on the hemisphere about each normal, L by Mitsuba's bilinear envmap lookup; (P, 3)."""
+    return env_radiance_many({"": fn}, radiance, normals, views, nodes)[""]
+
+
+def env_radiance_many(fns: dict[str, Any], radiance: np.ndarray, normals: np.ndarray, views: np.ndarray,
+                      nodes: int) -> dict[str, np.ndarray]:
+    """:func:`env_radiance_local` of every ``fns[name]`` at once: each chunk's directions and map lookups are made
+    once and shared by the techniques (they depend on the normals only), the sums as in the single form."""
     local, w = bs.hemisphere_quadrature(nodes, 2 * nodes)
     t, b = _frames(normals)
-    out = np.zeros((len(normals), 3))
+    out = {name: np.zeros((len(normals), 3)) for name in fns}
     per = max(1, ENV_CHUNK // len(local))
     for s0 in range(0, len(normals), per):
         sl = slice(s0, s0 + per)
         d = (local[None, :, :1] * t[sl, None] + local[None, :, 1:2] * b[sl, None]
              + local[None, :, 2:3] * normals[sl, None]).reshape(-1, 3)
         k = len(d) // len(local)
-        q = fn(np.repeat(normals[sl], len(local), 0), d, np.repeat(views[sl], len(local), 0))
+        nrep, vrep = np.repeat(normals[sl], len(local), 0), np.repeat(views[sl], len(local), 0)
         lrad = latlong.bilinear_lookup(radiance, d)
-        out[sl] = np.sum((w[None, :, None] * (q * lrad).reshape(k, len(local), 3)), axis=1)
+        for a in (nrep, d, vrep):  # shared by the techniques: none may write into them
+            a.setflags(write=False)
+        for name, fn in fns.items():
+            q = fn(nrep, d, vrep)
+            out[name][sl] = np.sum((w[None, :, None] * (q * lrad).reshape(k, len(local), 3)), axis=1)
     return out
 
 
@@ -419,9 +441,10 @@ def env_analysis(m: Measurements, mats: list[bs.Material]) -> None:
         ref = luminance(r.mean.reshape(-1, 3)[mask])
         noise = float(np.sum(r.stderr_y.reshape(-1)[mask]) / np.sum(ref))
         images: dict[str, Any] = {"mitsuba": r.mean}
+        fns = {t.name: partial(family("brdf").call, t, mat.params) for t in m.techniques}
+        per_nodes = [env_radiance_many(fns, env.radiance, n, v, k) for k in (s.env_nodes, s.env_nodes // 2)]
         for tech in m.techniques:
-            vals = [env_radiance_local(lambda nn, ll, vv, t=tech, p=mat.params: family("brdf").call(t, p, nn, ll, vv),
-                                       env.radiance, n, v, k) for k in (s.env_nodes, s.env_nodes // 2)]
+            vals = [x[tech.name] for x in per_nodes]
             e = [_err(luminance(x), ref) for x in vals]
             m.metrics.setdefault(tech.name, {})[f"env_rel_l1.{mat.name}"] = _entry(
                 e[0], noise + abs(e[0] - e[1]), _err(BIAS * luminance(vals[0]), ref))

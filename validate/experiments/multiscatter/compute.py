@@ -62,14 +62,15 @@ def chi2_case(alpha: float, theta_i: float, kw: dict[str, Any]) -> tuple[dict[st
 
 
 def _furnace(tech: Technique, params: dict[str, Any], mus: tuple[float, ...], nodes: int) -> np.ndarray:
-    """W(μ_v) for each μ in ``mus`` (luminance), q through the registry (contract checked)."""
+    """W(μ_v) for each μ in ``mus`` (luminance), q through the registry (contract checked): one call over every μ
+    (the quadrature tiled; q is per sample, so each μ's block is what a call of its own returns — the GL listings
+    pay a shader compile per call), each μ's sum over its own block."""
     dirs, w = bs.hemisphere_quadrature(nodes, 2 * nodes)
-    n = np.tile([0.0, 0.0, 1.0], (len(dirs), 1))
-    out = []
-    for mu in mus:
-        v = np.tile([np.sqrt(1.0 - mu * mu), 0.0, mu], (len(dirs), 1))
-        out.append(float(np.sum(w * luminance(family("brdf").call(tech, params, n, dirs, v)))))
-    return np.asarray(out)
+    k = len(dirs)
+    n = np.tile([0.0, 0.0, 1.0], (k * len(mus), 1))
+    v = np.concatenate([np.tile([np.sqrt(1.0 - mu * mu), 0.0, mu], (k, 1)) for mu in mus])
+    q = family("brdf").call(tech, params, n, np.tile(dirs, (len(mus), 1)), v)
+    return np.asarray([float(np.sum(w * luminance(q[i * k:(i + 1) * k]))) for i in range(len(mus))])
 
 
 def _f1(alpha: float, m: float = 1.0) -> dict[str, Any]:
@@ -87,10 +88,12 @@ def measure(tech: Technique, s: Settings) -> dict[str, Any]:
     """Furnace grids of one technique at n and n/2 nodes."""
     out: dict[str, Any] = {}
     for key, nodes in (("value", s.nodes), ("half", s.nodes // 2)):
-        out.setdefault("f0_1", {})[key] = [_furnace(tech, _f1(a), s.mus, nodes).tolist() for a in s.alphas]
-        if tech.meta.get("metalness"):
-            out.setdefault("metal", {})[key] = [[_furnace(tech, _f1(a, m), s.mus, nodes).tolist()
-                                                 for a in s.alphas] for m in s.metalness]
+        f0_1 = [_furnace(tech, _f1(a), s.mus, nodes).tolist() for a in s.alphas]
+        out.setdefault("f0_1", {})[key] = f0_1
+        if tech.meta.get("metalness"):  # metalness 1 is the F₀ = 1 grid (the same parameters): not evaluated twice
+            out.setdefault("metal", {})[key] = [[list(row) for row in f0_1] if m == 1.0 else
+                                                [_furnace(tech, _f1(a, m), s.mus, nodes).tolist() for a in s.alphas]
+                                                for m in s.metalness]
         for f0 in s.f0s:
             out.setdefault(f"f0_{f0:g}", {})[key] = float(_furnace(tech, _dielectric(1.0, f0), (0.5,), nodes)[0])
     return out
@@ -101,7 +104,7 @@ def compute(ctx: Context, s: Settings) -> Measurements:
     m = Measurements(s, list(family("brdf")))
     results = ctx.map(lambda t: measure(t, s), m.techniques, "multiscatter: furnace grids")
     m.w = {t.name: r for t, r in zip(m.techniques, results, strict=True)}
-    m.walk = [walk_compare(m.techniques, a, s, ctx.seed + i) for i, a in enumerate(s.walk_alphas)]
+    m.walk = [walk_compare(m.techniques, a, s, ctx.seed + i, m.w) for i, a in enumerate(s.walk_alphas)]
     m.bsdf = bsdf_checks(s, ctx.seed) if s.bsdf_checks else {}
     for r, mu, w in PUBLISHED_SS:
         m.published.append({"roughness": r, "alpha": r * r, "nov": mu, "published": w, "table": _e(r * r, mu),
@@ -120,10 +123,22 @@ def e_correlated(alpha: float, mu: float, nodes: int = 256) -> float:
     return float(np.sum(w * ggx_d(h[:, 2], alpha) / (1.0 + lam) / (4.0 * mu)))
 
 
-def walk_compare(techs: list[Technique], alpha: float, s: Settings, seed: int) -> dict[str, Any]:
+def _known_w(w: dict[str, Any], s: Settings, tech: str, alpha: float, f0: float) -> float | None:
+    """A technique's W(μ_v = s.walk_mu) at (α, F₀) with s.nodes already in the furnace grids ``w`` (the same
+    parameters, the same quadrature: the same number), else None."""
+    grids = w.get(tech, {})
+    if f0 >= 1.0 and alpha in s.alphas and s.walk_mu in s.mus and "f0_1" in grids:
+        return float(grids["f0_1"]["value"][s.alphas.index(alpha)][s.mus.index(s.walk_mu)])
+    if f0 < 1.0 and alpha == 1.0 and s.walk_mu == 0.5 and f0 in s.f0s and f"f0_{f0:g}" in grids:
+        return float(grids[f"f0_{f0:g}"]["value"])
+    return None
+
+
+def walk_compare(techs: list[Technique], alpha: float, s: Settings, seed: int,
+                 known: dict[str, Any] | None = None) -> dict[str, Any]:
     """The random walk's albedo at μ_v = s.walk_mu for each F₀ (Schlick per bounce), its first-bounce albedo against
     the height-correlated closed form, and every technique's W at the same F₀ (η real, or metalness 1 with base
-    colour F₀; F₀ = 1: η = 0, k = 1)."""
+    colour F₀; F₀ = 1: η = 0, k = 1); values already in the furnace grids ``known`` (:func:`measure`) are reused."""
     r = mw.walk(alpha, s.walk_mu, s.walk_f0s, s.walkers, seed % 2**31)
     out: dict[str, Any] = {"alpha": alpha, "mu": s.walk_mu, "f0s": list(s.walk_f0s), "albedo": r.albedo.tolist(),
                            "albedo_se": r.albedo_se.tolist(), "single": r.single.tolist(),
@@ -131,8 +146,12 @@ def walk_compare(techs: list[Technique], alpha: float, s: Settings, seed: int) -
                            "e_correlated": e_correlated(alpha, s.walk_mu), "e_separable": _e(alpha, s.walk_mu),
                            "techniques": {}}
     for t in techs:
-        out["techniques"][t.name] = [float(_furnace(t, _f1(alpha) if f0 >= 1.0 else _dielectric(alpha, f0),
-                                                    (s.walk_mu,), s.nodes)[0]) for f0 in s.walk_f0s]
+        vals = []
+        for f0 in s.walk_f0s:
+            v = _known_w(known or {}, s, t.name, alpha, f0)
+            vals.append(v if v is not None else float(_furnace(t, _f1(alpha) if f0 >= 1.0 else _dielectric(alpha, f0),
+                                                               (s.walk_mu,), s.nodes)[0]))
+        out["techniques"][t.name] = vals
     return out
 
 
