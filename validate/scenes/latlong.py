@@ -82,6 +82,23 @@ def row_sums(radiance: np.ndarray, block_bytes: int = 64 << 20) -> np.ndarray:
     return out
 
 
+def bilinear_taps(theta: np.ndarray, phi: np.ndarray, height: int, width: int
+                  ) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
+    """The four (flat texel index y·W + x, weight) taps of Mitsuba's bilinear envmap lookup at (θ, φ) on an H×W
+    map (rows align corners: y = θ(H − 1)/π; columns at centres, φ wraps: x = φW/2π − ½), in the order
+    (y0, x0), (y0, x1), (y0 + 1, x0), (y0 + 1, x1) — :func:`bilinear_lookup`'s convention as a sparse operator."""
+    y = theta / np.pi * (height - 1)
+    x = phi / (2.0 * np.pi) * width - 0.5
+    y0 = np.clip(np.floor(y).astype(np.int64), 0, height - 2)
+    fy = np.clip(y - y0, 0.0, 1.0)
+    x0f = np.floor(x)
+    fx = x - x0f
+    x0 = np.mod(x0f.astype(np.int64), width)
+    x1 = np.mod(x0 + 1, width)
+    return ((y0 * width + x0, (1 - fx) * (1 - fy)), (y0 * width + x1, fx * (1 - fy)),
+            ((y0 + 1) * width + x0, (1 - fx) * fy), ((y0 + 1) * width + x1, fx * fy))
+
+
 def bilinear_lookup(radiance: np.ndarray, d: np.ndarray) -> np.ndarray:
     """Mitsuba's envmap radiance for directions ``d`` (..., 3): bilinear in (φ, θ), φ wraps.
 

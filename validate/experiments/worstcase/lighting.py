@@ -83,18 +83,8 @@ def upsample_plan(coarse: int, height: int) -> tuple[np.ndarray, np.ndarray]:
     texel of an H×2H map: (indices (4, H·W) into the coarse map, weights (4, H·W))."""
     d = latlong.texel_directions(height, 2 * height).reshape(-1, 3)
     theta, phi = latlong.direction_to_spherical(d)
-    h, w = coarse, 2 * coarse
-    y = theta / np.pi * (h - 1)
-    x = phi / (2 * np.pi) * w - 0.5
-    y0 = np.clip(np.floor(y).astype(np.int64), 0, h - 2)
-    fy = np.clip(y - y0, 0.0, 1.0)
-    x0f = np.floor(x)
-    fx = x - x0f
-    x0 = np.mod(x0f.astype(np.int64), w)
-    x1 = np.mod(x0 + 1, w)
-    idx = np.stack([y0 * w + x0, y0 * w + x1, (y0 + 1) * w + x0, (y0 + 1) * w + x1])
-    wts = np.stack([(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy])
-    return idx, wts
+    taps = latlong.bilinear_taps(theta, phi, coarse, 2 * coarse)
+    return np.stack([i for i, _ in taps]), np.stack([wt for _, wt in taps])
 
 
 def softplus(dr: Any, x: Any) -> Any:

@@ -142,13 +142,8 @@ def _vec3(light: Any, key: str) -> np.ndarray:
     return v
 
 
-def light_geometry(light: Any, points: np.ndarray, normals: np.ndarray) -> dict[str, np.ndarray]:
-    """What every cap-based arealight technique needs, per receiver (arrays of length N):
-
-    ``distance`` d = |c − p|, ``cos_theta`` = n·(c − p)/d (normal vs direction to the centre),
-    ``cos_psi`` = m·(p − c)/d (the light's normal m vs the direction to the receiver; 1 for a sphere),
-    ``sin2_sigma``: sphere r²/d²; disc r²/(r² + d²) (the cap a facing disc subtends from its axis [2]),
-    ``radius``, ``radiance``. A receiver inside a sphere light (d ≤ r) is an error."""
+def _checked_light(light: Any) -> tuple[str, np.ndarray, np.ndarray, float, float]:
+    """(shape, centre, normal, radius, radiance) of a disc or sphere light mapping; one-line errors otherwise."""
     shape = light.get("shape") if hasattr(light, "get") else None
     if shape not in ("disc", "sphere"):
         raise ValidateError(f"area light: shape {shape!r} not supported by the cap techniques (disc, sphere)")
@@ -156,6 +151,17 @@ def light_geometry(light: Any, points: np.ndarray, normals: np.ndarray) -> dict[
     r, rad = float(light.get("radius", np.nan)), float(light.get("radiance", 1.0))
     if not (np.isfinite(r) and r > 0 and np.isfinite(rad) and rad >= 0):
         raise ValidateError(f"area light: need radius > 0 and radiance ≥ 0, got radius={r}, radiance={rad}")
+    return shape, c, m, r, rad
+
+
+def light_geometry(light: Any, points: np.ndarray, normals: np.ndarray) -> dict[str, np.ndarray]:
+    """What every cap-based arealight technique needs, per receiver (arrays of length N):
+
+    ``distance`` d = |c − p|, ``cos_theta`` = n·(c − p)/d (normal vs direction to the centre),
+    ``cos_psi`` = m·(p − c)/d (the light's normal m vs the direction to the receiver; 1 for a sphere),
+    ``sin2_sigma``: sphere r²/d²; disc r²/(r² + d²) (the cap a facing disc subtends from its axis [2]),
+    ``radius``, ``radiance``. A receiver inside a sphere light (d ≤ r) is an error."""
+    shape, c, m, r, rad = _checked_light(light)
     p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
     n = np.asarray(normals, dtype=np.float64).reshape(-1, 3)
     v = c[None, :] - p
@@ -178,13 +184,7 @@ def light_geometry_dr(light: Any, points: np.ndarray, normals: np.ndarray) -> di
     are checked as there (one-line errors)."""
     import drjit as dr
 
-    shape = light.get("shape") if hasattr(light, "get") else None
-    if shape not in ("disc", "sphere"):
-        raise ValidateError(f"area light: shape {shape!r} not supported by the cap techniques (disc, sphere)")
-    c, m = _vec3(light, "center"), _vec3(light, "normal")
-    r, rad = float(light.get("radius", np.nan)), float(light.get("radiance", 1.0))
-    if not (np.isfinite(r) and r > 0 and np.isfinite(rad) and rad >= 0):
-        raise ValidateError(f"area light: need radius > 0 and radiance ≥ 0, got radius={r}, radiance={rad}")
+    shape, c, m, r, rad = _checked_light(light)
     px, py, pz = vec_to_dr(points)
     nx, ny, nz = vec_to_dr(normals)
     vx, vy, vz = float(c[0]) - px, float(c[1]) - py, float(c[2]) - pz

@@ -99,16 +99,7 @@ def _sampling_plan(h: int, w: int, n: int, s: int) -> tuple[np.ndarray, ...]:
     d = np.stack([face_direction(f, sc, tc) for f in range(6)])
     d /= np.linalg.norm(d, axis=-1, keepdims=True)
     theta, phi = latlong.direction_to_spherical(d)
-    y = theta / np.pi * (h - 1)
-    x = phi / (2.0 * np.pi) * w - 0.5
-    y0 = np.clip(np.floor(y).astype(np.int64), 0, h - 2)
-    fy = np.clip(y - y0, 0.0, 1.0)
-    x0f = np.floor(x)
-    fx = x - x0f
-    x0 = np.mod(x0f.astype(np.int64), w)
-    x1 = np.mod(x0 + 1, w)
-    taps = [(y0 * w + x0, (1 - fx) * (1 - fy)), (y0 * w + x1, fx * (1 - fy)),
-            ((y0 + 1) * w + x0, (1 - fx) * fy), ((y0 + 1) * w + x1, fx * fy)]
+    taps = latlong.bilinear_taps(theta, phi, h, w)
     return tuple(a for idx, wb in taps for a in (idx.ravel(), (wb * wt[None]).ravel()))
 
 
