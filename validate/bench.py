@@ -14,6 +14,8 @@ and its plain reduction run alternately, so that load on the machine touches bot
 * The GL runtimes (:mod:`validate.bench_gl`): cold start of each runtime, and each built-in GLSL technique's
   per-receiver cost beside its Python transcription.
 * The fits (:mod:`validate.bench_fits`): each scipy fit beside its drjit-AD twin, time and residual.
+* The engines (:mod:`validate.bench_render`): browser start, page load per engine, first frame and the median of
+  later frames per engine and scene, in one fresh process.
 
 Map sizes (one child process per size and task, so that each peak RSS is clean): an H×2H map
 (H = 1024, 2048, 4096, 8192 by default: "1k" … "8k" name the rows), a smooth sky with a 0.5° sun,
@@ -27,7 +29,7 @@ built in the child row block by row block (not timed: it stands for reading the 
 
 A size whose estimated peak (:func:`validate.scenes.loaders.estimated_peak_bytes`) exceeds the
 memory available is skipped with the reason. ``--only`` runs some of the sections :data:`SECTIONS`
-(kernels, gl, sizes, fits). Results go to ``<out>/bench.json`` (atomic): ``tables``
+(kernels, gl, sizes, fits, render). Results go to ``<out>/bench.json`` (atomic): ``tables``
 (headers, rows, caption — what the report shows) and the raw ``kernels`` and ``sizes`` records.
 """
 
@@ -259,11 +261,12 @@ def tables(kernels: list[dict[str, Any]], sizes: list[dict[str, Any]]) -> list[d
     ]
 
 
-SECTIONS = ("kernels", "gl", "sizes", "fits")  # ``--only`` picks among these (fits: :mod:`validate.bench_fits`)
+# ``--only`` picks among these (fits: :mod:`validate.bench_fits`, render: :mod:`validate.bench_render`)
+SECTIONS = ("kernels", "gl", "sizes", "fits", "render")
 
 
 def run_bench(out: Path, sizes: tuple[int, ...] = DEFAULT_SIZES, sections: tuple[str, ...] = SECTIONS) -> int:
-    from . import backend, bench_fits, bench_gl
+    from . import backend, bench_fits, bench_gl, bench_render
     from .atomic import write_text
 
     be = backend.init()
@@ -279,12 +282,17 @@ def run_bench(out: Path, sizes: tuple[int, ...] = DEFAULT_SIZES, sections: tuple
         print("map sizes (child processes):")
         records = size_records(sizes)
     fits = bench_fits.fit_rows() if "fits" in sections else []
+    render: dict[str, Any] = {}
+    if "render" in sections:
+        print("engines: start-up and frame times (a child process) ...")
+        render = bench_render.records()
     tabs = tables(kernels, records) if kernels or records else []
     tabs += bench_gl.tables(gl_starts, gl_rows) if "gl" in sections else []
     tabs += bench_fits.tables(fits) if fits else []
+    tabs += bench_render.tables(render) if "render" in sections else []
     doc = {"generated": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"), "backend": be.variant,
            "sections": list(sections), "tables": tabs, "kernels": kernels, "sizes": records,
-           "gl": {"startup": gl_starts, "per_receiver": gl_rows}, "fits": fits}
+           "gl": {"startup": gl_starts, "per_receiver": gl_rows}, "fits": fits, "render": render}
     for t in doc["tables"]:
         print(f"\n{t['caption']}")
         print(" | ".join(t["headers"]))

@@ -60,6 +60,7 @@ EPILOG = """examples:
   python -m validate run brdfs --plugin my_brdf.glsl   # a GLSL technique (see docs/glsl.md)
   python -m validate bench                             # speed and memory, side by side -> bench.json
   python -m validate bench --only fits                 # the fits only: scipy vs drjit AD
+  python -m validate bench --only render               # the engines: browser start, page load, frame times
   python -m validate all --quick --baseline old/results.json   # ... and what changed since then
   python -m validate compare old/results.json reports/results.json --strict   # CI: exit 1 on a regression
   python -m validate docs --results reports/results.json   # docs/ figures from that run (--check: exit 1 if stale)
@@ -131,7 +132,7 @@ def _parser() -> argparse.ArgumentParser:
     b.add_argument("--sizes", default="1024,2048,4096,8192", metavar="H,H,...",
                    help="map heights (rows; width 2H) measured in child processes (default: 1k to 8k)")
     b.add_argument("--only", default=None, metavar="SECTION,...",
-                   help="run only these sections of kernels, gl, sizes, fits (default: all)")
+                   help="run only these sections of kernels, gl, sizes, fits, render (default: all)")
     d = sub.add_parser("docs", help="rewrite the measured-figure blocks of docs/ from a results.json")
     d.add_argument("--results", type=Path, default=Path("reports") / "results.json", metavar="FILE",
                    help="results to render (default: reports/results.json)")

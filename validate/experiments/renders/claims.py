@@ -330,5 +330,7 @@ def rect_claims(m: Measurements) -> list[Claim]:
 
 
 def claims(m: Measurements) -> list[Claim]:
+    from .shadow_claims import shadow_claims  # (e)
+
     return (furnace_claims(m) + directional_claims(m) + point_claims(m) + spot_claims(m) + hemisphere_claims(m)
-            + probe_lambert_claims(m) + sharpness_claims(m) + rect_claims(m))
+            + probe_lambert_claims(m) + sharpness_claims(m) + rect_claims(m) + shadow_claims(m.shadows))

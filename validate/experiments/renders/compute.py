@@ -88,6 +88,7 @@ class Measurements:
     reference_wall_s: float = 0.0
     startup: dict[str, Any] = field(default_factory=dict)
     probe_note: str = ""  # which probe (b) rendered, or why none
+    shadows: list[Any] = field(default_factory=list)  # (e) shadow_compute.ShadowSceneResult per scene
 
 
 def scene_list(s: Settings, probe: np.ndarray | None = None) -> list[tuple[rs.RenderScene, str]]:
@@ -206,9 +207,11 @@ def compute(ctx: Any, s: Settings) -> Measurements:
     from ...gl import runtime
 
     probe, probe_note = load_probe(ctx)
+    from .shadow_compute import compute_shadows
+
     out = [measure_scene(sc, kind, s) for sc, kind in ctx.progress(scene_list(s, probe), "renders: scenes")]
     return Measurements(s, out, startup={"webgl2_s": runtime.startup_seconds("webgl2"), **time_info(out)},
-                        probe_note=probe_note)
+                        probe_note=probe_note, shadows=compute_shadows(ctx, s))
 
 
 def time_info(scenes: list[SceneResult]) -> dict[str, Any]:

@@ -78,6 +78,9 @@ def findings(m: Measurements) -> list[str]:
                            f"accepted (z* = {j.critical_z:.2f}), mean |rel| {pm(j.mean_rel, j.mean_rel_unc)}, max "
                            f"{pm(j.max_rel, j.max_rel_unc)}, bias {j.mean_signed_rel:+.3%}.")
     out += punctual_findings(m) + hemisphere_findings(m) + probe_findings(m) + rect_findings(m)
+    from .shadow_report import shadow_findings  # (e)
+
+    out += shadow_findings(m.shadows)
     metal = [s for s in m.scenes if "model" in s.reference_energy]
     if metal:
         loss = ", ".join(f"r {s.scene.material.roughness:g}: {s.reference_energy['model'][0]:.4f} ± "
@@ -288,6 +291,9 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
         out.append(Section("(d) Rectangular area light", [RECT_NOTE],
                            figures=[f for f in (scene_figure(s, ctx) for s in rect) if f is not None],
                            tables=[t] if t is not None else []))
+    from .shadow_report import shadow_sections  # (e)
+
+    out += shadow_sections(m.shadows, ctx)
     out.append(Section("Engines not rendered", [FILAMENT_NOTE]))
     return out
 
@@ -297,7 +303,14 @@ def data(m: Measurements) -> dict:
     return {"scenes": {s.scene.name: {"kind": s.kind, "skipped": s.skipped, "engines": {
         e: {"frame_ms": r.frame_ms, "wall_s": r.wall_s, "version": r.version, "energy": r.energy, "info": r.info,
             "judgements": {k: j.to_json() for k, j in r.judgements.items()}} for e, r in s.engines.items()},
-        "reference_energy": s.reference_energy} for s in m.scenes}, "startup": m.startup}
+        "reference_energy": s.reference_energy} for s in m.scenes}, "startup": m.startup,
+        "shadows": _shadow_data(m)}
+
+
+def _shadow_data(m: Measurements) -> dict:
+    from .shadow_report import shadow_data  # (e)
+
+    return shadow_data(m.shadows)
 
 
 def summary(m: Measurements) -> str:
@@ -314,4 +327,5 @@ def settings_json(m: Measurements) -> dict[str, Any]:
     s = m.settings
     return {"spp": s.spp, "passes": s.passes, "resolution": s.resolution, "engines": list(s.engines), "seed": s.seed,
             "env_spp": s.env_spp, "probe_roughness": list(s.probe_roughness), "probe_resolution": s.probe_resolution,
-            "probe_spp": s.probe_spp, "probe": m.probe_note}
+            "probe_spp": s.probe_spp, "probe": m.probe_note, "shadow_resolution": s.shadow_resolution,
+            "shadow_spp": s.shadow_spp, "shadow_engines": list(s.shadow_engines)}

@@ -21,9 +21,14 @@ class Settings:
     probe_resolution: int = 64
     probe_spp: int = 256
     rect_resolution: int = 64  # (d) rectangular area light on the plane and the sphere
+    # (e) shadows (validate.scenes.render_shadow_scenes): resolution, reference samples per pass, and which engines'
+    # shadow types (render_shadow_scenes.SHADOW_TYPES) — () renders none
+    shadow_resolution: int = 64
+    shadow_spp: int = 64
+    shadow_engines: tuple[str, ...] = ("three", "babylon")
 
 
 # quick: three.js only (Babylon's page load and first prefilter cost ~80 s on 2 cores); full: both engines
 QUICK = Settings(spp=16, passes=8, engines=("three",), env_spp=256, probe_roughness=(0.25, 0.5), probe_resolution=32,
-                 probe_spp=128, rect_resolution=32)
+                 probe_spp=128, rect_resolution=32, shadow_resolution=32, shadow_spp=16, shadow_engines=("three",))
 FULL = Settings(spp=128, passes=8)

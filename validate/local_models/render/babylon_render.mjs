@@ -96,6 +96,7 @@ export async function renderBabylon(d) {
   const sphere = geometry(scene, g);
   sphere.material = material(scene, d.material, opts);
   if (g.type === 'plane') { sphere.material.backFaceCulling = false; sphere.material.twoSidedLighting = true; }
+  const shadows = d.shadow ? addShadows(scene, sphere, d.shadow) : null;  // (e) shadow scenes only
   const cam = new BABYLON.FreeCamera('c', new BABYLON.Vector3(...d.camera.position), scene);
   cam.upVector = new BABYLON.Vector3(...d.camera.up);
   cam.setTarget(new BABYLON.Vector3(...d.camera.target));
@@ -109,12 +110,15 @@ export async function renderBabylon(d) {
   await scene.whenReadyAsync();
   const t0 = performance.now();
   for (let k = 0; k < 200 && !sphere.material.isReady(sphere); k++) await new Promise(r => setTimeout(r, 20));
+  if (shadows) await shadows.prepare();
   rt.render();
   const px = await rt.readPixels();
   const frame_ms = performance.now() - t0;
   const out = new Float32Array(px.buffer, px.byteOffset, width * height * 4).slice();
+  const shadowInfo = shadows ? shadows.finish() : {};
   rt.dispose(); sphere.material.dispose(); sphere.dispose();
   if (scene.environmentTexture) scene.environmentTexture = null;  // keep the cached texture alive
-  return {data: f32ToB64(out), frame_ms, prefilter_ms, version};
+  return {data: f32ToB64(out), frame_ms, prefilter_ms, version, info: shadowInfo};
 }
 import {f32ToB64} from './common.mjs';
+import {addShadows} from './babylon_shadows.mjs';  // (e) shadows

@@ -6,6 +6,7 @@
 // render target, NoToneMapping, LinearSRGBColorSpace; read back with readRenderTargetPixels (row 0 = bottom).
 import * as THREE from 'three';
 import {f32ToB64, environmentTexels} from './common.mjs';
+import {addShadows} from './three_shadows.mjs';  // (e) shadows
 import {RectAreaLightUniformsLib} from '/node_modules/three/examples/jsm/lights/RectAreaLightUniformsLib.js';
 
 let ltcReady = false;  // RectAreaLight's LTC tables (RectAreaLightUniformsLib.init, once per page)
@@ -108,6 +109,7 @@ export async function renderThree(d) {
   const g = d.geometry || {type: 'sphere', radius: d.sphere.radius, segments: d.sphere.segments};
   const mesh = new THREE.Mesh(geometry(g), material(d.material));
   scene.add(mesh);
+  const shadows = d.shadow ? addShadows(r, scene, mesh, d.shadow) : null;  // (e) shadow scenes only
   const e = d.camera.half_extent;
   const cam = new THREE.OrthographicCamera(-e, e, e, -e, 0.1, 100);
   cam.position.set(...d.camera.position); cam.up.set(...d.camera.up); cam.lookAt(...d.camera.target);
@@ -122,5 +124,6 @@ export async function renderThree(d) {
   const frame_ms = performance.now() - t0;
   r.setRenderTarget(null);
   target.dispose(); mesh.geometry.dispose(); mesh.material.dispose();
-  return {data: f32ToB64(out), frame_ms, prefilter_ms: pmrem_ms, version, info: {light_power_lm: powers}};
+  const shadowInfo = shadows ? shadows.finish() : {};
+  return {data: f32ToB64(out), frame_ms, prefilter_ms: pmrem_ms, version, info: {light_power_lm: powers, ...shadowInfo}};
 }

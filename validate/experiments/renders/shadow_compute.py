@@ -1,0 +1,141 @@
+"""(e) Shadows, numbers only: the path-traced penumbra of :mod:`validate.scenes.render_shadow_scenes` and every engine's
+shadow types, judged per pixel by region and measured as a penumbra width and a light leak.
+
+Per scene: the Mitsuba reference (``shadow_spp`` × ``passes``, cached as every render reference), the unshadowed
+radiance ρE/π (closed form, :func:`~validate.scenes.render_shadow_scenes.unshadowed_radiance`) and the regions lit /
+penumbra / umbra from the geometric visibility of the light's disc (:func:`~validate.scenes.render_shadow_scenes.
+regions`). Per engine × shadow type:
+
+* the per-pixel judgement (:func:`validate.metrics.pixel_z.judge`, budget 0.25 % of the peak radiance, the plane's
+  measured margin of the other scenes) on all judged pixels and on each region;
+* the shadow factor s = mean-channel radiance / ρE/π; the *penumbra width* W = #{judged px : 0.1 < s < 0.9} (the
+  10–90 % transition, an area in px: the edge length is the truth's, so W_engine/W_truth is the width ratio), the
+  truth's W ± its standard deviation over ``WIDTH_DRAWS`` parametric redraws s + σ_s·N(0, 1) of the reference noise;
+* the *light leak* (three issue 23551): over the umbra (truth exactly 0: every sample of the light is blocked),
+  the fraction of pixels brighter than the budget — lit pixels in the umbra — ± its binomial standard error
+  √(p(1 − p)/n), and the mean s ± its standard error over the umbra's pixels.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ...local_models import render as engines
+from ...metrics.pixel_z import PixelJudgement, interior_mask, judge
+from ...reference.render_reference import render_reference
+from ...scenes import render_shadow_scenes as rss
+from .settings import Settings
+
+SHADOW_BUDGET_OF_PEAK = 2.5e-3  # the plane's per-pixel budget of the other scenes (compute.DIRECT_BUDGET_OF_PEAK)
+WIDTH_LEVELS = (0.1, 0.9)  # the 10–90 % transition of the shadow factor
+WIDTH_DRAWS = 64
+REGIONS = ("all", "lit", "penumbra", "umbra")
+
+
+@dataclass
+class ShadowEngineResult:
+    engine: str
+    shadow_type: str
+    used: str  # the type the engine reports it used (three: PCFSoft → PCF)
+    image: np.ndarray  # (R, R, 3)
+    frame_ms: float
+    wall_s: float
+    judgements: dict[str, PixelJudgement] = field(default_factory=dict)  # region → judgement
+    width_px: float = float("nan")
+    leak: tuple[float, float] = (float("nan"), 0.0)  # fraction of umbra pixels lit ± binomial s.e.
+    umbra_mean: tuple[float, float] = (float("nan"), 0.0)  # mean shadow factor in the umbra ± s.e.
+
+
+@dataclass
+class ShadowSceneResult:
+    scene: rss.ShadowScene
+    mean: np.ndarray
+    stderr: np.ndarray
+    dof: int
+    unshadowed: np.ndarray  # (R, R) ρE/π
+    regions: dict[str, np.ndarray]  # region → (R, R) bool, already ∩ the judged mask
+    budget: float
+    truth_width: tuple[float, float]  # px ± s.d. over redraws
+    results: list[ShadowEngineResult] = field(default_factory=list)
+    skipped: dict[str, str] = field(default_factory=dict)
+    reference_s: float = 0.0
+
+
+def shadow_factor(image: np.ndarray, unshadowed: np.ndarray) -> np.ndarray:
+    """(R, R) s = mean over channels of the radiance / ρE/π."""
+    return image.mean(axis=-1) / unshadowed
+
+
+def transition_px(s: np.ndarray, mask: np.ndarray) -> float:
+    lo, hi = WIDTH_LEVELS
+    return float(((s > lo) & (s < hi) & mask).sum())
+
+
+def truth_width(sr: ShadowSceneResult, seed: int) -> tuple[float, float]:
+    """W of the reference ± its s.d. over parametric redraws of the reference noise (module docstring)."""
+    s = shadow_factor(sr.mean, sr.unshadowed)
+    se = np.sqrt((sr.stderr**2).sum(axis=-1)) / 3.0 / sr.unshadowed
+    rng = np.random.default_rng(seed)
+    draws = [transition_px(s + se * rng.standard_normal(s.shape), sr.regions["all"]) for _ in range(WIDTH_DRAWS)]
+    return transition_px(s, sr.regions["all"]), float(np.std(draws, ddof=1))
+
+
+def judge_regions(image: np.ndarray, sr: ShadowSceneResult) -> dict[str, PixelJudgement]:
+    text = f"{SHADOW_BUDGET_OF_PEAK:.2%} of the peak radiance (the plane's measured margin)"
+    with np.errstate(divide="ignore", invalid="ignore"):  # the umbra's truth is 0: its relative errors are NaN
+        return {k: judge(image, sr.mean, sr.stderr, sr.dof, m, sr.budget, text) for k, m in sr.regions.items()
+                if m.any()}
+
+
+def leak(image: np.ndarray, sr: ShadowSceneResult) -> tuple[tuple[float, float], tuple[float, float]]:
+    """(fraction of umbra pixels brighter than the budget ± binomial s.e., mean s over the umbra ± s.e.)."""
+    um = sr.regions["umbra"]
+    n = int(um.sum())
+    if n == 0:
+        return (float("nan"), 0.0), (float("nan"), 0.0)
+    lit = (image[um] > sr.budget).any(axis=-1)
+    p = float(lit.mean())
+    s = shadow_factor(image, sr.unshadowed)[um]
+    return (p, float(np.sqrt(p * (1 - p) / n))), (float(s.mean()), float(s.std(ddof=1) / np.sqrt(n)) if n > 1 else 0.0)
+
+
+def measure_engine(sr: ShadowSceneResult, engine: str, shadow_type: str) -> ShadowEngineResult:
+    er = engines.render(engine, sr.scene.with_shadow_type(shadow_type))
+    img = er.image[..., :3].astype(np.float64)
+    out = ShadowEngineResult(engine, shadow_type, str(er.info.get("shadow_type_used", shadow_type)), img,
+                             er.frame_ms, er.wall_s)
+    out.judgements = judge_regions(img, sr)
+    out.width_px = transition_px(shadow_factor(img, sr.unshadowed), sr.regions["all"])
+    out.leak, out.umbra_mean = leak(img, sr)
+    return out
+
+
+def measure_shadow_scene(scene: rss.ShadowScene, s: Settings) -> ShadowSceneResult:
+    import time
+
+    t0 = time.perf_counter()
+    ref = render_reference(scene, s.shadow_spp, s.passes, s.seed)
+    t_ref = time.perf_counter() - t0
+    mask = interior_mask(ref.hit, np.ones(ref.hit.shape))
+    regions = {"all": mask, **{k: m & mask for k, m in rss.regions(scene).items()}}
+    sr = ShadowSceneResult(scene, ref.mean, ref.stderr, ref.dof, rss.unshadowed_radiance(scene), regions,
+                           SHADOW_BUDGET_OF_PEAK * float(np.nanmax(ref.mean)), (0.0, 0.0), reference_s=t_ref)
+    sr.truth_width = truth_width(sr, s.seed)
+    for engine in s.shadow_engines:
+        for t in rss.SHADOW_TYPES.get(engine, ()):
+            try:
+                sr.results.append(measure_engine(sr, engine, t))
+            except Exception as exc:  # an engine that cannot start is skipped with its reason, never a crash
+                sr.skipped[f"{engine} {t}"] = " ".join(f"{type(exc).__name__}: {exc}".split())[:300]
+    return sr
+
+
+def compute_shadows(ctx: Any, s: Settings) -> list[ShadowSceneResult]:
+    """(e) every shadow scene at ``shadow_resolution`` (none without ``shadow_engines``)."""
+    if not s.shadow_engines:
+        return []
+    scenes = rss.shadow_scenes(s.shadow_resolution)
+    return [measure_shadow_scene(sc, s) for sc in ctx.progress(scenes, "renders: shadows")]
