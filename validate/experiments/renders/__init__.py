@@ -7,6 +7,9 @@ at pixel centres
 (:mod:`validate.reference.render_reference`) and by each engine through its own pipeline in headless
 Chromium (:mod:`validate.local_models.render`), then judged per pixel (:mod:`validate.metrics.pixel_z`).
 Without Chromium or node_modules every engine is skipped with the reason.
+(e) Shadows — a directional and a spot light over the plane with a box occluder, each engine's shadow types against
+the path-traced penumbra of a light with a size — live apart: :mod:`validate.scenes.render_shadow_scenes`,
+``shadow_compute`` / ``shadow_claims`` / ``shadow_report`` here.
 """
 
 from __future__ import annotations

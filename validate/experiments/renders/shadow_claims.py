@@ -31,9 +31,10 @@ LEAK_REGRESSIONS: dict[tuple[str, str], str] = {
                          "blocker–receiver depth gap (computeShadowWithPCSS: mix(shadow, 1, depthMetric − "
                          "avgBlockerDepth))",
 }
-# (engine, shadow type) → lit-region defects kept as regressions. Measured (FULL, 64², SwiftShader): three 0.187's VSM
-# darkens whole columns of the fully lit plane far from any shadow (directional: 3 columns, s ≥ 0.956, 95.7 % of the
-# lit pixels accepted; spot: 2 columns, s ≥ 0.892, 96.9 %); every other type accepts 100 % of the lit pixels.
+# (engine, shadow type) → lit-region defects kept as regressions, claimed once over the scenes (the worst). Measured
+# (FULL, 64², SwiftShader): three 0.187's VSM darkens whole columns of the fully lit plane far from any shadow
+# (directional: 3 columns, s ≥ 0.956, 95.7 % of the lit pixels accepted; spot: 2 columns, s ≥ 0.892, 96.9 %; QUICK,
+# 32²: the spot only); every other type accepts 100 % of the lit pixels.
 LIT_REGRESSIONS: dict[tuple[str, str], str] = {
     ("three", "vsm"): "VSM darkens full-height columns of the fully lit plane far from any shadow (s down to 0.89)"}
 # (engine, shadow type) whose penumbra is wider than the path tracer's (measured: Babylon PCSS 3.3× directional,
@@ -50,18 +51,32 @@ def _id(sr: ShadowSceneResult, r: ShadowEngineResult, what: str) -> str:
     return f"renders.{r.engine}.{sr.scene.name}.{r.shadow_type}.{what}"
 
 
-def lit_claim(sr: ShadowSceneResult, r: ShadowEngineResult) -> Claim:
+def lit_claim(sr: ShadowSceneResult, r: ShadowEngineResult) -> Claim | None:
+    """The fully lit region equals Mitsuba (types in ``LIT_REGRESSIONS`` are claimed once over the scenes)."""
+    if (r.engine, r.shadow_type) in LIT_REGRESSIONS:
+        return None
     j = r.judgements["lit"]
-    key = (r.engine, r.shadow_type)
-    if key in LIT_REGRESSIONS:
-        c = Claim(_id(sr, r, "lit.regression"), f"{r.engine} {r.shadow_type} keeps a known defect: "
-                  f"{LIT_REGRESSIONS[key]}", METRIC + " (fully lit region)", MIN_ACCEPTED, j.fraction_accepted, 0.0,
-                  "<", "%", RULE)
-        return c.with_power("corrected engine behaviour: the truth itself", 1.0)
     c = Claim(_id(sr, r, "lit"), f"{r.engine} ({r.shadow_type} shadows): the fully lit plane of {sr.scene.name} equals "
               f"Mitsuba per pixel (budget {j.budget})", METRIC + " (fully lit region)", MIN_ACCEPTED,
               j.fraction_accepted, 0.0, ">", "%", RULE)
     return c.with_power("light intensity × 1.02 (engine image × 1.02)", _fraction(r, sr, "lit", r.image * 1.02))
+
+
+def lit_regression_claims(shadows: list[ShadowSceneResult]) -> list[Claim]:
+    """One claim per (engine, type) of ``LIT_REGRESSIONS``: the least accepted fully lit region over the scenes is
+    below the rule (where the artefact lands depends on the resolution, so the claim takes the worst scene)."""
+    out = []
+    for (engine, shadow_type), what in LIT_REGRESSIONS.items():
+        found = [(sr, r) for sr in shadows for r in sr.results if (r.engine, r.shadow_type) == (engine, shadow_type)]
+        if not found:
+            continue
+        worst = min(r.judgements["lit"].fraction_accepted for _, r in found)
+        names = ", ".join(sr.scene.name for sr, _ in found)
+        c = Claim(f"renders.{engine}.shadows.{shadow_type}.lit.regression", f"{engine} {shadow_type} keeps a known "
+                  f"defect: {what} (the least accepted of {names})", METRIC + " (fully lit region, worst scene)",
+                  MIN_ACCEPTED, worst, 0.0, "<", "%", RULE + "; below it the engine darkens the lit plane")
+        out.append(c.with_power("corrected engine behaviour: the truth itself", 1.0))
+    return out
 
 
 def umbra_claim(sr: ShadowSceneResult, r: ShadowEngineResult) -> Claim | None:
@@ -103,4 +118,4 @@ def shadow_claims(shadows: list[ShadowSceneResult]) -> list[Claim]:
     for sr in shadows:
         for r in sr.results:
             out += [c for c in (lit_claim(sr, r), umbra_claim(sr, r), penumbra_claim(sr, r)) if c is not None]
-    return out
+    return out + lit_regression_claims(shadows)
