@@ -137,3 +137,39 @@ def test_engine_shadow_lit_umbra_and_penumbra(engine: str, shadow_type: str) -> 
         assert leak > 0.05 and w > wt
     else:
         assert leak < 1e-3 and w < wt
+
+
+def _synthetic(scene, ref, image: np.ndarray):
+    """A ShadowSceneResult of the 16² reference with one made-up engine image (no browser)."""
+    from validate.experiments.renders import shadow_compute as sc
+    from validate.metrics.pixel_z import interior_mask
+
+    mask = interior_mask(ref.hit, np.ones(ref.hit.shape))
+    sr = sc.ShadowSceneResult(scene, ref.mean, ref.stderr, ref.dof, rss.unshadowed_radiance(scene),
+                              {"all": mask, **{k: m & mask for k, m in rss.regions(scene).items()}},
+                              2.5e-3 * float(np.nanmax(ref.mean)), (0.0, 0.0))
+    sr.truth_width = sc.truth_width(sr, 0)
+    r = sc.ShadowEngineResult("made_up", "pcf", "pcf", image, 0.0, 0.0)
+    r.judgements = sc.judge_regions(image, sr)
+    r.width_px = sc.transition_px(sc.shadow_factor(image, sr.unshadowed), mask)
+    r.leak, r.umbra_mean = sc.leak(image, sr)
+    return sr, r
+
+
+def test_shadow_claims_accept_the_truth_and_catch_a_hard_or_leaking_shadow() -> None:
+    """On the directional scene (at 16² the spot's small umbra lies on the judged border)."""
+    from validate.experiments.renders import shadow_claims as scl
+    from validate.reference.render_reference import render_reference
+
+    scene = rss.sun_shadow_scene(SMALL)
+    ref = render_reference(scene, SPP, PASSES, 0)
+    un = rss.unshadowed_radiance(scene)[..., None]
+    sr, truth = _synthetic(scene, ref, ref.mean.copy())
+    assert scl.lit_claim(sr, truth).passed and scl.umbra_claim(sr, truth).passed
+    assert not scl.penumbra_claim(sr, truth).passed  # the truth has the truth's penumbra: no "narrower" regression
+    hard = un * (rss.visibility(scene) > 0.5)[..., None]  # a delta light's hard shadow, unfiltered
+    sr, r = _synthetic(scene, ref, hard)
+    assert scl.lit_claim(sr, r).passed and scl.penumbra_claim(sr, r).passed and r.width_px == 0
+    leaky = hard + 0.05 * un * sr.regions["umbra"][..., None]  # 5 % of the light inside the umbra
+    sr, r = _synthetic(scene, ref, leaky)
+    assert not scl.umbra_claim(sr, r).passed and r.leak[0] == 1.0

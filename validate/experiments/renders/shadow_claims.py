@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...metrics.pixel_z import MIN_ACCEPTED, judge
+from ...scenes.render_scenes import DirectionalLight
 from ..base import Claim
 from .shadow_compute import ShadowEngineResult, ShadowSceneResult
 
@@ -42,7 +43,7 @@ LIT_REGRESSIONS: dict[tuple[str, str], str] = {
 PENUMBRA_WIDER: set[tuple[str, str]] = {("babylon", "pcss")}
 
 
-def _fraction(r: ShadowEngineResult, sr: ShadowSceneResult, region: str, image: np.ndarray) -> float:
+def _fraction(sr: ShadowSceneResult, region: str, image: np.ndarray) -> float:
     with np.errstate(divide="ignore", invalid="ignore"):  # the umbra's truth is 0: its relative errors are NaN
         return judge(image, sr.mean, sr.stderr, sr.dof, sr.regions[region], sr.budget, "").fraction_accepted
 
@@ -59,7 +60,7 @@ def lit_claim(sr: ShadowSceneResult, r: ShadowEngineResult) -> Claim | None:
     c = Claim(_id(sr, r, "lit"), f"{r.engine} ({r.shadow_type} shadows): the fully lit plane of {sr.scene.name} equals "
               f"Mitsuba per pixel (budget {j.budget})", METRIC + " (fully lit region)", MIN_ACCEPTED,
               j.fraction_accepted, 0.0, ">", "%", RULE)
-    return c.with_power("light intensity × 1.02 (engine image × 1.02)", _fraction(r, sr, "lit", r.image * 1.02))
+    return c.with_power("light intensity × 1.02 (engine image × 1.02)", _fraction(sr, "lit", r.image * 1.02))
 
 
 def lit_regression_claims(shadows: list[ShadowSceneResult]) -> list[Claim]:
@@ -90,12 +91,12 @@ def umbra_claim(sr: ShadowSceneResult, r: ShadowEngineResult) -> Claim | None:
                   f"three issue 23551's kind): {LEAK_REGRESSIONS[key]}", METRIC + " (umbra, truth 0)", MIN_ACCEPTED,
                   j.fraction_accepted, 0.0, "<", "%", RULE + "; below it light leaks into the umbra")
         return c.with_power("corrected engine behaviour: the truth itself (a dark umbra)",
-                            _fraction(r, sr, "umbra", np.where(um[..., None], 0.0, r.image)))
+                            _fraction(sr, "umbra", np.where(um[..., None], 0.0, r.image)))
     c = Claim(_id(sr, r, "umbra"), f"{r.engine} ({r.shadow_type} shadows): the umbra of {sr.scene.name} is dark (no "
               f"pixel above the budget {j.budget}; three issue 23551: no light leak)", METRIC + " (umbra, truth 0)",
               MIN_ACCEPTED, j.fraction_accepted, 0.0, ">", "%", RULE)
     return c.with_power(f"a light leak of {LEAK_POWER:.0%} of the unshadowed radiance over the umbra",
-                        _fraction(r, sr, "umbra", leaked))
+                        _fraction(sr, "umbra", leaked))
 
 
 def penumbra_claim(sr: ShadowSceneResult, r: ShadowEngineResult) -> Claim:
@@ -103,7 +104,7 @@ def penumbra_claim(sr: ShadowSceneResult, r: ShadowEngineResult) -> Claim:
     wider = (r.engine, r.shadow_type) in PENUMBRA_WIDER
     ratio, unc = r.width_px / wt, r.width_px * ut / wt**2
     li = sr.scene.light_size
-    size = f"{li:g}° angular radius" if sr.scene.light.__class__.__name__ == "DirectionalLight" else f"{li:g} m radius"
+    size = f"{li:g}° angular radius" if isinstance(sr.scene.light, DirectionalLight) else f"{li:g} m radius"
     c = Claim(_id(sr, r, "penumbra.regression"), f"{r.engine} {r.shadow_type} keeps a known difference: its penumbra "
               f"in {sr.scene.name} is {'wider' if wider else 'narrower'} than the path-traced one of a light of {size} "
               "(a fixed filter in shadow-map texels, not the light's size)", "penumbra width ratio W_engine/W_truth "
