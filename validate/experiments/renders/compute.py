@@ -16,6 +16,9 @@ Probe (b): ``rs.PROBE_FILE`` of ``--probes`` resampled to ``rs.PROBE_SIZE``; Mit
 of :func:`validate.scenes.render_scenes.mitsuba_envmap_nodes` (its lookup is the engines' bilinear texture exactly)
 lights white metal spheres (reference (i): glTF's single-scattering GGX, ``roughconductor``; ``probe_spp``) and
 the Lambertian sphere (``env_spp``). Without the probe file the probe scenes are left out with the reason.
+Probe materials (b): white spheres over metalness × roughness, references (i) glTF as specified (the suite's
+``gltf_metallic_roughness`` plug-in) and (ii) the multiscatter microsurface, kept apart (block at the end); the glTF
+BSDF's own checks (χ², albedo quadrature, roughconductor) in ``Measurements.bsdf_checks``.
 Rectangular area light (d): Mitsuba's ``rectangle`` with an ``area`` emitter of radiance = the light's nits, over the
 Lambertian plane and sphere (``env_spp``; three.js only — ``KIND_SKIP``).
 """

@@ -177,8 +177,8 @@ PROBE_NOTE = ("The probe (ict_uffizi_256x128.hdr from --probes, 2 × 2 box means
               "Babylon as an RGBE .hdr → HDRCubeTexture (its nearest-texel panorama-to-cube, spherical polynomial "
               "and prefilter). Reference (i) only: glTF 2.0's single-scattering GGX metal (Mitsuba roughconductor); "
               "the engines' multiscatter compensation shows as the energy ratio above 1 at high roughness. The "
-              "multiscatter microsurface reference (ii) and metallic 0 with a specular layer are not rendered "
-              "(the suite's dielectric mapping, roughplastic, is not glTF's fresnel_mix).")
+              "multiscatter microsurface reference (ii) and glTF's dielectric and intermediate metalness are in the "
+              "section '(b) Probe on glTF materials' below.")
 
 
 def probe_table(m: Measurements) -> Table | None:
@@ -312,7 +312,8 @@ def data(m: Measurements) -> dict:
     return {"scenes": {s.scene.name: {"kind": s.kind, "skipped": s.skipped, "engines": {
         e: {"frame_ms": r.frame_ms, "wall_s": r.wall_s, "version": r.version, "energy": r.energy, "info": r.info,
             "judgements": {k: j.to_json() for k, j in r.judgements.items()}} for e, r in s.engines.items()},
-        "reference_energy": s.reference_energy} for s in m.scenes}, "startup": m.startup}
+        "reference_energy": s.reference_energy} for s in m.scenes}, "startup": m.startup,
+        "bsdf_checks": m.bsdf_checks}
 
 
 def summary(m: Measurements) -> str:
@@ -329,7 +330,8 @@ def settings_json(m: Measurements) -> dict[str, Any]:
     s = m.settings
     return {"spp": s.spp, "passes": s.passes, "resolution": s.resolution, "engines": list(s.engines), "seed": s.seed,
             "env_spp": s.env_spp, "probe_roughness": list(s.probe_roughness), "probe_resolution": s.probe_resolution,
-            "probe_spp": s.probe_spp, "probe": m.probe_note}
+            "probe_spp": s.probe_spp, "probe": m.probe_note, "material_metallic": list(s.material_metallic),
+            "material_roughness": list(s.material_roughness), "bsdf_check_samples": s.bsdf_check_samples}
 
 
 # ---------------------------------------------------------------- (b) glTF materials: (i) and (ii) kept apart
