@@ -79,3 +79,20 @@ def test_mix_claim_passes_for_a_linear_engine_and_fails_for_a_blended_f0_one() -
     bent = Measurements(QUICK, [_fake(0.0, i0), _fake(0.5, 0.5 * (i0 + i1) * 0.98), _fake(1.0, i1)])  # 2 % lost
     [c] = mix_claims(bent)
     assert not c.passed
+
+
+def test_furnace_at_intermediate_metalness_claim_and_its_power() -> None:
+    from validate.experiments.renders.claims import FURNACE_ENERGY_TOL, furnace_material_claims
+    from validate.experiments.renders.compute import EngineResult, Measurements, SceneResult
+    from validate.experiments.renders.settings import QUICK
+
+    [sc] = rs.furnace_material_scenes(8, (1.0,))
+    assert sc.material.metallic == 0.5 and sc.material.model == "gltf"
+    img = np.ones((8, 8, 3))
+    sr = SceneResult(sc, "furnace_material", {"energy": img, "gltf": 0.7 * img},
+                     {"energy": (1.0, 0.0), "gltf": (0.7, 1e-3)}, np.ones((8, 8), bool))
+    for name, e in (("good", 1.0), ("lossy", 1.0 - 2 * FURNACE_ENERGY_TOL)):
+        sr.engines[name] = EngineResult(e * img, np.ones((8, 8)), 0.0, 0.0, "test", energy=e)
+    got = {c.id.split(".")[1]: c for c in furnace_material_claims(Measurements(QUICK, [sr]))}
+    assert got["good"].passed and got["good"].power is not None and got["good"].power.fails
+    assert not got["lossy"].passed

@@ -474,6 +474,14 @@ def furnace_scenes(resolution: int = 64, roughness: tuple[float, ...] = FURNACE_
     return out
 
 
+def furnace_material_scenes(resolution: int = 64, roughness: tuple[float, ...] = FURNACE_ROUGHNESS,
+                            metallic: float = 0.5) -> list[RenderScene]:
+    """(a)/(b) white glTF spheres at intermediate ``metallic`` in the white furnace (three PR 32190's test), Mitsuba
+    model "gltf" (reference (i))."""
+    return [RenderScene(f"furnace_gltf_m{metallic:g}_r{r:g}", Material(metallic=metallic, roughness=r, model="gltf"),
+                        environment=FURNACE, resolution=resolution) for r in roughness]
+
+
 def lambert_sun_scene(resolution: int = 64, lux: float = SUN_LUX) -> RenderScene:
     """(c) a Lambertian sphere (roughness 1, metallic 0, no specular layer) under a directional light."""
     return RenderScene("lambert_directional", Material(metallic=0.0, roughness=1.0, specular=0.0),

@@ -135,6 +135,8 @@ def references(scene: rs.RenderScene, kind: str,
         return {"mitsuba": render_reference(scene, s.env_spp, s.passes, s.seed)}, hit
     if kind == "probe_material":
         return material_references(scene, s), hit
+    if kind == "furnace_material":
+        return {"energy": None, "gltf": render_reference(scene, s.spp, s.passes, s.seed)}, hit
     if kind == "probe_lambert":  # the diffuse limit: the hemisphere's sample count (its power check needs ~1 %)
         return {"mitsuba": render_reference(scene, s.env_spp, s.passes, s.seed)}, hit
     if kind == "spot":
@@ -257,8 +259,11 @@ MATERIAL_REFERENCES = {"gltf": "vs (i) glTF as specified", "multiscatter": "vs (
 
 
 def material_scene_list(s: Settings, probe: np.ndarray) -> list[tuple[rs.RenderScene, str]]:
-    return [(sc, "probe_material") for sc in rs.probe_material_scenes(probe, "uffizi", s.probe_resolution,
-                                                                       s.material_roughness, s.material_metallic)]
+    """The probe's metalness × roughness grid, and metalness 0.5 in the white furnace (kind "furnace_material":
+    references "energy" = 1, a white non-absorbing sphere, and "gltf" = (i))."""
+    out = [(sc, "furnace_material") for sc in rs.furnace_material_scenes(s.resolution, s.furnace_roughness)]
+    return out + [(sc, "probe_material") for sc in rs.probe_material_scenes(probe, "uffizi", s.probe_resolution,
+                                                                             s.material_roughness, s.material_metallic)]
 
 
 def _with_model(scene: rs.RenderScene, metallic: float, model: str) -> rs.RenderScene:

@@ -84,7 +84,7 @@ def scene_figure(sr: SceneResult, ctx: Any) -> Figure | None:
 
 def findings(m: Measurements) -> list[str]:
     out = []
-    for sr in (x for x in m.scenes if x.kind != "probe_material"):  # the material rows: material_findings
+    for sr in (x for x in m.scenes if x.kind != "probe_material"):  # the probe material rows: material_findings
         for name, er in sr.engines.items():
             for kind, j in er.judgements.items():
                 out.append(f"{sr.scene.name}, {name} vs {kind}: {pct(j.fraction_accepted)} of {j.n_pixels} pixels "
@@ -439,7 +439,10 @@ def material_sections(m: Measurements, ctx: Any) -> list[Section]:
                      "(ii) multiscatter mean (W/(m²·sr))", "(i)/(ii) (×)"], material_reference_rows(m),
                     caption="(b) materials: reference (i) against (ii), glTF's own energy loss")]
     t = bsdf_check_table(m)
-    figs = [f for f in (material_figure(s, ctx) for s in scenes) if f is not None]
+    furnace = [s for s in m.scenes if s.kind == "furnace_material"]
+    tables += [scene_table(s) for s in furnace]
+    figs = [f for f in (scene_figure(s, ctx) for s in furnace) if f is not None]
+    figs += [f for f in (material_figure(s, ctx) for s in scenes) if f is not None]
     return [Section("(b) Probe on glTF materials: metalness × roughness, references (i) and (ii)", [MATERIAL_NOTE],
                     figures=figs, tables=tables + ([t] if t is not None else []))]
 
@@ -470,6 +473,12 @@ def material_findings(m: Measurements) -> list[str]:
         issue = " (three PR 32190: multiscatter energy at intermediate metalness)" if 0.0 < mat.metallic < 1.0 else ""
         out.append(f"(b) metalness {mat.metallic:g}, roughness {mat.roughness:g}{issue}: energy ratios "
                    + "; ".join(parts) + ii + ".")
+    for sr in (s for s in m.scenes if s.kind == "furnace_material"):
+        mat, e = sr.scene.material, sr.reference_energy["gltf"]
+        eng = "; ".join(f"{n} {er.energy:.5f}" for n, er in sr.engines.items())
+        out.append(f"(a) white furnace, metalness {mat.metallic:g}, roughness {mat.roughness:g} (three PR 32190: "
+                   f"multiscatter energy lost at intermediate metalness): mean radiance (truth 1) {eng}; glTF's single "
+                   f"scattering (i) {fpm(*e)}.")
     older = {s.scene.material.roughness: s for s in m.scenes if s.kind == "probe"}
     for sr in (s for s in scenes if s.scene.material.metallic == 1.0 and s.scene.material.roughness in older):
         o = older[sr.scene.material.roughness]
