@@ -447,13 +447,7 @@ def mix_claims(m: Measurements) -> list[Claim]:
 # surface; the mix of two energy-conserving lobes conserves energy), with the furnace claim's budget. Power: the
 # multiscatter removed — glTF's single scattering, reference (i) (the suite's gltf_metallic_roughness in Mitsuba).
 # Engines keeping a deviation are stated as the regression they have (power: the best other engine).
-FURNACE_# Measured (64², FULL): Babylon 9.35's image at metalness 0.5 against the mix of its own metalness-0 and -1 images has
-# bias −0.19 / −2.4 / −13.4 % at roughness 0.25 / 0.5 / 1 (67.6 / 0 / 0 % of pixels within the budget); three.js
-# 0.187 equals the mix to 0.00 % (every pixel).
-MIX_REGRESSIONS: dict[str, str] = {
-    "babylon": "its white sphere at metalness 0.5 under the probe is darker than glTF's mix of its own metalness-0 "
-               "and metalness-1 images (up to −13 % at roughness 1): energy lost at intermediate metalness, the "
-               "defect three.js fixed in PR 32190"}
+FURNACE_MIX_REGRESSIONS: dict[str, str] = {}
 
 
 def furnace_material_claims(m: Measurements) -> list[Claim]:

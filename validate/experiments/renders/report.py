@@ -395,13 +395,17 @@ def material_figure(sr: SceneResult, ctx: Any) -> Figure | None:
         images.append(np.nan_to_num(sr.references["multiscatter"]))
         titles.append("truth (ii) multiscatter")
     for name, er in sr.engines.items():
-        images += [er.image, np.repeat(np.nan_to_num(np.abs(er.judgements["gltf"].rel_image))[..., None] * 10.0, 3,
-                                       axis=-1)]
-        titles += [name, f"{name} |rel| vs (i) × 10"]
+        images.append(er.image)
+        titles.append(name)
+        for kind, label in (("gltf", "(i)"), ("multiscatter", "(ii)")):
+            if kind in er.judgements:
+                rel = np.nan_to_num(np.abs(er.judgements[kind].rel_image))
+                images.append(np.repeat(rel[..., None] * 10.0, 3, axis=-1))
+                titles.append(f"{name} |rel| vs {label} × 10")
     path, rel_path = ctx.figure_path("renders", f"{sr.scene.name}_r{sr.scene.resolution}.png")
     plots.save_image_grid(path, images, titles, exposure=1.0)
-    return Figure(rel_path, f"{sr.scene.name}: truth (i) | truth (ii) | engine | relative error vs (i) × 10 "
-                            "(white = 10 %)")
+    return Figure(rel_path, f"{sr.scene.name}: truth (i) | truth (ii) | per engine: image | relative error vs (i) × 10 "
+                            "| vs (ii) × 10 (white = 10 %)")
 
 
 def bsdf_check_table(m: Measurements) -> Table | None:
