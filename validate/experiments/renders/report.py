@@ -56,12 +56,24 @@ FLIP_NOTE = ("FLIP: HDR-FLIP (flip_evaluator, ACES tone mapper, exposures from t
              "degree) of the engine against the reference mean over the judged pixels; display only, no claim")
 
 
-def flip_mean(sr: SceneResult, image: np.ndarray, reference: np.ndarray) -> float:
-    """Mean HDR-FLIP (:func:`validate.metrics.flip.flip_hdr`) of ``image`` against ``reference`` on the judged pixels
+def flip_result(sr: SceneResult, image: np.ndarray, reference: np.ndarray) -> Any:
+    """HDR-FLIP (:func:`validate.metrics.flip.flip_hdr`) of ``image`` against ``reference`` on the judged pixels
     (negative values, none in these images, clamped)."""
     from ...metrics.flip import flip_hdr
 
-    return flip_hdr(np.nan_to_num(reference), image, sr.mask, negatives="clamp").mean
+    return flip_hdr(np.nan_to_num(reference), image, sr.mask, negatives="clamp")
+
+
+def flip_mean(sr: SceneResult, image: np.ndarray, reference: np.ndarray) -> float:
+    return flip_result(sr, image, reference).mean
+
+
+def flip_cell(sr: SceneResult, image: np.ndarray, reference: np.ndarray) -> str:
+    """"mean (exposures start…stop stops, tone mapper)" — the parameters flip_evaluator used."""
+    r = flip_result(sr, image, reference)
+    p, nan = r.parameters, float("nan")
+    return (f"{r.mean:.4f} (exposure {p.get('startExposure', nan):+.2f}…{p.get('stopExposure', nan):+.2f} stops, "
+            f"{p.get('tonemapper', '?')})")
 
 
 def scene_figure(sr: SceneResult, ctx: Any) -> Figure | None:
@@ -366,7 +378,7 @@ def material_rows(m: Measurements) -> list[list[Any]]:
                 rows.append([f"{mat.metallic:g}", f"{mat.roughness:g}", name, MATERIAL_REFERENCES[kind], j.n_pixels,
                              f"{100 * j.fraction_accepted:.2f}", fpm(j.mean_rel, j.mean_rel_unc, scale=100),
                              fpm(j.mean_signed_rel, j.mean_rel_unc, scale=100), fpm(r, u),
-                             f"{flip_mean(sr, er.image, sr.references[kind]):.4f}"])
+                             flip_cell(sr, er.image, sr.references[kind])])
         for name, why in sr.skipped.items():
             rows.append([f"{mat.metallic:g}", f"{mat.roughness:g}", name, "skipped", why, "", "", "", "", ""])
     return rows
