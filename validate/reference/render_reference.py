@@ -77,8 +77,49 @@ def trace_pass(scene_dict: dict, origins: np.ndarray, spp: int, seed: int) -> np
     return rgb.reshape(n, spp, 3).mean(axis=1)
 
 
+# ---------------------------------------------------------------- (b) material models: the suite's own plug-ins
+
+BSDF_SAMPLED = "BSDF sampling only: L = weight · L_env(ω_o), one bounce (the sphere is convex)"
+
+
+def register_models(scene: RenderScene) -> None:
+    """Register the suite's Mitsuba plug-in that the scene's material model names (``Material.model``)."""
+    if scene.material.model == "gltf":
+        from .gltf_bsdf import register
+
+        register()
+    elif scene.material.model == "multiscatter":
+        from .microsurface_bsdf import register as register_walk
+
+        register_walk()
+
+
+def trace_pass_bsdf_sampled(scene_dict: dict, origins: np.ndarray, spp: int, seed: int) -> np.ndarray:
+    """One pass of :data:`BSDF_SAMPLED` for a lone convex shape under an environment: at the hit, one ``bsdf.sample``
+    (weight = f cos/pdf, for the random walk its energy Π F = 1 at F₀ = 1 [Heitz et al. 2016 Algorithm 1]) and the
+    environment's radiance along ω_o (the reflected ray leaves the convex sphere). Unbiased without ``eval``/``pdf``
+    — the random walk's are stochastic estimates, which Mitsuba's emitter sampling and MIS would need."""
+    import drjit as dr
+    import mitsuba as mi
+
+    scene = mi.load_dict(dict(scene_dict, integrator=dict(INTEGRATOR)))
+    n = origins.shape[0]
+    sampler = mi.load_dict({"type": "independent"})
+    sampler.seed(seed, n * spp)
+    o = np.repeat(origins, spp, axis=0)
+    ray = mi.Ray3f(mi.Point3f(*(mi.Float(o[:, k]) for k in range(3))), mi.Vector3f(0.0, 0.0, -1.0))
+    si = scene.ray_intersect(ray)
+    bs, weight = si.bsdf().sample(mi.BSDFContext(), si, sampler.next_1d(), sampler.next_2d(), si.is_valid())
+    out = scene.ray_intersect(si.spawn_ray(si.to_world(bs.wo)))
+    spec = dr.select(si.is_valid() & (out.is_valid() ^ True), weight * scene.environment().eval(out), 0.0)
+    dr.eval(spec)
+    rgb = np.stack([np.array(spec[k]) for k in range(3)], axis=-1).astype(np.float64)
+    return rgb.reshape(n, spp, 3).mean(axis=1)
+
+
 def render_reference(scene: RenderScene, spp: int = 64, passes: int = 8, seed: int = 0) -> RenderReference:
-    """P passes of ``spp`` pixel-centre samples (module docstring); cached on the scene and settings."""
+    """P passes of ``spp`` pixel-centre samples (module docstring); cached on the scene and settings. A material of
+    model "multiscatter" (the random walk) is traced by :func:`trace_pass_bsdf_sampled`."""
     from ..backend import init
 
     if spp < 1:
@@ -89,11 +130,14 @@ def render_reference(scene: RenderScene, spp: int = 64, passes: int = 8, seed: i
 
     def compute() -> dict[str, np.ndarray]:
         init()
+        register_models(scene)
         d = scene.mitsuba_dict()
-        return {"passes": np.stack([trace_pass(d, origins, spp, seed * MAX_PASSES + i) for i in range(passes)])}
+        return {"passes": np.stack([trace(d, origins, spp, seed * MAX_PASSES + i) for i in range(passes)])}
 
+    walk = scene.material.model == "multiscatter"
+    trace = trace_pass_bsdf_sampled if walk else trace_pass
     parts = {"scene": scene.key(), "spp": spp, "passes": passes, "seed": seed, "integrator": INTEGRATOR,
-             "rays": "pixel centres, orthographic"}
+             "rays": "pixel centres, orthographic", **({"estimator": BSDF_SAMPLED} if walk else {})}
     p = cached("render_reference", parts, compute)["passes"]
     if not np.all(np.isfinite(p)) or p.min() < 0:
         raise ValidateError(f"{scene.name}: reference render has NaN/Inf or negative pixels")

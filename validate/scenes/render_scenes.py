@@ -32,13 +32,19 @@ Mapping to Mitsuba, written once (:func:`mitsuba_bsdf`), from glTF 2.0 Appendix 
 
 * metallic = 1: metal_brdf = conductor_fresnel(f0 = baseColor) · specular_brdf(α) — a GGX microfacet
   BRDF with Smith height-correlated masking (B.3.2). Mitsuba ``roughconductor`` (GGX, α = roughness²)
-  with ``material = "none"`` (F = 1) and ``specular_reflectance = baseColor`` is exact for
-  baseColor = 1 (F = 1 under both Schlick and the complex Fresnel) and single-scattering, as glTF's.
+  with ``material = "none"`` (F = 1) and ``specular_reflectance = baseColor`` has glTF's D and F for
+  baseColor = 1 (F = 1 under both Schlick and the complex Fresnel) and is single-scattering, as glTF's — but
+  its masking is the separable G₁(ω_i)G₁(ω_o), not glTF's height-correlated G₂ (measured pointwise:
+  :func:`validate.reference.gltf_bsdf.metal_vs_roughconductor`); model "gltf" below is the exact one.
 * metallic = 0, specular = 0: diffuse_brdf = baseColor/π (B.3.4) — Mitsuba ``diffuse``.
 * metallic = 0, specular = 1: dielectric_brdf = fresnel_mix(ior 1.5, diffuse, specular_brdf) (B.3.5).
   glTF's mix is not a layered BSDF; the physical layered counterpart is Mitsuba ``roughplastic``
   (GGX coating, int_ior 1.5, diffuse base with internal reflections [4]) — used here as the reference,
   and the report calls it what it is (a layered dielectric, not the glTF formula).
+* ``model = "gltf"`` (any metallic): Appendix B exactly — the suite's Mitsuba plug-in
+  ``gltf_metallic_roughness`` (:mod:`validate.reference.gltf_bsdf`), reference (i) of the (b) material rows.
+* ``model = "multiscatter"`` (white metal): the suite's random-walk microsurface ``microsurface_walk``
+  (:mod:`validate.reference.microsurface_bsdf`, Heitz et al. 2016), reference (ii).
 
 References
 ----------
@@ -66,28 +72,45 @@ HALF_EXTENT = 1.1  # the sphere (radius 1) fills the image with a 5 % margin for
 DIELECTRIC_IOR = 1.5  # glTF 2.0 B.3.5: F0 = ((1 − ior)/(1 + ior))² = 0.04
 
 
+# The Mitsuba model of a material (``Material.model``): "mapped" — the mapping of ``mitsuba_bsdf`` (roughconductor /
+# diffuse / roughplastic, metallic 0 or 1); "gltf" — glTF 2.0 Appendix B as specified, any metallic (the plug-in
+# ``gltf_metallic_roughness`` of validate.reference.gltf_bsdf, reference (i)); "multiscatter" — Heitz et al. 2016's
+# random-walk GGX conductor (``microsurface_walk`` of validate.reference.microsurface_bsdf, reference (ii)),
+# white metal only (baseColor 1, metallic 1: F = 1).
+MATERIAL_MODELS = ("mapped", "gltf", "multiscatter")
+
+
 @dataclass(frozen=True)
 class Material:
-    """glTF metallic-roughness parameters (see the module docstring)."""
+    """glTF metallic-roughness parameters (see the module docstring) and the Mitsuba ``model`` they map to."""
 
     base_color: tuple[float, float, float] = (1.0, 1.0, 1.0)
     metallic: float = 0.0
     roughness: float = 1.0
     specular: float = 1.0
+    model: str = "mapped"
 
     def __post_init__(self) -> None:
         for name in ("metallic", "roughness", "specular"):
             v = getattr(self, name)
             if not 0.0 <= v <= 1.0:
                 raise ValidateError(f"material: {name}={v} outside [0, 1]")
-        if self.metallic not in (0.0, 1.0):
+        if self.model not in MATERIAL_MODELS:
+            raise ValidateError(f"material: model={self.model!r} not one of {MATERIAL_MODELS}")
+        if self.model == "gltf" and self.specular != 1.0:
+            raise ValidateError(f"material: specular={self.specular}: the glTF model is the core (specular 1)")
+        if self.model == "multiscatter" and (self.metallic != 1.0 or tuple(self.base_color) != (1.0, 1.0, 1.0)):
+            raise ValidateError(f"material: the multiscatter model is white metal only (metallic 1, baseColor 1), "
+                                f"got metallic={self.metallic}, baseColor={self.base_color}")
+        if self.model == "mapped" and self.metallic not in (0.0, 1.0):
             raise ValidateError(f"material: metallic={self.metallic}: only 0 or 1 map to Mitsuba here")
-        if self.metallic == 0.0 and self.specular not in (0.0, 1.0):
+        if self.model == "mapped" and self.metallic == 0.0 and self.specular not in (0.0, 1.0):
             raise ValidateError(f"material: specular={self.specular}: only 0 or 1 map to Mitsuba here")
 
     def to_json(self) -> dict[str, Any]:
+        """The engines' parameters (and, when not "mapped", the model: part of the reference's cache key)."""
         return {"baseColor": list(self.base_color), "metallic": self.metallic, "roughness": self.roughness,
-                "specular": self.specular}
+                "specular": self.specular, **({} if self.model == "mapped" else {"model": self.model})}
 
 
 @dataclass(frozen=True)
@@ -332,6 +355,12 @@ def mitsuba_bsdf(m: Material) -> dict[str, Any]:
     """The glTF → Mitsuba mapping (module docstring, glTF 2.0 Appendix B)."""
     rgb = {"type": "rgb", "value": list(m.base_color)}
     alpha = max(m.roughness**2, 1e-4)
+    if m.model == "gltf":  # registered by validate.reference.render_reference before loading (imports run down)
+        return {"type": "gltf_metallic_roughness", **{f"base_{c}": float(v) for c, v in zip("rgb", m.base_color,
+                                                                                           strict=True)},
+                "metallic": float(m.metallic), "roughness": float(m.roughness)}
+    if m.model == "multiscatter":
+        return {"type": "microsurface_walk", "alpha": alpha, "f0": 1.0}
     if m.metallic == 1.0:
         return {"type": "roughconductor", "distribution": "ggx", "alpha": alpha, "material": "none",
                 "specular_reflectance": rgb, "sample_visible": True}
@@ -445,6 +474,14 @@ def furnace_scenes(resolution: int = 64, roughness: tuple[float, ...] = FURNACE_
     return out
 
 
+def furnace_material_scenes(resolution: int = 64, roughness: tuple[float, ...] = FURNACE_ROUGHNESS,
+                            metallic: float = 0.5) -> list[RenderScene]:
+    """(a)/(b) white glTF spheres at intermediate ``metallic`` in the white furnace (three PR 32190's test), Mitsuba
+    model "gltf" (reference (i))."""
+    return [RenderScene(f"furnace_gltf_m{metallic:g}_r{r:g}", Material(metallic=metallic, roughness=r, model="gltf"),
+                        environment=FURNACE, resolution=resolution) for r in roughness]
+
+
 def lambert_sun_scene(resolution: int = 64, lux: float = SUN_LUX) -> RenderScene:
     """(c) a Lambertian sphere (roughness 1, metallic 0, no specular layer) under a directional light."""
     return RenderScene("lambert_directional", Material(metallic=0.0, roughness=1.0, specular=0.0),
@@ -515,6 +552,20 @@ def probe_scenes(texels: np.ndarray, name: str, resolution: int, roughness: tupl
     """(b) white spheres (baseColor 1) over ``metallic`` × ``roughness`` lit only by the probe ``texels``."""
     env = Environment(name, texels=np.asarray(texels, np.float64))
     return [RenderScene(f"probe_{'metal' if mt == 1.0 else 'dielectric'}_r{r:g}", Material(metallic=mt, roughness=r),
+                        environment=env, resolution=resolution) for mt in metallic for r in roughness]
+
+
+# (b) glTF materials under the probe: metalness × roughness against (i) glTF as specified and (ii) the multiscatter
+# microsurface (white metal); metalness 0.5 is the three PR 32190 case (multiscatter energy at intermediate metalness)
+MATERIAL_METALLIC = (0.0, 0.5, 1.0)
+
+
+def probe_material_scenes(texels: np.ndarray, name: str, resolution: int, roughness: tuple[float, ...],
+                          metallic: tuple[float, ...] = MATERIAL_METALLIC, model: str = "gltf") -> list[RenderScene]:
+    """(b) white spheres (baseColor 1, the glTF core's specular layer) over ``metallic`` × ``roughness`` under the
+    probe, Mitsuba ``model`` "gltf" (reference (i)) or "multiscatter" (reference (ii), metallic 1 only)."""
+    env = Environment(name, texels=np.asarray(texels, np.float64))
+    return [RenderScene(f"probe_{model}_m{mt:g}_r{r:g}", Material(metallic=mt, roughness=r, model=model),
                         environment=env, resolution=resolution) for mt in metallic for r in roughness]
 
 

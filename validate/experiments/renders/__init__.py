@@ -1,7 +1,9 @@
 """Experiment ``renders``: engines' pixels (three.js, Babylon.js) against the Mitsuba path tracer (issue 21).
 
 Scenes (:mod:`validate.scenes.render_scenes`: (a) furnace, (b) the shared probe ``ict_uffizi_256x128.hdr`` of
-``--probes`` on white metal spheres over roughness and a Lambertian sphere, (c) directional, point and spot lights,
+``--probes`` on white metal spheres over roughness and a Lambertian sphere, and white glTF spheres over metalness ×
+roughness against (i) glTF 2.0 as specified (:mod:`validate.reference.gltf_bsdf`) and (ii) the multiscatter
+microsurface (:mod:`validate.reference.microsurface_bsdf`), kept apart, (c) directional, point and spot lights,
 (d) a rectangular area light on the plane and the sphere (three.js), (f) hemisphere light) are rendered by Mitsuba
 at pixel centres
 (:mod:`validate.reference.render_reference`) and by each engine through its own pipeline in headless

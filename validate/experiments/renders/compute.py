@@ -16,6 +16,9 @@ Probe (b): ``rs.PROBE_FILE`` of ``--probes`` resampled to ``rs.PROBE_SIZE``; Mit
 of :func:`validate.scenes.render_scenes.mitsuba_envmap_nodes` (its lookup is the engines' bilinear texture exactly)
 lights white metal spheres (reference (i): glTF's single-scattering GGX, ``roughconductor``; ``probe_spp``) and
 the Lambertian sphere (``env_spp``). Without the probe file the probe scenes are left out with the reason.
+Probe materials (b): white spheres over metalness × roughness, references (i) glTF as specified (the suite's
+``gltf_metallic_roughness`` plug-in) and (ii) the multiscatter microsurface, kept apart (block at the end); the glTF
+BSDF's own checks (χ², albedo quadrature, roughconductor) in ``Measurements.bsdf_checks``.
 Rectangular area light (d): Mitsuba's ``rectangle`` with an ``area`` emitter of radiance = the light's nits, over the
 Lambertian plane and sphere (``env_spp``; three.js only — ``KIND_SKIP``).
 """
@@ -88,6 +91,7 @@ class Measurements:
     reference_wall_s: float = 0.0
     startup: dict[str, Any] = field(default_factory=dict)
     probe_note: str = ""  # which probe (b) rendered, or why none
+    bsdf_checks: dict[str, Any] = field(default_factory=dict)  # (b) materials: the glTF BSDF's χ² and closed forms
     shadows: list[Any] = field(default_factory=list)  # (e) shadow_compute.ShadowSceneResult per scene
 
 
@@ -100,7 +104,8 @@ def scene_list(s: Settings, probe: np.ndarray | None = None) -> list[tuple[rs.Re
     if probe is None:
         return out
     out += [(sc, "probe") for sc in rs.probe_scenes(probe, "uffizi", s.probe_resolution, s.probe_roughness, (1.0,))]
-    return out + [(rs.probe_lambert_scene(probe, "uffizi", s.probe_resolution), "probe_lambert")]
+    out += [(rs.probe_lambert_scene(probe, "uffizi", s.probe_resolution), "probe_lambert")]
+    return out + material_scene_list(s, probe)
 
 
 def load_probe(ctx: Any) -> tuple[np.ndarray | None, str]:
@@ -129,6 +134,10 @@ def references(scene: rs.RenderScene, kind: str,
         return {"mitsuba": render_reference(scene, s.probe_spp, s.passes, s.seed)}, hit
     if kind == "rect":  # an area emitter: next-event estimation on the rectangle, Monte Carlo noise
         return {"mitsuba": render_reference(scene, s.env_spp, s.passes, s.seed)}, hit
+    if kind == "probe_material":
+        return material_references(scene, s), hit
+    if kind == "furnace_material":
+        return {"energy": None, "gltf": render_reference(scene, s.spp, s.passes, s.seed)}, hit
     if kind == "probe_lambert":  # the diffuse limit: the hemisphere's sample count (its power check needs ~1 %)
         return {"mitsuba": render_reference(scene, s.env_spp, s.passes, s.seed)}, hit
     if kind == "spot":
@@ -149,7 +158,7 @@ def truth(ref: RenderReference | None, hit: np.ndarray, passes: int) -> tuple[np
 
 
 def budget(kind: str, mean: np.ndarray) -> tuple[np.ndarray | float, str]:
-    if kind == "probe":
+    if kind in ("probe", "probe_material"):
         return PROBE_BUDGET_REL * mean, f"{PROBE_BUDGET_REL:.2e} × the reference (the furnace budget per unit radiance)"
     if kind in PEAK_BUDGET_KINDS:
         peak = float(np.nanmax(mean))
@@ -211,7 +220,7 @@ def compute(ctx: Any, s: Settings) -> Measurements:
 
     out = [measure_scene(sc, kind, s) for sc, kind in ctx.progress(scene_list(s, probe), "renders: scenes")]
     return Measurements(s, out, startup={"webgl2_s": runtime.startup_seconds("webgl2"), **time_info(out)},
-                        probe_note=probe_note, shadows=compute_shadows(ctx, s))
+                        probe_note=probe_note, bsdf_checks=gltf_bsdf_checks(s), shadows=compute_shadows(ctx, s))
 
 
 def time_info(scenes: list[SceneResult]) -> dict[str, Any]:
@@ -241,3 +250,91 @@ def contrast_ratio(image: np.ndarray, mean: np.ndarray, stderr: np.ndarray, mask
     draws = [sd_e / np.sqrt(max(float((m + np.sqrt(s2) * rng.standard_normal(m.size)).var() - 2 * s2.mean()), 1e-30))
              for _ in range(CONTRAST_DRAWS)]
     return float(c), float(np.std(draws, ddof=1))
+
+
+# ---------------------------------------------------------------- (b) glTF materials: references (i) and (ii)
+# Scenes "probe_material": white spheres (baseColor 1) over ``material_metallic`` × ``material_roughness`` under the
+# probe. References, kept apart: "gltf" = (i) glTF 2.0 Appendix B as specified (validate.reference.gltf_bsdf, any
+# metalness); "multiscatter" = (ii) the random-walk microsurface (validate.reference.microsurface_bsdf) — at metalness
+# 1 the walk itself, at metalness m in (0, 1) glTF's linear mix (B.2.1) with the metal lobe replaced by the walk,
+# (1 − m)·(i)(m = 0) + m·(ii)(m = 1): the dielectric's F₀ = 0.04 layer keeps its single scattering.
+MATERIAL_REFERENCES = {"gltf": "vs (i) glTF as specified", "multiscatter": "vs (ii) multiscatter microsurface"}
+
+
+def material_scene_list(s: Settings, probe: np.ndarray) -> list[tuple[rs.RenderScene, str]]:
+    """The probe's metalness × roughness grid, and metalness 0.5 in the white furnace (kind "furnace_material":
+    references "energy" = 1, a white non-absorbing sphere, and "gltf" = (i))."""
+    out = [(sc, "furnace_material") for sc in rs.furnace_material_scenes(s.resolution, s.furnace_roughness)]
+    return out + [(sc, "probe_material") for sc in rs.probe_material_scenes(probe, "uffizi", s.probe_resolution,
+                                                                             s.material_roughness, s.material_metallic)]
+
+
+def _with_model(scene: rs.RenderScene, metallic: float, model: str) -> rs.RenderScene:
+    from dataclasses import replace
+
+    mat = replace(scene.material, metallic=metallic, model=model)
+    return replace(scene, name=f"probe_{model}_m{metallic:g}_r{mat.roughness:g}", material=mat)
+
+
+def material_references(scene: rs.RenderScene, s: Settings) -> dict[str, RenderReference | None]:
+    """(i) always; (ii) where the metal lobe is present (module block comment above)."""
+    out: dict[str, RenderReference | None] = {"gltf": render_reference(scene, s.probe_spp, s.passes, s.seed)}
+    m = scene.material.metallic
+    if m == 0.0:
+        return out
+    walk = render_reference(_with_model(scene, 1.0, "multiscatter"), s.probe_spp, s.passes, s.seed)
+    if m == 1.0:
+        out["multiscatter"] = walk
+        return out
+    diel = render_reference(_with_model(scene, 0.0, "gltf"), s.probe_spp, s.passes, s.seed)
+    out["multiscatter"] = RenderReference((1 - m) * diel.mean + m * walk.mean,
+                                          np.sqrt(((1 - m) * diel.stderr) ** 2 + (m * walk.stderr) ** 2), walk.hit,
+                                          walk.spp, walk.passes, walk.seed)
+    return out
+
+
+# the glTF BSDF's own checks (validate.reference.gltf_bsdf): χ² of sample against pdf, the directional albedo through
+# sample against a float64 quadrature of the formulas, and metallic 1 against Mitsuba's roughconductor
+BSDF_CHI2_CASES = ((0.0, 0.25, 0.6), (0.0, 1.0, 0.3), (0.5, 0.5, 0.6), (1.0, 0.25, 0.6), (1.0, 1.0, 0.3))
+BSDF_CHI2_POWER = {"sample_alpha_scale": 1.1}  # a sampler 10 % too rough for its own pdf
+BSDF_ALBEDO_BASE = (0.0, 0.5, 1.0)  # R: the specular layer alone, B: white
+BSDF_ALBEDO_CASES = ((0.0, 0.25), (0.0, 1.0), (0.5, 0.5), (1.0, 0.25), (1.0, 1.0))
+BSDF_ALBEDO_MU = 0.6
+BSDF_F0_POWER = 0.05  # the dielectric's F₀ 0.04 → 0.05 (ior 1.5 → 1.57)
+BSDF_METAL_ROUGHNESS = (0.25, 0.5, 1.0)
+
+
+def gltf_bsdf_checks(s: Settings) -> dict[str, Any]:
+    """χ² (Šidák over the cases), albedo z-scores and the roughconductor comparison; each with its power case."""
+    from ...reference import gltf_bsdf as g
+
+    n, k = s.bsdf_check_samples, len(BSDF_CHI2_CASES)
+    chi2 = [g.chi2_gltf(m, r, mu, n, s.seed + 1, test_count=k) for m, r, mu in BSDF_CHI2_CASES]
+    m0, r0, mu0 = BSDF_CHI2_CASES[2]
+    chi2_power = g.chi2_gltf(m0, r0, mu0, n, s.seed + 1, test_count=k, **BSDF_CHI2_POWER)
+    albedo = []
+    for m, r in BSDF_ALBEDO_CASES:
+        mean, se = g.albedo_sampled(BSDF_ALBEDO_BASE, m, r, BSDF_ALBEDO_MU, n, s.seed + 2)
+        q = g.albedo_quadrature(BSDF_ALBEDO_BASE, m, r, BSDF_ALBEDO_MU)
+        q_half = g.albedo_quadrature(BSDF_ALBEDO_BASE, m, r, BSDF_ALBEDO_MU, nodes=96)
+        qp = g.albedo_quadrature(BSDF_ALBEDO_BASE, m, r, BSDF_ALBEDO_MU, dielectric_f0=BSDF_F0_POWER)
+        # uncertainty: the Monte Carlo standard error and the quadrature's own error (192 vs 96 nodes), in quadrature
+        unc = [float(np.hypot(e, a - b)) for e, a, b in zip(se, q, q_half, strict=True)]
+        albedo.append({"metallic": m, "roughness": r, "mu_i": BSDF_ALBEDO_MU, "sampled": mean, "se": se,
+                       "quadrature": q, "quadrature_f0_power": qp, "unc": unc,
+                       "z": [(a - b) / u for a, b, u in zip(mean, q, unc, strict=True)],
+                       "z_power": [(a - b) / u for a, b, u in zip(mean, qp, unc, strict=True)]})
+    metal = [g.metal_vs_roughconductor(r, 20_000, s.seed + 3) for r in BSDF_METAL_ROUGHNESS]
+    return {"chi2": chi2, "chi2_power": chi2_power, "albedo": albedo, "metal_vs_roughconductor": metal,
+            "samples": n}
+
+
+def linear_mix(scenes: list[SceneResult], sr: SceneResult, engine: str) -> np.ndarray | None:
+    """The engine's own (1 − m)·image(m = 0) + m·image(m = 1) at the roughness of ``sr`` (None when one is missing):
+    what glTF's material = mix(dielectric, metal, metallic) [B.2.1] renders at metalness m."""
+    m, r = sr.scene.material.metallic, sr.scene.material.roughness
+    ends = {s.scene.material.metallic: s for s in scenes if s.kind == "probe_material"
+            and s.scene.material.roughness == r and s.scene.material.metallic in (0.0, 1.0) and engine in s.engines}
+    if 0.0 not in ends or 1.0 not in ends:
+        return None
+    return (1 - m) * ends[0.0].engines[engine].image + m * ends[1.0].engines[engine].image

@@ -43,12 +43,37 @@ def scene_table(sr: SceneResult) -> Table:
                          f"{j.max_abs_z:.2f} / {j.critical_z:.2f}", fpm(j.mean_rel, j.mean_rel_unc, scale=100),
                          fpm(j.max_rel, j.max_rel_unc, scale=100), f"{100 * j.mean_signed_rel:+.3f}",
                          f"{er.energy:.5f}",
-                         f"{sr.reference_energy[kind][0]:.5f} ± {sr.reference_energy[kind][1]:.1e}"])
+                         f"{sr.reference_energy[kind][0]:.5f} ± {sr.reference_energy[kind][1]:.1e}",
+                         f"{flip_mean(sr, er.image, sr.references[kind]):.4f}"])
     for name, why in sr.skipped.items():
-        rows.append([name, "skipped", why, "", "", "", "", "", "", ""])
+        rows.append([name, "skipped", why, "", "", "", "", "", "", "", ""])
     return Table(["engine", "reference", "pixels (px)", "accepted (%)", "max|z| / z* (–)", "mean rel. err. (%)",
-                  "max rel. err. (%)", "mean rel. bias (%)", "engine mean (W/(m²·sr))", "reference mean (W/(m²·sr))"],
-                 rows, caption=sr.scene.name)
+                  "max rel. err. (%)", "mean rel. bias (%)", "engine mean (W/(m²·sr))", "reference mean (W/(m²·sr))",
+                  "mean HDR-FLIP (–)"], rows, caption=sr.scene.name + " — " + FLIP_NOTE)
+
+
+FLIP_NOTE = ("FLIP: HDR-FLIP (flip_evaluator, ACES tone mapper, exposures from the reference's own range, 67 px per "
+             "degree) of the engine against the reference mean over the judged pixels; display only, no claim")
+
+
+def flip_result(sr: SceneResult, image: np.ndarray, reference: np.ndarray) -> Any:
+    """HDR-FLIP (:func:`validate.metrics.flip.flip_hdr`) of ``image`` against ``reference`` on the judged pixels
+    (negative values, none in these images, clamped)."""
+    from ...metrics.flip import flip_hdr
+
+    return flip_hdr(np.nan_to_num(reference), image, sr.mask, negatives="clamp")
+
+
+def flip_mean(sr: SceneResult, image: np.ndarray, reference: np.ndarray) -> float:
+    return flip_result(sr, image, reference).mean
+
+
+def flip_cell(sr: SceneResult, image: np.ndarray, reference: np.ndarray) -> str:
+    """"mean (exposures start…stop stops, tone mapper)" — the parameters flip_evaluator used."""
+    r = flip_result(sr, image, reference)
+    p, nan = r.parameters, float("nan")
+    return (f"{r.mean:.4f} (exposure {p.get('startExposure', nan):+.2f}…{p.get('stopExposure', nan):+.2f} stops, "
+            f"{p.get('tonemapper', '?')})")
 
 
 def scene_figure(sr: SceneResult, ctx: Any) -> Figure | None:
@@ -71,13 +96,14 @@ def scene_figure(sr: SceneResult, ctx: Any) -> Figure | None:
 
 def findings(m: Measurements) -> list[str]:
     out = []
-    for sr in m.scenes:
+    for sr in (x for x in m.scenes if x.kind != "probe_material"):  # the probe material rows: material_findings
         for name, er in sr.engines.items():
             for kind, j in er.judgements.items():
                 out.append(f"{sr.scene.name}, {name} vs {kind}: {pct(j.fraction_accepted)} of {j.n_pixels} pixels "
                            f"accepted (z* = {j.critical_z:.2f}), mean |rel| {pm(j.mean_rel, j.mean_rel_unc)}, max "
                            f"{pm(j.max_rel, j.max_rel_unc)}, bias {j.mean_signed_rel:+.3%}.")
     out += punctual_findings(m) + hemisphere_findings(m) + probe_findings(m) + rect_findings(m)
+    out += material_findings(m)
     from .shadow_report import shadow_findings  # (e)
 
     out += shadow_findings(m.shadows)
@@ -166,8 +192,8 @@ PROBE_NOTE = ("The probe (ict_uffizi_256x128.hdr from --probes, 2 × 2 box means
               "Babylon as an RGBE .hdr → HDRCubeTexture (its nearest-texel panorama-to-cube, spherical polynomial "
               "and prefilter). Reference (i) only: glTF 2.0's single-scattering GGX metal (Mitsuba roughconductor); "
               "the engines' multiscatter compensation shows as the energy ratio above 1 at high roughness. The "
-              "multiscatter microsurface reference (ii) and metallic 0 with a specular layer are not rendered "
-              "(the suite's dielectric mapping, roughplastic, is not glTF's fresnel_mix).")
+              "multiscatter microsurface reference (ii) and glTF's dielectric and intermediate metalness are in the "
+              "section '(b) Probe on glTF materials' below.")
 
 
 def probe_table(m: Measurements) -> Table | None:
@@ -291,6 +317,7 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
         out.append(Section("(d) Rectangular area light", [RECT_NOTE],
                            figures=[f for f in (scene_figure(s, ctx) for s in rect) if f is not None],
                            tables=[t] if t is not None else []))
+    out += material_sections(m, ctx)
     from .shadow_report import shadow_sections  # (e)
 
     out += shadow_sections(m.shadows, ctx)
@@ -304,7 +331,7 @@ def data(m: Measurements) -> dict:
         e: {"frame_ms": r.frame_ms, "wall_s": r.wall_s, "version": r.version, "energy": r.energy, "info": r.info,
             "judgements": {k: j.to_json() for k, j in r.judgements.items()}} for e, r in s.engines.items()},
         "reference_energy": s.reference_energy} for s in m.scenes}, "startup": m.startup,
-        "shadows": _shadow_data(m)}
+        "bsdf_checks": m.bsdf_checks, "shadows": _shadow_data(m)}
 
 
 def _shadow_data(m: Measurements) -> dict:
@@ -327,5 +354,167 @@ def settings_json(m: Measurements) -> dict[str, Any]:
     s = m.settings
     return {"spp": s.spp, "passes": s.passes, "resolution": s.resolution, "engines": list(s.engines), "seed": s.seed,
             "env_spp": s.env_spp, "probe_roughness": list(s.probe_roughness), "probe_resolution": s.probe_resolution,
-            "probe_spp": s.probe_spp, "probe": m.probe_note, "shadow_resolution": s.shadow_resolution,
-            "shadow_spp": s.shadow_spp, "shadow_engines": list(s.shadow_engines)}
+            "probe_spp": s.probe_spp, "probe": m.probe_note, "material_metallic": list(s.material_metallic),
+            "material_roughness": list(s.material_roughness), "bsdf_check_samples": s.bsdf_check_samples,
+            "shadow_resolution": s.shadow_resolution, "shadow_spp": s.shadow_spp,
+            "shadow_engines": list(s.shadow_engines)}
+
+
+# ---------------------------------------------------------------- (b) glTF materials: (i) and (ii) kept apart
+MATERIAL_NOTE = ("White spheres (baseColor 1) over metalness × roughness under the probe, each engine's own "
+                 "MeshPhysicalMaterial / PBRMaterial with glTF's core specular layer. Two references, kept apart: "
+                 "'vs (i) glTF as specified' — glTF 2.0 Appendix B exactly (GGX D with α = roughness², Smith "
+                 "height-correlated V, Schlick F, fresnel_mix with F₀ 0.04 over Lambert, conductor_fresnel, "
+                 "material = mix(dielectric, metal, metallic)), the suite's Mitsuba plug-in gltf_metallic_roughness "
+                 "(χ²-tested; claims renders.gltf_bsdf.*): the distance to it is the engine's real-time approximation "
+                 "(prefilter, split-sum) plus its multiscatter compensation; 'vs (ii) multiscatter microsurface' — "
+                 "the random-walk GGX conductor (Heitz et al. 2016, the suite's microsurface_walk, traced by BSDF "
+                 "sampling) for the metal lobe, at metalness m the mix (1 − m)·(i)(0) + m·(ii)(1): the distance "
+                 "from (i) to (ii) is glTF's own single-scattering energy loss. Energy ratios are the mean over the "
+                 "judged pixels, ± the references' Monte Carlo standard error.")
+
+
+def _ratio(a: tuple[float, float], b: tuple[float, float]) -> tuple[float, float]:
+    """a/b ± the propagated standard errors (independent)."""
+    r = a[0] / b[0]
+    return r, abs(r) * float(np.hypot(a[1] / a[0], b[1] / b[0]))
+
+
+def material_rows(m: Measurements) -> list[list[Any]]:
+    from .compute import MATERIAL_REFERENCES
+
+    rows: list[list[Any]] = []
+    for sr in (s for s in m.scenes if s.kind == "probe_material"):
+        mat = sr.scene.material
+        for name, er in sr.engines.items():
+            for kind, j in er.judgements.items():
+                r, u = _ratio((er.energy, 0.0), sr.reference_energy[kind])
+                rows.append([f"{mat.metallic:g}", f"{mat.roughness:g}", name, MATERIAL_REFERENCES[kind], j.n_pixels,
+                             f"{100 * j.fraction_accepted:.2f}", fpm(j.mean_rel, j.mean_rel_unc, scale=100),
+                             fpm(j.mean_signed_rel, j.mean_rel_unc, scale=100), fpm(r, u),
+                             flip_cell(sr, er.image, sr.references[kind])])
+        for name, why in sr.skipped.items():
+            rows.append([f"{mat.metallic:g}", f"{mat.roughness:g}", name, "skipped", why, "", "", "", "", ""])
+    return rows
+
+
+def material_reference_rows(m: Measurements) -> list[list[Any]]:
+    """(i) against (ii): the model's own energy loss, per metalness × roughness."""
+    rows = []
+    for sr in (s for s in m.scenes if s.kind == "probe_material"):
+        e = sr.reference_energy
+        ii = e.get("multiscatter")
+        ratio = fpm(*_ratio(e["gltf"], ii)) if ii else "–"
+        rows.append([f"{sr.scene.material.metallic:g}", f"{sr.scene.material.roughness:g}", fpm(*e["gltf"]),
+                     fpm(*ii) if ii else "not rendered (no metal lobe)", ratio])
+    return rows
+
+
+def material_figure(sr: SceneResult, ctx: Any) -> Figure | None:
+    """truth (i) | truth (ii) | per engine: image | |rel| vs (i) × 10."""
+    from ...report import plots
+
+    if not sr.engines:
+        return None
+    images, titles = [np.nan_to_num(sr.references["gltf"])], ["truth (i) glTF"]
+    if "multiscatter" in sr.references:
+        images.append(np.nan_to_num(sr.references["multiscatter"]))
+        titles.append("truth (ii) multiscatter")
+    for name, er in sr.engines.items():
+        images.append(er.image)
+        titles.append(name)
+        for kind, label in (("gltf", "(i)"), ("multiscatter", "(ii)")):
+            if kind in er.judgements:
+                rel = np.nan_to_num(np.abs(er.judgements[kind].rel_image))
+                images.append(np.repeat(rel[..., None] * 10.0, 3, axis=-1))
+                titles.append(f"{name} |rel| vs {label} × 10")
+    path, rel_path = ctx.figure_path("renders", f"{sr.scene.name}_r{sr.scene.resolution}.png")
+    plots.save_image_grid(path, images, titles, exposure=1.0)
+    return Figure(rel_path, f"{sr.scene.name}: truth (i) | truth (ii) | per engine: image | relative error vs (i) × 10 "
+                            "| vs (ii) × 10 (white = 10 %)")
+
+
+def bsdf_check_table(m: Measurements) -> Table | None:
+    b = m.bsdf_checks
+    if not b:
+        return None
+    rows: list[list[Any]] = []
+    for c in b["chi2"]:
+        rows.append(["χ² sample vs pdf", f"metallic {c['metallic']:g}, roughness {c['roughness']:g}, μ_i "
+                     f"{c['mu_i']:g}", f"p = {c['p_value']:.3g}", "accepted" if c["accepts"] else "rejected"])
+    c = b["chi2_power"]
+    rows.append(["χ² power: sampler α × 1.1", f"metallic {c['metallic']:g}, roughness {c['roughness']:g}",
+                 f"p = {c['p_value']:.3g}", "accepted" if c["accepts"] else "rejected"])
+    for a in b["albedo"]:
+        rows.append(["albedo sample() vs quadrature", f"metallic {a['metallic']:g}, roughness {a['roughness']:g}, "
+                     f"μ_i {a['mu_i']:g}", " / ".join(fpm(x, u) for x, u in zip(a["sampled"], a["unc"], strict=True))
+                     + " vs " + " / ".join(f"{q:.5f}" for q in a["quadrature"]),
+                     "z " + " / ".join(f"{z:+.2f}" for z in a["z"]) + "; F₀ 0.05: z "
+                     + " / ".join(f"{z:+.1f}" for z in a["z_power"])])
+    for x in b["metal_vs_roughconductor"]:
+        rows.append(["metallic 1 vs roughconductor × G₂/(G₁G₁)", f"roughness {x['roughness']:g}, {x['pairs']} pairs",
+                     f"max rel. {x['max_rel_diff']:.2e}", f"separable (as is): {x['separable_max_rel_diff']:.3g}"])
+    return Table(["check", "case", "value (–)", "verdict / power (–)"], rows,
+                 caption="glTF BSDF checks (reference (i)); albedo per channel R / G / B of baseColor (0, 0.5, 1)")
+
+
+def material_sections(m: Measurements, ctx: Any) -> list[Section]:
+    scenes = [s for s in m.scenes if s.kind == "probe_material"]
+    if not scenes:
+        return []
+    tables = [Table(["metalness (–)", "roughness (–)", "engine", "reference", "pixels (px)", "accepted (%)",
+                     "mean rel. err. (%)", "mean rel. bias (%)", "energy ratio engine/reference (×)",
+                     "mean HDR-FLIP (–)"], material_rows(m), caption="(b) materials per engine: " + FLIP_NOTE),
+              Table(["metalness (–)", "roughness (–)", "(i) glTF mean (W/(m²·sr))",
+                     "(ii) multiscatter mean (W/(m²·sr))", "(i)/(ii) (×)"], material_reference_rows(m),
+                    caption="(b) materials: reference (i) against (ii), glTF's own energy loss")]
+    t = bsdf_check_table(m)
+    furnace = [s for s in m.scenes if s.kind == "furnace_material"]
+    tables += [scene_table(s) for s in furnace]
+    figs = [f for f in (scene_figure(s, ctx) for s in furnace) if f is not None]
+    figs += [f for f in (material_figure(s, ctx) for s in scenes) if f is not None]
+    return [Section("(b) Probe on glTF materials: metalness × roughness, references (i) and (ii)", [MATERIAL_NOTE],
+                    figures=figs, tables=tables + ([t] if t is not None else []))]
+
+
+def material_findings(m: Measurements) -> list[str]:
+    """three PR 32190 (multiscatter energy at intermediate metalness): engine/(ii) and (i)/(ii); the mix residual;
+    the older reference (i) (roughconductor, separable masking) against glTF's height-correlated one."""
+    from ...metrics.pixel_z import judge as _judge
+    from .compute import PROBE_BUDGET_REL, linear_mix
+
+    scenes = [s for s in m.scenes if s.kind == "probe_material"]
+    out = []
+    for sr in scenes:
+        mat, e = sr.scene.material, sr.reference_energy
+        parts = []
+        for name, er in sr.engines.items():
+            ri = _ratio((er.energy, 0.0), e["gltf"])
+            txt = f"{name}/(i) {fpm(*ri)}"
+            if "multiscatter" in e:
+                txt += f", {name}/(ii) {fpm(*_ratio((er.energy, 0.0), e['multiscatter']))}"
+            mix = linear_mix(scenes, sr, name) if 0.0 < mat.metallic < 1.0 else None
+            if mix is not None:
+                j = _judge(er.image, mix, np.zeros_like(mix), sr.dof, sr.mask, 2 * PROBE_BUDGET_REL * mix, "mix")
+                txt += (f", image/mix of its own m = 0 and 1 images: bias {j.mean_signed_rel:+.3%}, max |rel| "
+                        f"{j.max_rel:.2%}, {pct(j.fraction_accepted)} within 2 × the probe budget")
+            parts.append(txt)
+        ii = f"; (i)/(ii) {fpm(*_ratio(e['gltf'], e['multiscatter']))}" if "multiscatter" in e else ""
+        issue = " (three PR 32190: multiscatter energy at intermediate metalness)" if 0.0 < mat.metallic < 1.0 else ""
+        out.append(f"(b) metalness {mat.metallic:g}, roughness {mat.roughness:g}{issue}: energy ratios "
+                   + "; ".join(parts) + ii + ".")
+    for sr in (s for s in m.scenes if s.kind == "furnace_material"):
+        mat, e = sr.scene.material, sr.reference_energy["gltf"]
+        eng = "; ".join(f"{n} {er.energy:.5f}" for n, er in sr.engines.items())
+        out.append(f"(a) white furnace, metalness {mat.metallic:g}, roughness {mat.roughness:g} (three PR 32190: "
+                   f"multiscatter energy lost at intermediate metalness): mean radiance (truth 1) {eng}; glTF's single "
+                   f"scattering (i) {fpm(*e)}.")
+    older = {s.scene.material.roughness: s for s in m.scenes if s.kind == "probe"}
+    for sr in (s for s in scenes if s.scene.material.metallic == 1.0 and s.scene.material.roughness in older):
+        o = older[sr.scene.material.roughness]
+        if o.scene.resolution == sr.scene.resolution:
+            r = _ratio(o.reference_energy["mitsuba"], sr.reference_energy["gltf"])
+            out.append(f"(b) white metal, roughness {sr.scene.material.roughness:g}: the older reference (i), Mitsuba "
+                       f"roughconductor (separable masking G₁G₁), over glTF's height-correlated V: mean energy ratio "
+                       f"{fpm(*r)} (the same pixels of each scene's mask).")
+    return out

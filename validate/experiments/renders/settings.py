@@ -21,6 +21,11 @@ class Settings:
     probe_resolution: int = 64
     probe_spp: int = 256
     rect_resolution: int = 64  # (d) rectangular area light on the plane and the sphere
+    # (b) glTF materials under the probe (probe_resolution, probe_spp): metalness × roughness against (i) glTF as
+    # specified and (ii) the multiscatter microsurface (white metal; at metalness 0.5 the linear mix of glTF)
+    material_metallic: tuple[float, ...] = (0.0, 0.5, 1.0)
+    material_roughness: tuple[float, ...] = (0.25, 0.5, 1.0)
+    bsdf_check_samples: int = 200_000  # χ² histogram samples and albedo samples per case of the glTF BSDF checks
     # (e) shadows (validate.scenes.render_shadow_scenes): resolution, reference samples per pass, and which engines'
     # shadow types (render_shadow_scenes.SHADOW_TYPES) — () renders none
     shadow_resolution: int = 64
@@ -30,5 +35,6 @@ class Settings:
 
 # quick: three.js only (Babylon's page load and first prefilter cost ~80 s on 2 cores); full: both engines
 QUICK = Settings(spp=16, passes=8, engines=("three",), env_spp=256, probe_roughness=(0.25, 0.5), probe_resolution=32,
-                 probe_spp=128, rect_resolution=32, shadow_resolution=32, shadow_spp=16, shadow_engines=("three",))
+                 probe_spp=128, rect_resolution=32, material_roughness=(0.5,), bsdf_check_samples=100_000,
+                 shadow_resolution=32, shadow_spp=16, shadow_engines=("three",))
 FULL = Settings(spp=128, passes=8)
