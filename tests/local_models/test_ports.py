@@ -42,7 +42,7 @@ import numpy as np
 import pytest
 
 import validate.local_models as lm
-from validate.geometry import unit
+from validate.geometry import perp, unit
 from validate.local_models import precision
 from validate.local_models.arealight import disc_sh, sphere_cap
 from validate.local_models.brdf import brdf_multiscatter as ms
@@ -50,6 +50,11 @@ from validate.local_models.brdf import common as bc
 from validate.local_models.irradiance import sh, windowed_sh, zh3
 from validate.local_models.shadow import shadow_esm, shadow_msm, shadow_vsm
 from validate.local_models.shadow.shadow_map import FilterFootprint, footprint_dr
+from validate.local_models.specular import prefiltered_specular as ps
+from validate.local_models.specular.common import reflect
+from validate.local_models.specular_arealight import ltc as ltc_mod
+from validate.local_models.uberlight import common as uc
+from validate.scenes.area_lights import tube_geometry
 
 
 def _has_cuda() -> bool:
@@ -269,6 +274,111 @@ def _np_multiscatter(name: str, p: dict, normals: np.ndarray, lights: np.ndarray
     return g.finish((1.0 - m) * dielectric + m * metal)
 
 
+# -- ltc: the numpy original (frozen copy of specular_arealight/ltc.py's evaluation before the port) ---------
+def _np_ltc_polygon(light: dict, points: np.ndarray) -> np.ndarray:
+    shape = light.get("shape")
+    c = np.asarray(light.get("center", (0.0, 0.0, 0.0)), dtype=np.float64)
+    n_pts = len(points)
+    if shape == "rectangle":
+        nrm = unit(light["normal"])
+        t = unit(light.get("tangent", perp(nrm)))
+        t = unit(t - nrm * np.dot(t, nrm))
+        b = np.cross(nrm, t)
+        w, h = (float(x) for x in light["size"])
+        corners = [c + 0.5 * (sx * w * t + sy * h * b) for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+        return np.broadcast_to(np.array(corners), (n_pts, 4, 3))
+    if shape in ("disc", "sphere"):
+        r, sides = float(light["radius"]), ltc_mod.DISC_SIDES
+        ang = 2.0 * np.pi * np.arange(sides) / sides
+        scale = r * np.sqrt(2.0 * np.pi / (sides * np.sin(2.0 * np.pi / sides)))
+        if shape == "disc":
+            nrm = np.broadcast_to(unit(light["normal"]), (n_pts, 3))
+        else:
+            to_p = points - c
+            d = np.linalg.norm(to_p, axis=-1, keepdims=True)
+            nrm = to_p / d
+            scale = scale * d / np.sqrt(d * d - r * r)
+        t = perp(nrm)
+        b = np.cross(nrm, t)
+        sc = np.asarray(scale, dtype=np.float64).reshape(-1, 1, 1) if np.ndim(scale) else scale
+        return c + sc * (np.cos(ang)[None, :, None] * t[:, None, :] + np.sin(ang)[None, :, None] * b[:, None, :])
+    c, ax, length, r = tube_geometry(light, "oracle")
+    q = np.asarray(points, dtype=np.float64) - c
+    qp = q - (q @ ax)[:, None] * ax
+    h = np.linalg.norm(qp, axis=-1, keepdims=True)
+    b = unit(np.cross(qp / h, ax))
+    rr = r * h / np.sqrt(h * h - r * r)
+    th = np.linspace(-0.5 * np.pi, 0.5 * np.pi, ltc_mod.TUBE_ARC_SIDES + 1)
+    ends = []
+    for sign in (1.0, -1.0):
+        centre = c + sign * 0.5 * length * ax
+        arc = sign * (np.cos(th)[None, :, None] * ax + np.sin(th)[None, :, None] * b[:, None, :])
+        ends.append(centre + rr[:, :, None] * arc)
+    return np.concatenate(ends, axis=1)
+
+
+def _np_clipped_form_factor(poly: np.ndarray) -> np.ndarray:
+    n, k, _ = poly.shape
+    cur, nxt = poly, np.roll(poly, -1, axis=1)
+    zc, zn = cur[..., 2], nxt[..., 2]
+    t = np.where(np.abs(zc - zn) > 1e-300, zc / np.where(np.abs(zc - zn) > 1e-300, zc - zn, 1.0), 0.0)
+    cross_pt = cur + t[..., None] * (nxt - cur)
+    cross_pt[..., 2] = 0.0
+    slots = np.empty((n, 2 * k, 3))
+    valid = np.empty((n, 2 * k), dtype=bool)
+    slots[:, 0::2], slots[:, 1::2] = cur, cross_pt
+    valid[:, 0::2], valid[:, 1::2] = zc >= 0.0, (zc >= 0.0) != (zn >= 0.0)
+    slots = unit(slots)
+    idx = np.broadcast_to(np.arange(2 * k), (n, 2 * k))
+    nxt_idx = np.full((n, 2 * k), -1)
+    for off in range(2 * k - 1, 0, -1):
+        cand = (idx + off) % (2 * k)
+        nxt_idx = np.where(np.take_along_axis(valid, cand, 1), cand, nxt_idx)
+    a = slots
+    b = np.take_along_axis(slots, np.maximum(nxt_idx, 0)[..., None], 1)
+    cosang = np.clip(np.sum(a * b, -1), -1.0, 1.0)
+    cr = np.cross(a, b)
+    crn = np.linalg.norm(cr, axis=-1)
+    term = np.where(crn > 1e-12, np.arccos(cosang) * cr[..., 2] / np.maximum(crn, 1e-300), 0.0)
+    use = valid & (nxt_idx >= 0) & (np.sum(valid, axis=1, keepdims=True) >= 3)
+    return np.abs(np.sum(np.where(use, term, 0.0), axis=1)) / (2.0 * np.pi)
+
+
+def _np_ltc(light: dict, alpha: float, f0: np.ndarray, points: np.ndarray, normals: np.ndarray,
+            views: np.ndarray) -> np.ndarray:
+    tab = ltc_mod.load_table()
+    frames, mu = ltc_mod.local_frames(normals, views)
+    m_inv, norm, fres = tab.lookup(alpha, np.clip(mu, 0.0, 1.0))
+    poly = _np_ltc_polygon(light, points) - points[:, None, :]
+    local = np.einsum("nij,nkj->nki", frames, poly)
+    front = np.sum((np.asarray(light.get("center"), dtype=np.float64) - points)
+                   * np.asarray(light.get("normal", (0.0, 0.0, 0.0)), dtype=np.float64), -1) < 0.0
+    if light.get("shape") in ("sphere", "tube"):
+        front = np.ones(len(points), dtype=bool)
+    ff = np.where(front & (mu > 0.0), _np_clipped_form_factor(np.einsum("nij,nkj->nki", m_inv, local)), 0.0)
+    return float(light.get("radiance", 1.0)) * ff[:, None] * (f0[None, :] * norm[:, None]
+                                                              + (1.0 - f0[None, :]) * fres[:, None])
+
+
+def _np_fore_june_printed(light: dict, points: np.ndarray, normals: np.ndarray, views: np.ndarray,
+                          material: dict) -> np.ndarray:
+    """uberlight_fore_june_printed with its falloff in numpy float64 (eq. 20.47 as printed; shade as it is)."""
+    i0, d0, alpha, m = (float(light[k]) for k in ("intensity", "d0", "alpha", "max_intensity"))
+    k = i0 / d0 ** alpha
+    s = math.log(k / m)
+    beta = -alpha / s
+    d = np.maximum(np.linalg.norm(points - np.asarray(light["position"]), axis=1), 1e-300)
+    f = np.where(d < d0, m * np.exp(s * (d0 / d) ** beta), k * (d0 / d) ** alpha) / i0
+    return uc.shade(light, points, normals, views, material, None, f)
+
+
+def _np_phong_prefiltered(radiance: np.ndarray, s: float, ks: float, normals: np.ndarray,
+                          views: np.ndarray) -> np.ndarray:
+    """phong_prefiltered(_s) as it was: r = 2(n·v)n − v in numpy float64, the map sparse on that r, looked up there."""
+    r = reflect(normals, views)
+    return ks * ps.prefilter_phong_cube(radiance, s, needed=r).lookup(r)
+
+
 # -- inputs ---------------------------------------------------------------------------------------------------
 def _receivers(n: int = 200, seed: int = 7) -> tuple[np.ndarray, np.ndarray]:
     rng = np.random.default_rng(seed)
@@ -402,6 +512,73 @@ def _specular_case(name: str, shape: str) -> Callable[[], tuple[np.ndarray, np.n
     return run
 
 
+def _ltc_case() -> tuple[np.ndarray, np.ndarray]:
+    """ltc on the four shapes (a rectangle and a disc facing down, one-sided; a sphere; a tube) × α = 0.1, 0.4,
+    0.9 × 400 random receivers (some behind the lights, some with n·v ≤ 0, polygons crossing the horizon)."""
+    pts, nrm = _receivers(400, seed=9)
+    views = unit(nrm + np.random.default_rng(13).normal(0.0, 0.6, nrm.shape))
+    got, want = [], []
+    for light in LTC_LIGHTS:
+        for alpha in (0.1, 0.4, 0.9):
+            brdf = {"alpha": alpha, "f0": (0.9, 0.6, 0.3)}
+            got.append(lm.FAMILIES["specular_arealight"].call("ltc", light, brdf, pts, nrm, views))
+            want.append(_np_ltc(light, alpha, np.array(brdf["f0"]), pts, nrm, views))
+    return np.concatenate(got), np.concatenate(want)
+
+
+LTC_LIGHTS = [
+    {"shape": "rectangle", "center": (0.1, 2.5, -0.2), "normal": (0.0, -1.0, 0.0), "size": (1.2, 0.7),
+     "tangent": (1.0, 0.0, 0.3), "radiance": 2.0},
+    {"shape": "disc", "center": (0.1, 2.5, -0.2), "normal": (0.0, -1.0, 0.0), "radius": 0.5, "radiance": 2.0},
+    {"shape": "sphere", "center": (0.1, 2.5, -0.2), "radius": 0.3, "radiance": 2.0},
+    {"shape": "tube", "center": (0.1, 2.5, -0.2), "radius": 0.3, "radiance": 2.0, "axis": (1.0, 0.0, 0.2),
+     "length": 1.5},
+]
+
+
+def _uberlight_light() -> dict:
+    """A projector at (0, 3, 0) looking down, soft superellipse and distance edges, Fore June's d₀ = 3.3 m (the
+    receivers lie 2.5–4.8 m away: both branches), α = 2, M = 3 K."""
+    i0, d0, alpha = 5.0, 3.3, 2.0
+    return {"position": (0.0, 3.0, 0.0), "axes": ((1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (0.0, -1.0, 0.0)),
+            "intensity": i0, "width": 0.8, "height": 0.6, "width_edge": 0.2, "height_edge": 0.15, "roundness": 1.3,
+            "near": 0.5, "far": 10.0, "near_edge": 0.3, "far_edge": 2.0, "d0": d0, "alpha": alpha,
+            "max_intensity": 3.0 * i0 / d0 ** alpha}
+
+
+def _fore_june_case() -> tuple[np.ndarray, np.ndarray]:
+    pts, nrm = _receivers(2000, seed=5)
+    views = unit(nrm + np.random.default_rng(6).normal(0.0, 0.5, nrm.shape))
+    mat = {"albedo": 0.7, "ks": 0.3, "specular_exponent": 20.0}
+    light = _uberlight_light()
+    got = lm.FAMILIES["uberlight"].call("uberlight_fore_june_printed", light, pts, nrm, views, mat)
+    near = np.linalg.norm(pts - np.asarray(light["position"]), axis=1) < light["d0"]
+    assert min(np.sum(near & (got > 0)), np.sum(~near & (got > 0))) > 100  # both branches lit
+    return got, _np_fore_june_printed(light, pts, nrm, views, mat)
+
+
+def _phong_env() -> np.ndarray:
+    rng = np.random.default_rng(31)
+    rad = rng.uniform(0.2, 1.0, (32, 64, 3))
+    rad[6:9, 20:24] += 30.0  # a small bright source: the lobes see real gradients
+    return rad
+
+
+def _phong_case() -> tuple[np.ndarray, np.ndarray]:
+    """phong_prefiltered (map exponent s + 1) and phong_prefiltered_s at s = 10, 100 on 1000 random (n, v) with
+    n·v > 0 (face sizes 32 and 128)."""
+    n, v = _brdf_directions(1000, seed=8)[:2]
+    v = np.where(np.sum(n * v, axis=1, keepdims=True) < 0, -v, v)
+    rad, fam = _phong_env(), lm.FAMILIES["specular"]
+    got, want = [], []
+    for s in (10.0, 100.0):
+        brdf = {"model": "phong", "exponent": s, "reflectance": 0.8}
+        for name, sm in (("phong_prefiltered", s + 1.0), ("phong_prefiltered_s", s)):
+            got.append(fam.call(name, rad, brdf, n, v))
+            want.append(_np_phong_prefiltered(rad, sm, 0.8, n, v))
+    return np.concatenate(got), np.concatenate(want)
+
+
 CASES = {
     "cap_exact": _arealight_case("cap_exact", _np_cap, 1e-12),
     "sh_order2": _arealight_case("sh_order2", lambda *a: _np_sh(*a, 2), 1e-12),
@@ -416,6 +593,9 @@ CASES = {
     "esm": (_shadow("esm"), 2e-5, "absolute"),
     "vsm": (_shadow("vsm"), 2e-4, "absolute"),
     "msm": (_shadow("msm"), 1e-2, "absolute"),
+    "ltc": (_ltc_case, 1e-4, "relative"),
+    "uberlight_fore_june_printed": (_fore_june_case, 1e-5, "relative"),
+    "phong_prefiltered": (_phong_case, 1e-5, "relative"),
     **{name: (_brdf_case(name, _np_classic), bound, "relative") for name, bound in BRDF_BOUNDS.items()},
     **{name: (_brdf_case(name, _np_multiscatter, MULTISCATTER_PARAMS), bound, "relative")
        for name, bound in MULTISCATTER_BOUNDS.items()},
@@ -432,6 +612,36 @@ def test_port_equals_its_numpy_original(case: str, backend: str) -> None:
     err = np.abs(got - want).max() / (np.abs(want).max() if kind == "relative" else 1.0)
     assert err <= bound, f"{case} on {backend}: {kind} difference {err:.3g} > {bound:g}"
     print(f"{case} {backend}: {kind} difference {err:.3g} (bound {bound:g})")
+
+
+@pytest.mark.parametrize("case", ["ltc", "uberlight_fore_june_printed", "phong_prefiltered"])
+def test_port_forced_to_float64_is_its_numpy_original(case: str) -> None:
+    """The ports computed in float64 (llvm) equal their numpy originals to 1e-10 of the largest value (≈ 10⁶ u of
+    float64: a few hundred operations, the LTC polygon's 66 edges, pow/exp): the float32 differences above are
+    rounding, not a different formula. (phong: the map itself is float32 in both, only r differs.)"""
+    run, _, _ = CASES[case]
+    with precision.computing_in("float64", backend="llvm"):
+        got, want = run()
+    err = np.abs(got - want).max() / np.abs(want).max()
+    assert err <= 1e-10, f"{case}: float64 port vs numpy {err:.3g}"
+
+
+def test_ltc_clipping_equals_the_numpy_slots_on_random_polygons() -> None:
+    """form_factor_dr's clipping (edge parts above z = 0, each entry joined to the exit before it) against the
+    frozen numpy slot walk, in float64, on 3000 random polygons of 3–8 vertices (random order: non-convex and
+    self-intersecting ones too), about half of their vertices below the horizon: equal to 1e-12 (absolute; F ≤ a
+    few); the float32 form within 1e-5 absolute (≤ 16 edges' terms of |θ| ≤ π, each ≈ 8u: 16 · π · 8u ≈ 2.4e-5
+    before the 1/2π → 4e-6)."""
+    rng = np.random.default_rng(41)
+    for k in range(3, 9):
+        poly = rng.normal(size=(500, k, 3))
+        poly[..., 2] += 0.3
+        want = _np_clipped_form_factor(poly)
+        for dtype, tol in (("float64", 1e-12), ("float32", 1e-5)):
+            with precision.computing_in(dtype, backend="llvm"):
+                got = ltc_mod.clipped_form_factor(poly)
+            assert np.abs(got - want).max() <= tol, f"K = {k}, {dtype}: {np.abs(got - want).max():.3g}"
+        assert np.sum(want > 0) > 300 and np.sum((poly[..., 2] < 0).any(axis=1) & (poly[..., 2] >= 0).any(axis=1)) > 300
 
 
 # -- texture lookups routed through the policy (irradiance maps, the split sum's DFG table) -------------------

@@ -168,10 +168,44 @@ def to_np(x: Any, shape: tuple[int, ...] | None = None) -> np.ndarray:
     return out.reshape(shape) if shape is not None else out
 
 
-def vec_to_dr(a: np.ndarray) -> tuple[Any, Any, Any]:
-    """(N, 3) numpy → three flat drjit arrays (x, y, z) of the active dtype."""
+def vec_to_dr(a: Any) -> tuple[Any, Any, Any]:
+    """(N, 3) numpy → three flat drjit arrays (x, y, z) of the active dtype, gathered from one packed input (see
+    :func:`packed_to_dr`). Three drjit arrays (x, y, z) of the active type (directions computed in drjit by the
+    caller) are handed back as they are."""
+    if isinstance(a, (tuple, list)) and len(a) == 3 and all(type(c) is float_type() for c in a):
+        return a[0], a[1], a[2]
     m = np.asarray(a, dtype=np.float64).reshape(-1, 3)
-    return to_dr(m[:, 0]), to_dr(m[:, 1]), to_dr(m[:, 2])
+    x, y, z = packed_to_dr(m[:, 0], m[:, 1], m[:, 2])
+    return x, y, z
+
+
+def packed_to_dr(*columns: Any) -> list[Any]:
+    """Equal-length numpy columns → drjit arrays of the active dtype, gathered from *one* input array (the columns
+    back to back). With one input per column the kernel's hash follows the order drjit numbers its variables in, so
+    a repeated call of the same technique missed the kernel cache and recompiled (measured: tests/local_models/
+    test_ports.py's kernel-history test; commit 1e41a37 found it first in brdf's GeometryDr)."""
+    import drjit as dr
+
+    cols = [np.asarray(c, dtype=np.float64).ravel() for c in columns]
+    n = len(cols[0])
+    if any(len(c) != n for c in cols):
+        raise ValidateError(f"packed_to_dr: columns of lengths {[len(c) for c in cols]}: expected equal lengths")
+    packed = to_dr(np.concatenate(cols)) if cols else None
+    idx = dr.arange(uint_type(), n)
+    return [dr.gather(float_type(), packed, idx + k * n) for k in range(len(cols))]
+
+
+def constants_dr(values: Any) -> list[Any]:
+    """Per-call numbers (a light's position, a BRDF parameter) as width-1 reads of one evaluated drjit array:
+    opaque to the kernel, so the next call with other numbers reuses the compiled kernel (a Python float is baked
+    into the kernel as a literal, and a new literal is a new kernel)."""
+    import drjit as dr
+
+    flat = np.asarray(values, dtype=np.float64).ravel()
+    data = to_dr(flat)
+    dr.make_opaque(data)
+    u = uint_type()
+    return [dr.gather(float_type(), data, u(k)) for k in range(len(flat))]
 
 
 def rgb_to_np(r: Any, g: Any, b: Any, n: int) -> np.ndarray:
