@@ -30,6 +30,29 @@ family's dtype (:mod:`validate.local_models.precision`), and compares it with th
   the microfacet term's 5e-5 above; the tables' linear interpolation in drjit (63 segments summed) adds
   ≤ 63 u · TV(E) ≈ 4e-6 (TV(E) ≤ 1); measured ≤ 5.0e-6 (scalar), 2.4e-6 (llvm).
 
+* float32 (specular_arealight: ltc), relative to max L_o over 4 shapes × α ∈ {0.1, 0.4, 0.9} × 400 receivers: a
+  transformed vertex's direction carries ε ≤ (8 + 3κ)u (p and the light rounded, one subtraction, the frame's
+  3-term dot products, then M⁻¹ of condition number κ ≤ 110 over the table rows of α ≥ 0.09 (measured), with
+  the table coordinate x = ‖n − v‖/√2 read to u, not √(1 − μ) to √u); the clamped-cosine integral F over a
+  polygon of angular radius ρ moves by ≤ 2ε/ρ of itself (D_o ≤ 1/π on a boundary of length ≤ 2πρ, over an
+  area ≈ πρ²); ρ ≥ 0.065 rad here (the 0.3 m sphere 4.6 m away, α = 0.9, κ ≈ 2: 2 · 14u/0.065 = 2.6e-5) and
+  the sharp rows are stretched by M⁻¹ (α = 0.1: ρ ≳ 0.65, 2 · 338u/0.65 = 6.2e-5): bound 1e-4; measured 1.4e-6
+  (4.5e-6 per light); the edge terms use atan2(‖a × b‖, a·b), exact to a few u for short edges, where acos(a·b)
+  loses √u. Forced to float64 ≤ 1e-10 (the same formula; the numpy walk of the clipped slots and the drjit
+  exit/entry pairing agree to 1e-12 on random, also non-convex, polygons);
+* float32 (uberlight: uberlight_fore_june_printed), relative to max L_o over 2000 receivers on both branches:
+  the shading is the same drjit float32 code in both; the falloff adds (d₀/d)^α and M exp(s (d₀/d)^β) in float32:
+  d to 3u, the ratio to 4u, pow to α·4u + 2u (x^a = exp(a ln x): |a ln x| u), exp(s t) to |s t|·(β·4u) + 2u
+  with |s| = ln 3, β = α/ln 3, t ≤ (3.3/2.5)^β: ≲ 20u = 1.2e-6; bound 1e-5; measured 2.1e-7;
+* float32 (specular: phong_prefiltered, phong_prefiltered_s at s = 10, 100, k_s = 0.8), relative to max L_o over
+  1000 random (n, v): r = 2(n·v)n − v in float32 is within 8u per component of the float64 one; the lookup moves
+  by the texel coordinate's error times the largest neighbour difference ΔP, 8u k_s (2NΔP + P) (half of
+  glsl_split_sum_ggx's 16u bound, test_glsl_techniques.py, with S = k_s), plus the two sparse maps' float32
+  difference (the same texels summed over other candidate sets) ≤ 16u k_s P: at s = 100 (N = 128, this map's 30×
+  bright patch) 1.4e-4 = 8e-6 of max L_o (computed in :func:`test_phong_prefiltered_equals_its_glsl_form`);
+  bound 1e-5, measured 5.8e-7. The map stays the float32 numpy prefilter (per-environment set-up), built on the
+  footprint of the drjit r. Against the GLSL form (llvmpipe): ≤ 16u k_s (2NΔP + 2P), measured 3.8e-7 of max L_o.
+
 The numbers these bounds are checked against are printed in each assertion message.
 """
 
@@ -716,3 +739,52 @@ def test_shadow_map_lookups_compute_in_float32_on_every_backend(backend: str) ->
     for g, w in zip(got[1:], want[1:], strict=True):
         assert np.abs(g - w).max() <= 1e-5, f"{backend}: {np.abs(g - w).max():.3g}"
     assert 0.05 < want[1].mean() < 0.95  # the map really shadows part of the receivers
+
+
+# -- drjit vs GLSL where the suite's GLSL runtime runs the same technique -------------------------------------
+PHONG_GLSL = """// validate: family=specular
+// validate: name=glsl_phong_prefiltered_check
+// validate: brdf=phong
+// validate: description=phong_prefiltered as a fragment shader: k_s P_{s+1}(r), the harness's Phong map
+vec3 specular(vec3 n, vec3 v) {
+    float nv = dot(n, v);
+    return u_reflectance * prefiltered_radiance(2.0 * nv * n - v);
+}
+"""
+
+
+def test_phong_prefiltered_equals_its_glsl_form(tmp_path) -> None:  # noqa: ANN001
+    """phong_prefiltered (drjit, float32) against the same shading as a fragment shader on llvmpipe (the specular
+    family's GLSL harness builds phong_prefiltered's own map, P_{s+1}, on a footprint dilated 1e-4 rad) at
+    s = 10, 100 on 2000 random (n, v) and the axis / edge / corner directions (face seams). Both are float32; r
+    differs by ≤ 8u per component each way (inputs rounded alike, one dot product, two products: 16u between
+    them), so the lookups differ by ≤ 16u · k_s (2NΔP + P) (test_glsl_techniques.py's split-sum note with
+    S = k_s), plus the two sparse maps' own float32 difference: the same texels summed over other candidate sets
+    (convolve_zonal's batches), ≤ 16u · P: |ΔL| ≤ 16u k_s (2NΔP + 2P), P, ΔP the map's maximum and largest
+    neighbour difference."""
+    from validate.gl import runtime
+    from validate.local_models import glsl_technique as gt
+
+    ok, why = runtime.available("llvmpipe")
+    if not ok:
+        pytest.skip(f"no llvmpipe GL: {why}")
+    path = tmp_path / "phong_check.glsl"
+    path.write_text(PHONG_GLSL, encoding="utf-8")
+    tech = gt.technique_from_file(path)
+    rng = np.random.default_rng(23)
+    n, v = unit(rng.standard_normal((2000, 3))), unit(rng.standard_normal((2000, 3)))
+    v = np.where(np.sum(n * v, axis=1, keepdims=True) < 0, -v, v)
+    axes = unit(np.array([[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 0], [0, 1, 1], [1, 0, 1], [1, 1, 1]], float))
+    n, v = np.r_[n, axes, -axes], np.r_[v, axes, -axes]
+    rad, fam = _phong_env(), lm.FAMILIES["specular"]
+    for s in (10.0, 100.0):
+        brdf = {"model": "phong", "exponent": s, "reflectance": 0.8}
+        g, p = fam.call(tech, rad, brdf, n, v), fam.call("phong_prefiltered", rad, brdf, n, v)
+        pad = np.asarray(ps.prefilter_phong_cube(rad, s + 1.0).padded, dtype=np.float64)
+        d_p = max(np.abs(np.diff(pad, axis=1)).max(), np.abs(np.diff(pad, axis=2)).max())
+        bound = 16 * 2.0**-24 * 0.8 * (2 * pad.shape[1] * d_p + 2 * pad.max())
+        err = np.abs(g - p).max()
+        assert np.all(np.isfinite(g)) and p.min() > 0.1
+        assert err <= bound, f"s = {s}: |GLSL − drjit| = {err:.3g} > {bound:.3g}"
+        print(f"phong_prefiltered s = {s}: |GLSL − drjit| = {err:.3g} (bound {bound:.3g}, "
+              f"{err / p.max():.3g} of max L)")

@@ -181,18 +181,20 @@ def vec_to_dr(a: Any) -> tuple[Any, Any, Any]:
 
 def packed_to_dr(*columns: Any) -> list[Any]:
     """Equal-length numpy columns → drjit arrays of the active dtype, gathered from *one* input array (the columns
-    back to back). With one input per column the kernel's hash follows the order drjit numbers its variables in, so
-    a repeated call of the same technique missed the kernel cache and recompiled (measured: tests/local_models/
-    test_ports.py's kernel-history test; commit 1e41a37 found it first in brdf's GeometryDr)."""
+    side by side, row-major). With one input per column the kernel's hash follows the order drjit numbers its
+    variables in, so a repeated call of the same technique missed the kernel cache and recompiled (measured with
+    drjit's kernel history; commit 1e41a37 found it first in brdf's GeometryDr)."""
     import drjit as dr
 
     cols = [np.asarray(c, dtype=np.float64).ravel() for c in columns]
-    n = len(cols[0])
+    n, k = len(cols[0]), len(cols)
     if any(len(c) != n for c in cols):
         raise ValidateError(f"packed_to_dr: columns of lengths {[len(c) for c in cols]}: expected equal lengths")
-    packed = to_dr(np.concatenate(cols)) if cols else None
-    idx = dr.arange(uint_type(), n)
-    return [dr.gather(float_type(), packed, idx + k * n) for k in range(len(cols))]
+    # row-major (n, k): entry j of row i at k·i + j, offsets that do not depend on n (an offset j·n would be a
+    # literal of the size, and a new size a new kernel)
+    packed = to_dr(np.stack(cols, axis=1))
+    idx = dr.arange(uint_type(), n) * k
+    return [dr.gather(float_type(), packed, idx + j) for j in range(k)]
 
 
 def constants_dr(values: Any) -> list[Any]:
