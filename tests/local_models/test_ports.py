@@ -53,7 +53,11 @@ family's dtype (:mod:`validate.local_models.precision`), and compares it with th
   bound 1e-5, measured 5.8e-7. The map stays the float32 numpy prefilter (per-environment set-up), built on the
   footprint of the drjit r. Against the GLSL form (llvmpipe): ≤ 16u k_s (2NΔP + 2P), measured 3.8e-7 of max L_o.
 
-The numbers these bounds are checked against are printed in each assertion message.
+The numbers these bounds are checked against are printed in each assertion message. Two more checks on the ports:
+phong_prefiltered against the same shading as a fragment shader in the suite's GLSL harness (the only one of the
+three with a GLSL form: no LTC shader exists here, and Fore June's listing codes the *listing's* near branch on the
+depth, not eq. 20.47 as printed), and drjit's kernel cache: a second call with new numbers, of the same or a new
+size, compiles no kernel (on main's code each of the six techniques checked compiles one per call).
 """
 
 from __future__ import annotations
@@ -788,3 +792,69 @@ def test_phong_prefiltered_equals_its_glsl_form(tmp_path) -> None:  # noqa: ANN0
         assert err <= bound, f"s = {s}: |GLSL − drjit| = {err:.3g} > {bound:.3g}"
         print(f"phong_prefiltered s = {s}: |GLSL − drjit| = {err:.3g} (bound {bound:.3g}, "
               f"{err / p.max():.3g} of max L)")
+
+
+# -- drjit's kernel cache: a new call with new numbers (and a new size) compiles nothing ----------------------
+def _recompile_cases() -> dict[str, Callable[[int, int], object]]:
+    """technique → call(variant, n): variant 0, 1, 2 change the light / BRDF / map numbers, n the receiver count."""
+    def receivers(v: int, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        pts, nrm = _receivers(n, seed=30 + v)
+        return pts, nrm, unit(nrm + np.random.default_rng(v).normal(0.0, 0.6, nrm.shape))
+
+    def ltc(v: int, n: int) -> object:
+        light = dict(LTC_LIGHTS[2], radius=0.3 + 0.05 * v, center=(0.1, 2.5 + 0.1 * v, -0.2))
+        return lm.FAMILIES["specular_arealight"].call("ltc", light, {"alpha": 0.3 + 0.05 * v, "f0": 0.9 - 0.1 * v},
+                                                      *receivers(v, n))
+
+    def rep(v: int, n: int) -> object:
+        light = dict(LTC_LIGHTS[2], radius=0.3 + 0.05 * v, radiance=2.0 + v)
+        return lm.FAMILIES["specular_arealight"].call("representative_point", light,
+                                                      {"alpha": 0.3 + 0.05 * v, "f0": 0.9 - 0.1 * v},
+                                                      *receivers(v, n))
+
+    def fore_june(v: int, n: int) -> object:
+        light = dict(_uberlight_light(), d0=3.3 + 0.1 * v, width=0.8 + 0.05 * v, intensity=5.0 + v)
+        return lm.FAMILIES["uberlight"].call("uberlight_fore_june_printed", light, *receivers(v, n),
+                                             {"albedo": 0.7, "ks": 0.3, "specular_exponent": 20.0})
+
+    def cap(v: int, n: int) -> object:
+        return lm.FAMILIES["arealight"].call("cap_exact", dict(LIGHTS[0], radius=0.6 + 0.05 * v),
+                                             *receivers(v, n)[:2])
+
+    def sh9(v: int, n: int) -> object:
+        return lm.FAMILIES["irradiance"].call("sh9", _phong_env() * (1.0 + v), receivers(v, n)[1])
+
+    def phong(v: int, n: int) -> object:
+        _, nrm, vw = receivers(v, n)
+        vw = np.where(np.sum(nrm * vw, axis=1, keepdims=True) < 0, -vw, vw)
+        return lm.FAMILIES["specular"].call("phong_prefiltered", _phong_env(),
+                                            {"model": "phong", "exponent": 10.0, "reflectance": 0.8 - 0.1 * v}, nrm, vw)
+
+    return {"ltc": ltc, "representative_point": rep, "uberlight_fore_june_printed": fore_june, "cap_exact": cap,
+            "sh9": sh9, "phong_prefiltered": phong}
+
+
+@pytest.mark.parametrize("name", list(_recompile_cases()))
+def test_second_call_with_new_numbers_compiles_no_kernel(name: str) -> None:
+    """On llvm, after a first call, calls with other light / BRDF / map numbers, same size and a new size, find
+    every kernel in drjit's cache (dr.kernel_history: cache_hit, and not from the disk cache, which would hide a
+    new hash): per-call numbers enter as opaque values and the receivers as one packed input
+    (precision.constants_dr / packed_to_dr). A literal baked in, or one input per column, fails this."""
+    import drjit as dr
+
+    call = _recompile_cases()[name]
+    flag = dr.flag(dr.JitFlag.KernelHistory)
+    dr.set_flag(dr.JitFlag.KernelHistory, True)
+    try:
+        with precision.computing_in(backend="llvm"):
+            call(0, 300)
+            dr.kernel_history()
+            misses = []
+            for v, n in ((1, 300), (2, 450)):
+                call(v, n)
+                jit = [k for k in dr.kernel_history() if str(k["type"]).endswith("JIT")]
+                misses.append(sum(1 for k in jit if not k["cache_hit"] or k["cache_disk"]))
+                assert jit, f"{name}: no kernel launched"
+    finally:
+        dr.set_flag(dr.JitFlag.KernelHistory, flag)
+    assert misses == [0, 0], f"{name}: kernels compiled on the 2nd (same size) / 3rd (new size) call: {misses}"
