@@ -16,6 +16,12 @@ Backends: ``"llvm"`` (``drjit.llvm.ad``), ``"cuda"`` (``drjit.cuda.ad``), ``"sca
 arrays of different backends coexist in one process, so the same technique runs on every variant without
 switching Mitsuba's.
 
+drjit's kernel cache: a kernel is reused when its IR hash repeats. A Python float in an expression is baked into
+the kernel as a literal (a new light, a new kernel), and one input array per column lets the hash follow drjit's
+variable numbering; techniques hand per-call numbers over with :func:`constants_dr` (opaque) and per-receiver
+columns with :func:`packed_to_dr` / :func:`vec_to_dr` (one packed input), so a repeated call with new numbers or a
+new size compiles nothing (tests/local_models/test_ports.py, kernel history).
+
 Unit round-off u = 2⁻²⁴ (float32), 2⁻⁵³ (float64) (Higham, *Accuracy and Stability of Numerical Algorithms*,
 2nd ed., §2.1); :data:`UNIT_ROUNDOFF`.
 """
