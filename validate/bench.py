@@ -10,7 +10,8 @@ and its plain reduction run alternately, so that load on the machine touches bot
   drjit sum of the texels already on the device, and beside the direct per-texel sum in drjit
   (:func:`~validate.local_models.irradiance.sh.project_samples`). The ratio to the plain reduction is the figure:
   the memory-bound limit is one pass over the texels.
-* SH9 irradiance at 100k normals: drjit vs numpy.
+* SH9 irradiance at 100k normals: drjit vs numpy; the techniques ported to drjit (ltc per shape,
+  uberlight_fore_june_printed, phong_prefiltered_s) beside their frozen numpy originals (:func:`port_rows`).
 * The GL runtimes (:mod:`validate.bench_gl`): cold start of each runtime, and each built-in GLSL technique's
   per-receiver cost beside its Python transcription.
 * The fits (:mod:`validate.bench_fits`): each scipy fit beside its drjit-AD twin, time and residual.
@@ -206,7 +207,60 @@ def kernel_rows() -> list[dict[str, Any]]:
     t_dr = _best(lambda: sh.render_irradiance_rh2001(coeffs, normals))
     t_np = _best(lambda: np.einsum("nk,kc->nc", sh.eval_basis_numpy(normals, 2), coeffs * al))
     rows.append({"task": "SH9 irradiance, 100k normals", "drjit_s": t_dr, "numpy_s": t_np, "speedup": t_np / t_dr})
-    return rows
+    return rows + port_rows()
+
+
+PORTS_TEST = Path(__file__).resolve().parents[1] / "tests" / "local_models" / "test_ports.py"
+
+
+def port_rows(n: int = 20_000) -> list[dict[str, Any]]:
+    """The techniques ported from numpy to drjit (issue 22 item 3) beside their numpy originals, frozen in
+    ``tests/local_models/test_ports.py`` (read from the checkout: one copy of each original; absent in an installed
+    package, then one row says so). Each pair runs alternately (:func:`_best_pair`), the family call in its dtype
+    on the active backend, n receivers, the technique functions called directly (no registry checks) on both sides;
+    set-up cached alike for both (the LTC table, the Phong maps: built in the warm-up)."""
+    import importlib.util
+
+    from .geometry import unit
+
+    if not PORTS_TEST.is_file():
+        return [{"task": "numpy-vs-drjit ports", "skipped": f"{PORTS_TEST} absent (not a checkout)"}]
+    spec = importlib.util.spec_from_file_location("_validate_frozen_ports", PORTS_TEST)
+    t = importlib.util.module_from_spec(spec)  # type: ignore[arg-type]
+    spec.loader.exec_module(t)  # type: ignore[union-attr]
+    rng = np.random.default_rng(9)
+    pts = rng.uniform(-2.0, 2.0, (n, 3))
+    pts[:, 1] = rng.uniform(-1.0, 0.5, n)
+    nrm = unit(rng.normal(size=(n, 3)))
+    views = unit(nrm + rng.normal(0.0, 0.6, nrm.shape))
+    from .local_models.specular import prefiltered_specular as ps
+    from .local_models.specular.common import reflect
+    from .local_models.specular_arealight import ltc
+    from .local_models.uberlight import fore_june_falloff as fj
+
+    rows = []
+    f0 = np.array([0.9, 0.6, 0.3])
+    for light in t.LTC_LIGHTS:
+        brdf = {"alpha": 0.3, "f0": tuple(f0)}
+        pair = _best_pair(lambda lt=light, b=brdf: ltc.ltc(lt, b, pts, nrm, views),
+                          lambda lt=light: t._np_ltc(lt, 0.3, f0, pts, nrm, views), repeats=3)
+        rows.append((f"ltc, {light['shape']}, α = 0.3", pair))
+    light, mat = t._uberlight_light(), {"albedo": 0.7, "ks": 0.3, "specular_exponent": 20.0}
+    rows.append(("uberlight_fore_june_printed", _best_pair(
+        lambda: fj.uberlight_fore_june_printed(light, pts, nrm, views, mat),
+        lambda: t._np_fore_june_printed(light, pts, nrm, views, mat), repeats=3)))
+    rad = t._phong_env()
+    v = np.where(np.sum(nrm * views, axis=1, keepdims=True) < 0, -views, views)
+    brdf = {"model": "phong", "exponent": 100.0, "reflectance": 0.8}
+
+    def original() -> np.ndarray:  # phong_prefiltered_s as it was: r in numpy float64, the same map cache
+        r = reflect(nrm, v)
+        return 0.8 * ps.cached_phong_cube(rad, 100.0, r).lookup(r)
+
+    rows.append(("phong_prefiltered_s, s = 100", _best_pair(lambda: ps.phong_prefiltered_s(rad, brdf, nrm, v),
+                                                            original, repeats=3)))
+    return [{"task": f"{name}, {n // 1000}k receivers", "drjit_s": dr_s, "numpy_s": np_s, "speedup": np_s / dr_s}
+            for name, (dr_s, np_s) in rows]
 
 
 def size_records(sizes: tuple[int, ...], log: Callable[[str], None] = print) -> list[dict[str, Any]]:
@@ -234,6 +288,7 @@ def tables(kernels: list[dict[str, Any]], sizes: list[dict[str, Any]]) -> list[d
             for k in kernels if "projection_s" in k]
     other = [[k["task"], round(k["drjit_s"] * 1e3, 2), round(k["numpy_s"] * 1e3, 2), round(k["speedup"], 1)]
              for k in kernels if "drjit_s" in k]
+    other += [[k["task"], k["skipped"], None, None] for k in kernels if "skipped" in k]
     by = {(r["height"], r["task"]): r for r in sizes}
     rows = []
     for h in sorted({r["height"] for r in sizes}):
@@ -252,7 +307,7 @@ def tables(kernels: list[dict[str, Any]], sizes: list[dict[str, Any]]) -> list[d
         {"caption": "SH projection vs a plain reduction over the same texels (ms; best of 3)",
          "headers": ["task", "projection (ms)", "plain reduction (ms)", "projection / plain reduction (×)",
                      "plain drjit sum (ms)", "direct drjit projection (ms)"], "rows": proj},
-        {"caption": "SH9 irradiance evaluation (ms; best of 3)",
+        {"caption": "drjit vs numpy: SH9 irradiance and the ported techniques (ms; best of 3, pairs run alternately)",
          "headers": ["task", "drjit (ms)", "numpy (ms)", "speed-up (×)"], "rows": other},
         {"caption": "Reference and SH9 per map size, each in its own process (peak RSS includes the map)",
          "headers": ["map", "map size (MiB)", "reference (s)", "reference peak RSS (MiB)", "reference convergence (%)",

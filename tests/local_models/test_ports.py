@@ -30,7 +30,34 @@ family's dtype (:mod:`validate.local_models.precision`), and compares it with th
   the microfacet term's 5e-5 above; the tables' linear interpolation in drjit (63 segments summed) adds
   ≤ 63 u · TV(E) ≈ 4e-6 (TV(E) ≤ 1); measured ≤ 5.0e-6 (scalar), 2.4e-6 (llvm).
 
-The numbers these bounds are checked against are printed in each assertion message.
+* float32 (specular_arealight: ltc), relative to max L_o over 4 shapes × α ∈ {0.1, 0.4, 0.9} × 400 receivers: a
+  transformed vertex's direction carries ε ≤ (8 + 3κ)u (p and the light rounded, one subtraction, the frame's
+  3-term dot products, then M⁻¹ of condition number κ ≤ 110 over the table rows of α ≥ 0.09 (measured), with
+  the table coordinate x = ‖n − v‖/√2 read to u, not √(1 − μ) to √u); the clamped-cosine integral F over a
+  polygon of angular radius ρ moves by ≤ 2ε/ρ of itself (D_o ≤ 1/π on a boundary of length ≤ 2πρ, over an
+  area ≈ πρ²); ρ ≥ 0.065 rad here (the 0.3 m sphere 4.6 m away, α = 0.9, κ ≈ 2: 2 · 14u/0.065 = 2.6e-5) and
+  the sharp rows are stretched by M⁻¹ (α = 0.1: ρ ≳ 0.65, 2 · 338u/0.65 = 6.2e-5): bound 1e-4; measured 1.4e-6
+  (4.5e-6 per light); the edge terms use atan2(‖a × b‖, a·b), exact to a few u for short edges, where acos(a·b)
+  loses √u. Forced to float64 ≤ 1e-10 (the same formula; the numpy walk of the clipped slots and the drjit
+  exit/entry pairing agree to 1e-12 on random, also non-convex, polygons);
+* float32 (uberlight: uberlight_fore_june_printed), relative to max L_o over 2000 receivers on both branches:
+  the shading is the same drjit float32 code in both; the falloff adds (d₀/d)^α and M exp(s (d₀/d)^β) in float32:
+  d to 3u, the ratio to 4u, pow to α·4u + 2u (x^a = exp(a ln x): |a ln x| u), exp(s t) to |s t|·(β·4u) + 2u
+  with |s| = ln 3, β = α/ln 3, t ≤ (3.3/2.5)^β: ≲ 20u = 1.2e-6; bound 1e-5; measured 2.1e-7;
+* float32 (specular: phong_prefiltered, phong_prefiltered_s at s = 10, 100, k_s = 0.8), relative to max L_o over
+  1000 random (n, v): r = 2(n·v)n − v in float32 is within 8u per component of the float64 one; the lookup moves
+  by the texel coordinate's error times the largest neighbour difference ΔP, 8u k_s (2NΔP + P) (half of
+  glsl_split_sum_ggx's 16u bound, test_glsl_techniques.py, with S = k_s), plus the two sparse maps' float32
+  difference (the same texels summed over other candidate sets) ≤ 16u k_s P: at s = 100 (N = 128, this map's 30×
+  bright patch) 1.4e-4 = 8e-6 of max L_o (computed in :func:`test_phong_prefiltered_equals_its_glsl_form`);
+  bound 1e-5, measured 5.8e-7. The map stays the float32 numpy prefilter (per-environment set-up), built on the
+  footprint of the drjit r. Against the GLSL form (llvmpipe): ≤ 16u k_s (2NΔP + 2P), measured 3.8e-7 of max L_o.
+
+The numbers these bounds are checked against are printed in each assertion message. Two more checks on the ports:
+phong_prefiltered against the same shading as a fragment shader in the suite's GLSL harness (the only one of the
+three with a GLSL form: no LTC shader exists here, and Fore June's listing codes the *listing's* near branch on the
+depth, not eq. 20.47 as printed), and drjit's kernel cache: a second call with new numbers, of the same or a new
+size, compiles no kernel (on main's code each of the six techniques checked compiles one per call).
 """
 
 from __future__ import annotations
@@ -42,7 +69,7 @@ import numpy as np
 import pytest
 
 import validate.local_models as lm
-from validate.geometry import unit
+from validate.geometry import perp, unit
 from validate.local_models import precision
 from validate.local_models.arealight import disc_sh, sphere_cap
 from validate.local_models.brdf import brdf_multiscatter as ms
@@ -50,6 +77,11 @@ from validate.local_models.brdf import common as bc
 from validate.local_models.irradiance import sh, windowed_sh, zh3
 from validate.local_models.shadow import shadow_esm, shadow_msm, shadow_vsm
 from validate.local_models.shadow.shadow_map import FilterFootprint, footprint_dr
+from validate.local_models.specular import prefiltered_specular as ps
+from validate.local_models.specular.common import reflect
+from validate.local_models.specular_arealight import ltc as ltc_mod
+from validate.local_models.uberlight import common as uc
+from validate.scenes.area_lights import tube_geometry
 
 
 def _has_cuda() -> bool:
@@ -269,6 +301,111 @@ def _np_multiscatter(name: str, p: dict, normals: np.ndarray, lights: np.ndarray
     return g.finish((1.0 - m) * dielectric + m * metal)
 
 
+# -- ltc: the numpy original (frozen copy of specular_arealight/ltc.py's evaluation before the port) ---------
+def _np_ltc_polygon(light: dict, points: np.ndarray) -> np.ndarray:
+    shape = light.get("shape")
+    c = np.asarray(light.get("center", (0.0, 0.0, 0.0)), dtype=np.float64)
+    n_pts = len(points)
+    if shape == "rectangle":
+        nrm = unit(light["normal"])
+        t = unit(light.get("tangent", perp(nrm)))
+        t = unit(t - nrm * np.dot(t, nrm))
+        b = np.cross(nrm, t)
+        w, h = (float(x) for x in light["size"])
+        corners = [c + 0.5 * (sx * w * t + sy * h * b) for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+        return np.broadcast_to(np.array(corners), (n_pts, 4, 3))
+    if shape in ("disc", "sphere"):
+        r, sides = float(light["radius"]), ltc_mod.DISC_SIDES
+        ang = 2.0 * np.pi * np.arange(sides) / sides
+        scale = r * np.sqrt(2.0 * np.pi / (sides * np.sin(2.0 * np.pi / sides)))
+        if shape == "disc":
+            nrm = np.broadcast_to(unit(light["normal"]), (n_pts, 3))
+        else:
+            to_p = points - c
+            d = np.linalg.norm(to_p, axis=-1, keepdims=True)
+            nrm = to_p / d
+            scale = scale * d / np.sqrt(d * d - r * r)
+        t = perp(nrm)
+        b = np.cross(nrm, t)
+        sc = np.asarray(scale, dtype=np.float64).reshape(-1, 1, 1) if np.ndim(scale) else scale
+        return c + sc * (np.cos(ang)[None, :, None] * t[:, None, :] + np.sin(ang)[None, :, None] * b[:, None, :])
+    c, ax, length, r = tube_geometry(light, "oracle")
+    q = np.asarray(points, dtype=np.float64) - c
+    qp = q - (q @ ax)[:, None] * ax
+    h = np.linalg.norm(qp, axis=-1, keepdims=True)
+    b = unit(np.cross(qp / h, ax))
+    rr = r * h / np.sqrt(h * h - r * r)
+    th = np.linspace(-0.5 * np.pi, 0.5 * np.pi, ltc_mod.TUBE_ARC_SIDES + 1)
+    ends = []
+    for sign in (1.0, -1.0):
+        centre = c + sign * 0.5 * length * ax
+        arc = sign * (np.cos(th)[None, :, None] * ax + np.sin(th)[None, :, None] * b[:, None, :])
+        ends.append(centre + rr[:, :, None] * arc)
+    return np.concatenate(ends, axis=1)
+
+
+def _np_clipped_form_factor(poly: np.ndarray) -> np.ndarray:
+    n, k, _ = poly.shape
+    cur, nxt = poly, np.roll(poly, -1, axis=1)
+    zc, zn = cur[..., 2], nxt[..., 2]
+    t = np.where(np.abs(zc - zn) > 1e-300, zc / np.where(np.abs(zc - zn) > 1e-300, zc - zn, 1.0), 0.0)
+    cross_pt = cur + t[..., None] * (nxt - cur)
+    cross_pt[..., 2] = 0.0
+    slots = np.empty((n, 2 * k, 3))
+    valid = np.empty((n, 2 * k), dtype=bool)
+    slots[:, 0::2], slots[:, 1::2] = cur, cross_pt
+    valid[:, 0::2], valid[:, 1::2] = zc >= 0.0, (zc >= 0.0) != (zn >= 0.0)
+    slots = unit(slots)
+    idx = np.broadcast_to(np.arange(2 * k), (n, 2 * k))
+    nxt_idx = np.full((n, 2 * k), -1)
+    for off in range(2 * k - 1, 0, -1):
+        cand = (idx + off) % (2 * k)
+        nxt_idx = np.where(np.take_along_axis(valid, cand, 1), cand, nxt_idx)
+    a = slots
+    b = np.take_along_axis(slots, np.maximum(nxt_idx, 0)[..., None], 1)
+    cosang = np.clip(np.sum(a * b, -1), -1.0, 1.0)
+    cr = np.cross(a, b)
+    crn = np.linalg.norm(cr, axis=-1)
+    term = np.where(crn > 1e-12, np.arccos(cosang) * cr[..., 2] / np.maximum(crn, 1e-300), 0.0)
+    use = valid & (nxt_idx >= 0) & (np.sum(valid, axis=1, keepdims=True) >= 3)
+    return np.abs(np.sum(np.where(use, term, 0.0), axis=1)) / (2.0 * np.pi)
+
+
+def _np_ltc(light: dict, alpha: float, f0: np.ndarray, points: np.ndarray, normals: np.ndarray,
+            views: np.ndarray) -> np.ndarray:
+    tab = ltc_mod.load_table()
+    frames, mu = ltc_mod.local_frames(normals, views)
+    m_inv, norm, fres = tab.lookup(alpha, np.clip(mu, 0.0, 1.0))
+    poly = _np_ltc_polygon(light, points) - points[:, None, :]
+    local = np.einsum("nij,nkj->nki", frames, poly)
+    front = np.sum((np.asarray(light.get("center"), dtype=np.float64) - points)
+                   * np.asarray(light.get("normal", (0.0, 0.0, 0.0)), dtype=np.float64), -1) < 0.0
+    if light.get("shape") in ("sphere", "tube"):
+        front = np.ones(len(points), dtype=bool)
+    ff = np.where(front & (mu > 0.0), _np_clipped_form_factor(np.einsum("nij,nkj->nki", m_inv, local)), 0.0)
+    return float(light.get("radiance", 1.0)) * ff[:, None] * (f0[None, :] * norm[:, None]
+                                                              + (1.0 - f0[None, :]) * fres[:, None])
+
+
+def _np_fore_june_printed(light: dict, points: np.ndarray, normals: np.ndarray, views: np.ndarray,
+                          material: dict) -> np.ndarray:
+    """uberlight_fore_june_printed with its falloff in numpy float64 (eq. 20.47 as printed; shade as it is)."""
+    i0, d0, alpha, m = (float(light[k]) for k in ("intensity", "d0", "alpha", "max_intensity"))
+    k = i0 / d0 ** alpha
+    s = math.log(k / m)
+    beta = -alpha / s
+    d = np.maximum(np.linalg.norm(points - np.asarray(light["position"]), axis=1), 1e-300)
+    f = np.where(d < d0, m * np.exp(s * (d0 / d) ** beta), k * (d0 / d) ** alpha) / i0
+    return uc.shade(light, points, normals, views, material, None, f)
+
+
+def _np_phong_prefiltered(radiance: np.ndarray, s: float, ks: float, normals: np.ndarray,
+                          views: np.ndarray) -> np.ndarray:
+    """phong_prefiltered(_s) as it was: r = 2(n·v)n − v in numpy float64, the map sparse on that r, looked up there."""
+    r = reflect(normals, views)
+    return ks * ps.prefilter_phong_cube(radiance, s, needed=r).lookup(r)
+
+
 # -- inputs ---------------------------------------------------------------------------------------------------
 def _receivers(n: int = 200, seed: int = 7) -> tuple[np.ndarray, np.ndarray]:
     rng = np.random.default_rng(seed)
@@ -402,6 +539,73 @@ def _specular_case(name: str, shape: str) -> Callable[[], tuple[np.ndarray, np.n
     return run
 
 
+def _ltc_case() -> tuple[np.ndarray, np.ndarray]:
+    """ltc on the four shapes (a rectangle and a disc facing down, one-sided; a sphere; a tube) × α = 0.1, 0.4,
+    0.9 × 400 random receivers (some behind the lights, some with n·v ≤ 0, polygons crossing the horizon)."""
+    pts, nrm = _receivers(400, seed=9)
+    views = unit(nrm + np.random.default_rng(13).normal(0.0, 0.6, nrm.shape))
+    got, want = [], []
+    for light in LTC_LIGHTS:
+        for alpha in (0.1, 0.4, 0.9):
+            brdf = {"alpha": alpha, "f0": (0.9, 0.6, 0.3)}
+            got.append(lm.FAMILIES["specular_arealight"].call("ltc", light, brdf, pts, nrm, views))
+            want.append(_np_ltc(light, alpha, np.array(brdf["f0"]), pts, nrm, views))
+    return np.concatenate(got), np.concatenate(want)
+
+
+LTC_LIGHTS = [
+    {"shape": "rectangle", "center": (0.1, 2.5, -0.2), "normal": (0.0, -1.0, 0.0), "size": (1.2, 0.7),
+     "tangent": (1.0, 0.0, 0.3), "radiance": 2.0},
+    {"shape": "disc", "center": (0.1, 2.5, -0.2), "normal": (0.0, -1.0, 0.0), "radius": 0.5, "radiance": 2.0},
+    {"shape": "sphere", "center": (0.1, 2.5, -0.2), "radius": 0.3, "radiance": 2.0},
+    {"shape": "tube", "center": (0.1, 2.5, -0.2), "radius": 0.3, "radiance": 2.0, "axis": (1.0, 0.0, 0.2),
+     "length": 1.5},
+]
+
+
+def _uberlight_light() -> dict:
+    """A projector at (0, 3, 0) looking down, soft superellipse and distance edges, Fore June's d₀ = 3.3 m (the
+    receivers lie 2.5–4.8 m away: both branches), α = 2, M = 3 K."""
+    i0, d0, alpha = 5.0, 3.3, 2.0
+    return {"position": (0.0, 3.0, 0.0), "axes": ((1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (0.0, -1.0, 0.0)),
+            "intensity": i0, "width": 0.8, "height": 0.6, "width_edge": 0.2, "height_edge": 0.15, "roundness": 1.3,
+            "near": 0.5, "far": 10.0, "near_edge": 0.3, "far_edge": 2.0, "d0": d0, "alpha": alpha,
+            "max_intensity": 3.0 * i0 / d0 ** alpha}
+
+
+def _fore_june_case() -> tuple[np.ndarray, np.ndarray]:
+    pts, nrm = _receivers(2000, seed=5)
+    views = unit(nrm + np.random.default_rng(6).normal(0.0, 0.5, nrm.shape))
+    mat = {"albedo": 0.7, "ks": 0.3, "specular_exponent": 20.0}
+    light = _uberlight_light()
+    got = lm.FAMILIES["uberlight"].call("uberlight_fore_june_printed", light, pts, nrm, views, mat)
+    near = np.linalg.norm(pts - np.asarray(light["position"]), axis=1) < light["d0"]
+    assert min(np.sum(near & (got > 0)), np.sum(~near & (got > 0))) > 100  # both branches lit
+    return got, _np_fore_june_printed(light, pts, nrm, views, mat)
+
+
+def _phong_env() -> np.ndarray:
+    rng = np.random.default_rng(31)
+    rad = rng.uniform(0.2, 1.0, (32, 64, 3))
+    rad[6:9, 20:24] += 30.0  # a small bright source: the lobes see real gradients
+    return rad
+
+
+def _phong_case() -> tuple[np.ndarray, np.ndarray]:
+    """phong_prefiltered (map exponent s + 1) and phong_prefiltered_s at s = 10, 100 on 1000 random (n, v) with
+    n·v > 0 (face sizes 32 and 128)."""
+    n, v = _brdf_directions(1000, seed=8)[:2]
+    v = np.where(np.sum(n * v, axis=1, keepdims=True) < 0, -v, v)
+    rad, fam = _phong_env(), lm.FAMILIES["specular"]
+    got, want = [], []
+    for s in (10.0, 100.0):
+        brdf = {"model": "phong", "exponent": s, "reflectance": 0.8}
+        for name, sm in (("phong_prefiltered", s + 1.0), ("phong_prefiltered_s", s)):
+            got.append(fam.call(name, rad, brdf, n, v))
+            want.append(_np_phong_prefiltered(rad, sm, 0.8, n, v))
+    return np.concatenate(got), np.concatenate(want)
+
+
 CASES = {
     "cap_exact": _arealight_case("cap_exact", _np_cap, 1e-12),
     "sh_order2": _arealight_case("sh_order2", lambda *a: _np_sh(*a, 2), 1e-12),
@@ -416,6 +620,9 @@ CASES = {
     "esm": (_shadow("esm"), 2e-5, "absolute"),
     "vsm": (_shadow("vsm"), 2e-4, "absolute"),
     "msm": (_shadow("msm"), 1e-2, "absolute"),
+    "ltc": (_ltc_case, 1e-4, "relative"),
+    "uberlight_fore_june_printed": (_fore_june_case, 1e-5, "relative"),
+    "phong_prefiltered": (_phong_case, 1e-5, "relative"),
     **{name: (_brdf_case(name, _np_classic), bound, "relative") for name, bound in BRDF_BOUNDS.items()},
     **{name: (_brdf_case(name, _np_multiscatter, MULTISCATTER_PARAMS), bound, "relative")
        for name, bound in MULTISCATTER_BOUNDS.items()},
@@ -432,6 +639,36 @@ def test_port_equals_its_numpy_original(case: str, backend: str) -> None:
     err = np.abs(got - want).max() / (np.abs(want).max() if kind == "relative" else 1.0)
     assert err <= bound, f"{case} on {backend}: {kind} difference {err:.3g} > {bound:g}"
     print(f"{case} {backend}: {kind} difference {err:.3g} (bound {bound:g})")
+
+
+@pytest.mark.parametrize("case", ["ltc", "uberlight_fore_june_printed", "phong_prefiltered"])
+def test_port_forced_to_float64_is_its_numpy_original(case: str) -> None:
+    """The ports computed in float64 (llvm) equal their numpy originals to 1e-10 of the largest value (≈ 10⁶ u of
+    float64: a few hundred operations, the LTC polygon's 66 edges, pow/exp): the float32 differences above are
+    rounding, not a different formula. (phong: the map itself is float32 in both, only r differs.)"""
+    run, _, _ = CASES[case]
+    with precision.computing_in("float64", backend="llvm"):
+        got, want = run()
+    err = np.abs(got - want).max() / np.abs(want).max()
+    assert err <= 1e-10, f"{case}: float64 port vs numpy {err:.3g}"
+
+
+def test_ltc_clipping_equals_the_numpy_slots_on_random_polygons() -> None:
+    """form_factor_dr's clipping (edge parts above z = 0, each entry joined to the exit before it) against the
+    frozen numpy slot walk, in float64, on 3000 random polygons of 3–8 vertices (random order: non-convex and
+    self-intersecting ones too), about half of their vertices below the horizon: equal to 1e-12 (absolute; F ≤ a
+    few); the float32 form within 1e-5 absolute (≤ 16 edges' terms of |θ| ≤ π, each ≈ 8u: 16 · π · 8u ≈ 2.4e-5
+    before the 1/2π → 4e-6)."""
+    rng = np.random.default_rng(41)
+    for k in range(3, 9):
+        poly = rng.normal(size=(500, k, 3))
+        poly[..., 2] += 0.3
+        want = _np_clipped_form_factor(poly)
+        for dtype, tol in (("float64", 1e-12), ("float32", 1e-5)):
+            with precision.computing_in(dtype, backend="llvm"):
+                got = ltc_mod.clipped_form_factor(poly)
+            assert np.abs(got - want).max() <= tol, f"K = {k}, {dtype}: {np.abs(got - want).max():.3g}"
+        assert np.sum(want > 0) > 300 and np.sum((poly[..., 2] < 0).any(axis=1) & (poly[..., 2] >= 0).any(axis=1)) > 300
 
 
 # -- texture lookups routed through the policy (irradiance maps, the split sum's DFG table) -------------------
@@ -506,3 +743,118 @@ def test_shadow_map_lookups_compute_in_float32_on_every_backend(backend: str) ->
     for g, w in zip(got[1:], want[1:], strict=True):
         assert np.abs(g - w).max() <= 1e-5, f"{backend}: {np.abs(g - w).max():.3g}"
     assert 0.05 < want[1].mean() < 0.95  # the map really shadows part of the receivers
+
+
+# -- drjit vs GLSL where the suite's GLSL runtime runs the same technique -------------------------------------
+PHONG_GLSL = """// validate: family=specular
+// validate: name=glsl_phong_prefiltered_check
+// validate: brdf=phong
+// validate: description=phong_prefiltered as a fragment shader: k_s P_{s+1}(r), the harness's Phong map
+vec3 specular(vec3 n, vec3 v) {
+    float nv = dot(n, v);
+    return u_reflectance * prefiltered_radiance(2.0 * nv * n - v);
+}
+"""
+
+
+def test_phong_prefiltered_equals_its_glsl_form(tmp_path) -> None:  # noqa: ANN001
+    """phong_prefiltered (drjit, float32) against the same shading as a fragment shader on llvmpipe (the specular
+    family's GLSL harness builds phong_prefiltered's own map, P_{s+1}, on a footprint dilated 1e-4 rad) at
+    s = 10, 100 on 2000 random (n, v) and the axis / edge / corner directions (face seams). Both are float32; r
+    differs by ≤ 8u per component each way (inputs rounded alike, one dot product, two products: 16u between
+    them), so the lookups differ by ≤ 16u · k_s (2NΔP + P) (test_glsl_techniques.py's split-sum note with
+    S = k_s), plus the two sparse maps' own float32 difference: the same texels summed over other candidate sets
+    (convolve_zonal's batches), ≤ 16u · P: |ΔL| ≤ 16u k_s (2NΔP + 2P), P, ΔP the map's maximum and largest
+    neighbour difference."""
+    from validate.gl import runtime
+    from validate.local_models import glsl_technique as gt
+
+    ok, why = runtime.available("llvmpipe")
+    if not ok:
+        pytest.skip(f"no llvmpipe GL: {why}")
+    path = tmp_path / "phong_check.glsl"
+    path.write_text(PHONG_GLSL, encoding="utf-8")
+    tech = gt.technique_from_file(path)
+    rng = np.random.default_rng(23)
+    n, v = unit(rng.standard_normal((2000, 3))), unit(rng.standard_normal((2000, 3)))
+    v = np.where(np.sum(n * v, axis=1, keepdims=True) < 0, -v, v)
+    axes = unit(np.array([[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 0], [0, 1, 1], [1, 0, 1], [1, 1, 1]], float))
+    n, v = np.r_[n, axes, -axes], np.r_[v, axes, -axes]
+    rad, fam = _phong_env(), lm.FAMILIES["specular"]
+    for s in (10.0, 100.0):
+        brdf = {"model": "phong", "exponent": s, "reflectance": 0.8}
+        g, p = fam.call(tech, rad, brdf, n, v), fam.call("phong_prefiltered", rad, brdf, n, v)
+        pad = np.asarray(ps.prefilter_phong_cube(rad, s + 1.0).padded, dtype=np.float64)
+        d_p = max(np.abs(np.diff(pad, axis=1)).max(), np.abs(np.diff(pad, axis=2)).max())
+        bound = 16 * 2.0**-24 * 0.8 * (2 * pad.shape[1] * d_p + 2 * pad.max())
+        err = np.abs(g - p).max()
+        assert np.all(np.isfinite(g)) and p.min() > 0.1
+        assert err <= bound, f"s = {s}: |GLSL − drjit| = {err:.3g} > {bound:.3g}"
+        print(f"phong_prefiltered s = {s}: |GLSL − drjit| = {err:.3g} (bound {bound:.3g}, "
+              f"{err / p.max():.3g} of max L)")
+
+
+# -- drjit's kernel cache: a new call with new numbers (and a new size) compiles nothing ----------------------
+def _recompile_cases() -> dict[str, Callable[[int, int], object]]:
+    """technique → call(variant, n): variant 0, 1, 2 change the light / BRDF / map numbers, n the receiver count."""
+    def receivers(v: int, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        pts, nrm = _receivers(n, seed=30 + v)
+        return pts, nrm, unit(nrm + np.random.default_rng(v).normal(0.0, 0.6, nrm.shape))
+
+    def ltc(v: int, n: int) -> object:
+        light = dict(LTC_LIGHTS[2], radius=0.3 + 0.05 * v, center=(0.1, 2.5 + 0.1 * v, -0.2))
+        return lm.FAMILIES["specular_arealight"].call("ltc", light, {"alpha": 0.3 + 0.05 * v, "f0": 0.9 - 0.1 * v},
+                                                      *receivers(v, n))
+
+    def rep(v: int, n: int) -> object:
+        light = dict(LTC_LIGHTS[2], radius=0.3 + 0.05 * v, radiance=2.0 + v)
+        return lm.FAMILIES["specular_arealight"].call("representative_point", light,
+                                                      {"alpha": 0.3 + 0.05 * v, "f0": 0.9 - 0.1 * v},
+                                                      *receivers(v, n))
+
+    def fore_june(v: int, n: int) -> object:
+        light = dict(_uberlight_light(), d0=3.3 + 0.1 * v, width=0.8 + 0.05 * v, intensity=5.0 + v)
+        return lm.FAMILIES["uberlight"].call("uberlight_fore_june_printed", light, *receivers(v, n),
+                                             {"albedo": 0.7, "ks": 0.3, "specular_exponent": 20.0})
+
+    def cap(v: int, n: int) -> object:
+        return lm.FAMILIES["arealight"].call("cap_exact", dict(LIGHTS[0], radius=0.6 + 0.05 * v),
+                                             *receivers(v, n)[:2])
+
+    def sh9(v: int, n: int) -> object:
+        return lm.FAMILIES["irradiance"].call("sh9", _phong_env() * (1.0 + v), receivers(v, n)[1])
+
+    def phong(v: int, n: int) -> object:
+        _, nrm, vw = receivers(v, n)
+        vw = np.where(np.sum(nrm * vw, axis=1, keepdims=True) < 0, -vw, vw)
+        return lm.FAMILIES["specular"].call("phong_prefiltered", _phong_env(),
+                                            {"model": "phong", "exponent": 10.0, "reflectance": 0.8 - 0.1 * v}, nrm, vw)
+
+    return {"ltc": ltc, "representative_point": rep, "uberlight_fore_june_printed": fore_june, "cap_exact": cap,
+            "sh9": sh9, "phong_prefiltered": phong}
+
+
+@pytest.mark.parametrize("name", list(_recompile_cases()))
+def test_second_call_with_new_numbers_compiles_no_kernel(name: str) -> None:
+    """On llvm, after a first call, calls with other light / BRDF / map numbers, same size and a new size, find
+    every kernel in drjit's cache (dr.kernel_history: cache_hit, and not from the disk cache, which would hide a
+    new hash): per-call numbers enter as opaque values and the receivers as one packed input
+    (precision.constants_dr / packed_to_dr). A literal baked in, or one input per column, fails this."""
+    import drjit as dr
+
+    call = _recompile_cases()[name]
+    flag = dr.flag(dr.JitFlag.KernelHistory)
+    dr.set_flag(dr.JitFlag.KernelHistory, True)
+    try:
+        with precision.computing_in(backend="llvm"):
+            call(0, 300)
+            dr.kernel_history()
+            misses = []
+            for v, n in ((1, 300), (2, 450)):
+                call(v, n)
+                jit = [k for k in dr.kernel_history() if str(k["type"]).endswith("JIT")]
+                misses.append(sum(1 for k in jit if not k["cache_hit"] or k["cache_disk"]))
+                assert jit, f"{name}: no kernel launched"
+    finally:
+        dr.set_flag(dr.JitFlag.KernelHistory, flag)
+    assert misses == [0, 0], f"{name}: kernels compiled on the 2nd (same size) / 3rd (new size) call: {misses}"

@@ -103,9 +103,7 @@ INPUTS = {"irradiance": _irradiance_inputs, "arealight": _arealight_inputs,
 FAMILY_REL = {"specular_arealight": 1e-4}
 
 # Numpy-only (or partly numpy per receiver) built-ins of the covered families, still to port (issue 22 item 3).
-NOT_PORTED = {
-    ("specular_arealight", "ltc"),  # its evaluation and AD fit are being changed elsewhere (issue 22): left alone
-}
+NOT_PORTED: set[tuple[str, str]] = set()  # ltc, the last, ported (issue 22 item 3): tests/local_models/test_ports.py
 
 
 def _python_builtins() -> list[tuple[str, str]]:

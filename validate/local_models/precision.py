@@ -16,6 +16,12 @@ Backends: ``"llvm"`` (``drjit.llvm.ad``), ``"cuda"`` (``drjit.cuda.ad``), ``"sca
 arrays of different backends coexist in one process, so the same technique runs on every variant without
 switching Mitsuba's.
 
+drjit's kernel cache: a kernel is reused when its IR hash repeats. A Python float in an expression is baked into
+the kernel as a literal (a new light, a new kernel), and one input array per column lets the hash follow drjit's
+variable numbering; techniques hand per-call numbers over with :func:`constants_dr` (opaque) and per-receiver
+columns with :func:`packed_to_dr` / :func:`vec_to_dr` (one packed input), so a repeated call with new numbers or a
+new size compiles nothing (tests/local_models/test_ports.py, kernel history).
+
 Unit round-off u = 2⁻²⁴ (float32), 2⁻⁵³ (float64) (Higham, *Accuracy and Stability of Numerical Algorithms*,
 2nd ed., §2.1); :data:`UNIT_ROUNDOFF`.
 """
@@ -168,10 +174,46 @@ def to_np(x: Any, shape: tuple[int, ...] | None = None) -> np.ndarray:
     return out.reshape(shape) if shape is not None else out
 
 
-def vec_to_dr(a: np.ndarray) -> tuple[Any, Any, Any]:
-    """(N, 3) numpy → three flat drjit arrays (x, y, z) of the active dtype."""
+def vec_to_dr(a: Any) -> tuple[Any, Any, Any]:
+    """(N, 3) numpy → three flat drjit arrays (x, y, z) of the active dtype, gathered from one packed input (see
+    :func:`packed_to_dr`). Three drjit arrays (x, y, z) of the active type (directions computed in drjit by the
+    caller) are handed back as they are."""
+    if isinstance(a, (tuple, list)) and len(a) == 3 and all(type(c) is float_type() for c in a):
+        return a[0], a[1], a[2]
     m = np.asarray(a, dtype=np.float64).reshape(-1, 3)
-    return to_dr(m[:, 0]), to_dr(m[:, 1]), to_dr(m[:, 2])
+    x, y, z = packed_to_dr(m[:, 0], m[:, 1], m[:, 2])
+    return x, y, z
+
+
+def packed_to_dr(*columns: Any) -> list[Any]:
+    """Equal-length numpy columns → drjit arrays of the active dtype, gathered from *one* input array (the columns
+    side by side, row-major). With one input per column the kernel's hash follows the order drjit numbers its
+    variables in, so a repeated call of the same technique missed the kernel cache and recompiled (measured with
+    drjit's kernel history; commit 1e41a37 found it first in brdf's GeometryDr)."""
+    import drjit as dr
+
+    cols = [np.asarray(c, dtype=np.float64).ravel() for c in columns]
+    n, k = len(cols[0]), len(cols)
+    if any(len(c) != n for c in cols):
+        raise ValidateError(f"packed_to_dr: columns of lengths {[len(c) for c in cols]}: expected equal lengths")
+    # row-major (n, k): entry j of row i at k·i + j, offsets that do not depend on n (an offset j·n would be a
+    # literal of the size, and a new size a new kernel)
+    packed = to_dr(np.stack(cols, axis=1))
+    idx = dr.arange(uint_type(), n) * k
+    return [dr.gather(float_type(), packed, idx + j) for j in range(k)]
+
+
+def constants_dr(values: Any) -> list[Any]:
+    """Per-call numbers (a light's position, a BRDF parameter) as width-1 reads of one evaluated drjit array:
+    opaque to the kernel, so the next call with other numbers reuses the compiled kernel (a Python float is baked
+    into the kernel as a literal, and a new literal is a new kernel)."""
+    import drjit as dr
+
+    flat = np.asarray(values, dtype=np.float64).ravel()
+    data = to_dr(flat)
+    dr.make_opaque(data)
+    u = uint_type()
+    return [dr.gather(float_type(), data, u(k)) for k in range(len(flat))]
 
 
 def rgb_to_np(r: Any, g: Any, b: Any, n: int) -> np.ndarray:

@@ -42,7 +42,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import ValidateError
-from ..precision import to_dr, to_np, vec_to_dr
+from ..precision import constants_dr, to_dr, to_np, vec_to_dr
 
 X_FLOOR = 1e-30  # cot σ floor in the atan term: float32-normal, far below any x > 0 (cap_irradiance_dr)
 
@@ -180,14 +180,16 @@ def light_geometry(light: Any, points: np.ndarray, normals: np.ndarray) -> dict[
 def light_geometry_dr(light: Any, points: np.ndarray, normals: np.ndarray) -> dict[str, Any]:
     """:func:`light_geometry` computed on drjit arrays of the active dtype (:mod:`..precision`): the same keys,
     ``distance``, ``cos_theta``, ``cos_psi``, ``sin2_sigma`` as flat drjit arrays, ``radius`` and ``radiance``
-    as floats, ``shape`` and ``n`` (the receiver count). The light's parameters and the receivers' distances
-    are checked as there (one-line errors)."""
+    as opaque width-1 drjit arrays (:func:`~..precision.constants_dr`), ``shape`` and ``n`` (the receiver
+    count). The light's parameters and the receivers' distances are checked as there (one-line errors)."""
     import drjit as dr
 
     shape, c, m, r, rad = _checked_light(light)
     px, py, pz = vec_to_dr(points)
     nx, ny, nz = vec_to_dr(normals)
-    vx, vy, vz = float(c[0]) - px, float(c[1]) - py, float(c[2]) - pz
+    # the light's numbers as opaque values: a Python float is a kernel literal, a new light a new kernel
+    cx, cy, cz, mx, my, mz, rr, rl = constants_dr(np.r_[c, m / np.linalg.norm(m), r, rad])
+    vx, vy, vz = cx - px, cy - py, cz - pz
     d = dr.sqrt(vx * vx + vy * vy + vz * vz)
     d_np = to_np(d)
     if shape == "sphere" and np.any(d_np <= r):
@@ -196,8 +198,7 @@ def light_geometry_dr(light: Any, points: np.ndarray, normals: np.ndarray) -> di
         raise ValidateError("area light: a receiver lies at the light's centre")
     inv = 1.0 / d
     ux, uy, uz = vx * inv, vy * inv, vz * inv
-    mh = m / np.linalg.norm(m)
-    cos_psi = d * 0.0 + 1.0 if shape == "sphere" else -(ux * float(mh[0]) + uy * float(mh[1]) + uz * float(mh[2]))
-    s2 = r * r / (d * d) if shape == "sphere" else r * r / (r * r + d * d)
+    cos_psi = d * 0.0 + 1.0 if shape == "sphere" else -(ux * mx + uy * my + uz * mz)
+    s2 = rr * rr / (d * d) if shape == "sphere" else rr * rr / (rr * rr + d * d)
     return {"distance": d, "cos_theta": dr.clip(nx * ux + ny * uy + nz * uz, -1.0, 1.0), "cos_psi": cos_psi,
-            "sin2_sigma": s2, "radius": r, "radiance": rad, "shape": shape, "n": int(d_np.size)}
+            "sin2_sigma": s2, "radius": rr, "radiance": rl, "shape": shape, "n": int(d_np.size)}

@@ -37,7 +37,7 @@ from typing import Any
 import numpy as np
 
 from ...scenes import latlong
-from ..precision import to_dr
+from ..precision import constants_dr, to_dr, vec_to_dr
 
 # R&H 2001 eq. 12 constants [1].
 C1, C2, C3, C4, C5 = 0.429043, 0.511664, 0.743125, 0.886227, 0.247708
@@ -305,15 +305,20 @@ def render_irradiance_rh2001(coeffs9: np.ndarray, normals: np.ndarray) -> np.nda
     """R&H's quadratic form [1, eq. 12]:
     E(n) = c1 L22 (x² − y²) + c3 L20 z² + c4 L00 − c5 L20
            + 2 c1 (L2m2 xy + L21 xz + L2m1 yz) + 2 c2 (L11 x + L1m1 y + L10 z)."""
-    x, y, z = (_to_float(normals[:, i]) for i in range(3))
+    import drjit as dr
+
+    x, y, z = vec_to_dr(normals)
+    # the map's numbers as opaque values (precision.constants_dr; a literal per map was a new kernel per map),
+    # the products C1 L22, C3 L20, C4 L00 − C5 L20 formed in float64 as the literals were: the same float32 values
+    L00, L1m1, L10, L11, L2m2, L2m1, L20, L21, L22 = np.asarray(coeffs9, dtype=np.float64)[:9, :3]
+    k = constants_dr(np.stack([C1 * L22, C3 * L20, C4 * L00 - C5 * L20, L2m2, L21, L2m1, L11, L1m1, L10]))
     out = []
     for c in range(3):
-        L00, L1m1, L10, L11, L2m2, L2m1, L20, L21, L22 = (float(v) for v in coeffs9[:9, c])
-        e = (C1 * L22 * (x * x - y * y) + C3 * L20 * z * z + (C4 * L00 - C5 * L20)
-             + 2 * C1 * (L2m2 * x * y + L21 * x * z + L2m1 * y * z)
-             + 2 * C2 * (L11 * x + L1m1 * y + L10 * z))
-        out.append(np.array(e, dtype=np.float64))
-    return np.stack(out, axis=-1)
+        q22, q20, q00, q2m2, q21, q2m1, q11, q1m1, q10 = (k[3 * j + c] for j in range(9))
+        out.append(q22 * (x * x - y * y) + q20 * z * z + q00 + 2 * C1 * (q2m2 * x * y + q21 * x * z + q2m1 * y * z)
+                   + 2 * C2 * (q11 * x + q1m1 * y + q10 * z))
+    dr.eval(*out)  # one kernel for the three channels
+    return np.stack([np.array(e, dtype=np.float64) for e in out], axis=-1)
 
 
 def angular_map_samples_rh2001(angular: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

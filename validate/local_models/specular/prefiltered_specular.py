@@ -47,6 +47,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 
@@ -59,12 +60,12 @@ from ..irradiance.irradiance_map import (
     convolve_zonal,
     environment_nodes,
 )
+from ..precision import packed_to_dr, to_np
 from .common import (
     array_digest,
     block_deg_for_width,
     cached,
     face_size_for_width,
-    reflect,
 )
 
 EXPONENT_RANGE = (0.5, 10000.0)
@@ -124,9 +125,19 @@ def prefilter_phong_cube(radiance: np.ndarray, s: float, face_size: int | None =
     return CubeMap.build(lambda d: convolve_zonal(nodes, d, kernel, 1.0, support), n, needed)
 
 
-def shade_phong_map(specular_map: CubeMap, normals: np.ndarray, views: np.ndarray) -> np.ndarray:
-    """L_o ≈ P_s(r): the prefiltered map looked up at the reflection vector (bilinear, drjit)."""
-    return specular_map.lookup(reflect(normals, views))
+def reflect_dr(normals: np.ndarray, views: np.ndarray) -> tuple[Any, Any, Any]:
+    """r = 2(n·v)n − v as three drjit arrays of the active dtype (n, v gathered from one packed input,
+    :func:`~validate.local_models.precision.packed_to_dr`)."""
+    nx, ny, nz, vx, vy, vz = packed_to_dr(*np.asarray(normals, dtype=np.float64).reshape(-1, 3).T,
+                                          *np.asarray(views, dtype=np.float64).reshape(-1, 3).T)
+    two_nv = 2.0 * (nx * vx + ny * vy + nz * vz)
+    return two_nv * nx - vx, two_nv * ny - vy, two_nv * nz - vz
+
+
+def shade_phong_map(specular_map: CubeMap, normals: np.ndarray, views: np.ndarray, ks: float = 1.0) -> np.ndarray:
+    """L_o ≈ k_s P_s(r): the prefiltered map looked up at the reflection vector r = 2(n·v)n − v, both in drjit in
+    the active dtype (:func:`reflect_dr`, :meth:`CubeMap.lookup`); (N, 3) float64."""
+    return ks * specular_map.lookup(reflect_dr(normals, views))
 
 
 def mix_shader(base_color: np.ndarray | float, diffuse_percent: float, specular_percent: float,
@@ -163,6 +174,13 @@ def cached_phong_cube(radiance: np.ndarray, s: float, directions: np.ndarray) ->
     return cached(key, lambda: prefilter_phong_cube(radiance, s, needed=directions))  # type: ignore[return-value]
 
 
+def _footprint(r: tuple[Any, Any, Any]) -> np.ndarray:
+    """The drjit reflection vectors as (N, 3) float64 numpy: the sparse map is evaluated on the lookup footprint of
+    the very (float32) r the lookup reads, so no lookup lands on an unevaluated (NaN) texel because r was rounded
+    differently (only the face-coordinate arithmetic differs, float64 here, float32 in the lookup)."""
+    return np.stack([to_np(c) for c in r], axis=-1)
+
+
 def _phong_exponent(brdf: Mapping[str, object]) -> tuple[float, float]:
     if brdf.get("model") != "phong" or "exponent" not in brdf:
         raise ValidateError(f"Phong-prefiltered map: BRDF {dict(brdf)!r}: expected {{'model': 'phong', 'exponent': s}}")
@@ -176,8 +194,8 @@ def phong_prefiltered(radiance: np.ndarray, brdf: Mapping[str, object], normals:
     """L_o ≈ k_s P_{s+1}(r), r = 2(n·v)n − v (module docstring: the map of exponent s + 1 equals the
     modified-Phong BRDF (s + 2)/2π cos^s α · cos θ at v = n)."""
     s, ks = _phong_exponent(brdf)
-    r = reflect(normals, views)
-    return ks * cached_phong_cube(radiance, map_exponent_for_brdf(s), r).lookup(r)
+    r = reflect_dr(normals, views)
+    return ks * cached_phong_cube(radiance, map_exponent_for_brdf(s), _footprint(r)).lookup(r)
 
 
 @specular.register("phong_prefiltered_s", "Phong-prefiltered cube map of the BRDF's own exponent s at r (the "
@@ -186,5 +204,5 @@ def phong_prefiltered_s(radiance: np.ndarray, brdf: Mapping[str, object], normal
                         views: np.ndarray) -> np.ndarray:
     """L_o ≈ k_s P_s(r): the same-exponent map (a slightly wider lobe than the BRDF's at v = n)."""
     s, ks = _phong_exponent(brdf)
-    r = reflect(normals, views)
-    return ks * cached_phong_cube(radiance, s, r).lookup(r)
+    r = reflect_dr(normals, views)
+    return ks * cached_phong_cube(radiance, s, _footprint(r)).lookup(r)

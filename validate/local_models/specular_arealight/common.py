@@ -49,11 +49,14 @@ def ggx_point_dr(alpha: float, f0: np.ndarray, n: Vec, l: Vec, v: Vec, e_scaled:
     (eq. 34), Schlick F = F₀ + (1 − F₀)(1 − v·h)⁵ — :mod:`validate.local_models.brdf.common`'s terms on drjit arrays."""
     import drjit as dr
 
+    from ..precision import constants_dr  # noqa: PLC0415
+
     cl, cv = dot(n, l), dot(n, v)
     h = unit_dr((l[0] + v[0], l[1] + v[1], l[2] + v[2]))
     ch, vh = dr.clip(dot(n, h), 0.0, 1.0), dr.clip(dot(v, h), 0.0, 1.0)
-    a2 = alpha * alpha
-    q = ch * ch * (a2 - 1.0) + 1.0
+    # α², α² − 1, F₀, 1 − F₀ opaque (formed in float64 as the literals were): a new α or F₀ reuses the kernel
+    a2, a2m1, *fk = constants_dr([alpha * alpha, alpha * alpha - 1.0, *f0[:3], *(1.0 - f0[:3])])
+    q = ch * ch * a2m1 + 1.0
     d = dr.select(ch > 0.0, a2 / (np.pi * q * q), 0.0)
 
     def g1(c: Any) -> Any:
@@ -64,5 +67,6 @@ def ggx_point_dr(alpha: float, f0: np.ndarray, n: Vec, l: Vec, v: Vec, e_scaled:
     spec = d * g1(cl) * g1(cv) / (4.0 * dr.maximum(cv, 1e-12)) * e_scaled
     front = (cl > 0.0) & (cv > 0.0)
     m = (1.0 - vh) ** 5
-    return [dr.select(front, dr.maximum((float(f0[k]) + (1.0 - float(f0[k])) * m) * spec, 0.0), 0.0)
-            for k in range(3)]
+    out = [dr.select(front, dr.maximum((fk[k] + fk[3 + k] * m) * spec, 0.0), 0.0) for k in range(3)]
+    dr.eval(*out)  # one kernel for the three channels
+    return out

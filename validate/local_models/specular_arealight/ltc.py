@@ -56,9 +56,10 @@ import numpy as np
 from ...errors import ValidateError
 from ...geometry import perp, unit
 from ...scenes.area_lights import tube_geometry
+from .. import precision
 from ..brdf.common import ggx_d, smith_g1
 from ..families import specular_arealight
-from .common import brdf_params
+from .common import Vec, brdf_params, dot, unit_dr
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "ltc_ggx.npz"  # local_models/data (package data)
 MIN_ALPHA = 1e-3
@@ -336,94 +337,160 @@ def load_table(path: str = str(DATA)) -> Table:
         return Table(z["m_inv"], z["norm"], z["fresnel"], z["l1_error"], z["params"])
 
 
-def light_polygon(light: Mapping[str, Any], points: np.ndarray, who: str) -> np.ndarray:
-    """World-space polygon vertices (N, K, 3), counter-clockwise seen from the front (emitting) side."""
+def _perp_dr(n: Vec) -> Vec:
+    """:func:`validate.geometry.perp` on drjit arrays: unit n × x̂, or n × ŷ where |n_x| ≥ 0.9."""
+    import drjit as dr
+
+    use_x = dr.abs(n[0]) < 0.9
+    ax, ay = dr.select(use_x, 1.0, 0.0), dr.select(use_x, 0.0, 1.0)
+    return unit_dr((-n[2] * ay, n[2] * ax, n[0] * ay - n[1] * ax))
+
+
+def _cross(a: Vec, b: Vec) -> Vec:
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def light_polygon_dr(light: Mapping[str, Any], points: np.ndarray, p: Vec, who: str) -> list[Vec]:
+    """The light's polygon, K vertices (drjit (x, y, z) each, per receiver), relative to the receivers ``p``:
+    counter-clockwise seen from the emitting side (rectangle, the equal-area 64-gon of a disc); the disc through a
+    sphere's centre facing the receiver, radius scaled by d/√(d² − r²) (the same cone); a tube's stadium
+    (:func:`tube_polygon_dr`). Per-light numbers enter through :func:`_constants`. ``points`` (N, 3) float64 is
+    read only to refuse a receiver inside the light."""
     shape = light.get("shape")
     c = np.asarray(light.get("center", (0.0, 0.0, 0.0)), dtype=np.float64)
-    n_pts = len(points)
     if shape == "rectangle":
         nrm = unit(light["normal"])
         t = unit(light.get("tangent", perp(nrm)))
         t = unit(t - nrm * np.dot(t, nrm))
         b = np.cross(nrm, t)
         w, h = (float(x) for x in light["size"])
-        corners = [c + 0.5 * (sx * w * t + sy * h * b) for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
-        return np.broadcast_to(np.array(corners), (n_pts, 4, 3))
+        corners = np.array([c + 0.5 * (sx * w * t + sy * h * b) for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
+        k = precision.constants_dr(corners)
+        return [(k[3 * i] - p[0], k[3 * i + 1] - p[1], k[3 * i + 2] - p[2]) for i in range(4)]
     if shape in ("disc", "sphere"):
         r = float(light["radius"])
         ang = 2.0 * np.pi * np.arange(DISC_SIDES) / DISC_SIDES
         scale = r * np.sqrt(2.0 * np.pi / (DISC_SIDES * np.sin(2.0 * np.pi / DISC_SIDES)))  # equal area
         if shape == "disc":
-            nrm = np.broadcast_to(unit(light["normal"]), (n_pts, 3))
-        else:
-            to_p = points - c
-            d = np.linalg.norm(to_p, axis=-1, keepdims=True)
-            if np.any(d <= r):
-                raise ValidateError(f"technique '{who}' (specular_arealight): a receiver lies inside the sphere light")
-            nrm = to_p / d
-            scale = scale * d / np.sqrt(d * d - r * r)  # the disc subtending the sphere's cone
-        t = perp(nrm)
-        b = np.cross(nrm, t)
-        sc = np.asarray(scale, dtype=np.float64).reshape(-1, 1, 1) if np.ndim(scale) else scale
-        return c + sc * (np.cos(ang)[None, :, None] * t[:, None, :] + np.sin(ang)[None, :, None] * b[:, None, :])
+            nrm = unit(light["normal"])
+            t = perp(nrm)
+            b = np.cross(nrm, t)
+            cc, tt, bb = precision.constants_dr(c), precision.constants_dr(scale * t), precision.constants_dr(scale * b)
+            return [tuple(cc[i] + float(np.cos(a)) * tt[i] + float(np.sin(a)) * bb[i] - p[i] for i in range(3))
+                    for a in ang]  # type: ignore[misc]
+        if np.any(np.linalg.norm(points - c, axis=-1) <= r):
+            raise ValidateError(f"technique '{who}' (specular_arealight): a receiver lies inside the sphere light")
+        import drjit as dr
+
+        k = precision.constants_dr(np.r_[c, r, scale])
+        to_p = (p[0] - k[0], p[1] - k[1], p[2] - k[2])
+        d2 = dot(to_p, to_p)
+        d = dr.sqrt(d2)
+        nrm = (to_p[0] / d, to_p[1] / d, to_p[2] / d)
+        s = k[4] * d / dr.sqrt(d2 - k[3] * k[3])  # the disc subtending the sphere's cone
+        t = _perp_dr(nrm)
+        b = _cross(nrm, t)
+        # vertex − p = (c − p) + s (cos a t + sin a b) = −to_p + …
+        return [tuple(s * (float(np.cos(a)) * t[i] + float(np.sin(a)) * b[i]) - to_p[i] for i in range(3))
+                for a in ang]  # type: ignore[misc]
     if shape == "tube":
-        return tube_polygon(light, points, who)
+        return tube_polygon_dr(light, points, p, who)
     raise ValidateError(f"technique '{who}' (specular_arealight): light shape {shape!r}; expected one of {SHAPES}")
 
 
-def tube_polygon(light: Mapping[str, Any], points: np.ndarray, who: str) -> np.ndarray:
-    """The stadium (N, 2·(TUBE_ARC_SIDES + 1), 3) standing in for a capsule seen from each receiver: in the plane
-    through the axis whose normal points at the receiver, the rectangle ℓ × 2R′ closed by half-circles of radius
-    R′ = R h/√(h² − R²) about the ends (h: the receiver's distance to the axis)."""
+def tube_polygon_dr(light: Mapping[str, Any], points: np.ndarray, p: Vec, who: str) -> list[Vec]:
+    """The stadium (2·(TUBE_ARC_SIDES + 1) vertices relative to each receiver) standing in for a capsule: in the
+    plane through the axis whose normal points at the receiver, the rectangle ℓ × 2R′ closed by half-circles of
+    radius R′ = R h/√(h² − R²) about the ends (h: the receiver's distance to the axis)."""
+    import drjit as dr
+
     c, ax, length, r = tube_geometry(light, f"technique '{who}' (specular_arealight)")
-    q = np.asarray(points, dtype=np.float64) - c
-    qp = q - (q @ ax)[:, None] * ax
-    h = np.linalg.norm(qp, axis=-1, keepdims=True)
-    if np.any(h <= r):
+    q64 = np.asarray(points, dtype=np.float64) - c
+    if np.any(np.linalg.norm(q64 - (q64 @ ax)[:, None] * ax, axis=-1) <= r):
         raise ValidateError(f"technique '{who}' (specular_arealight): a receiver lies within the tube's radius of "
                             "its axis")
-    b = unit(np.cross(qp / h, ax))
-    rr = r * h / np.sqrt(h * h - r * r)  # (N, 1)
+    k = precision.constants_dr(np.r_[c, ax, 0.5 * length, r])
+    cc, aa, half, rad = k[0:3], k[3:6], k[6], k[7]
+    q = (p[0] - cc[0], p[1] - cc[1], p[2] - cc[2])
+    qa = dot(q, aa)
+    qp = (q[0] - qa * aa[0], q[1] - qa * aa[1], q[2] - qa * aa[2])
+    h2 = dot(qp, qp)
+    h = dr.sqrt(h2)
+    b = unit_dr(_cross(qp, aa))
+    rr = rad * h / dr.sqrt(h2 - rad * rad)
     th = np.linspace(-0.5 * np.pi, 0.5 * np.pi, TUBE_ARC_SIDES + 1)
-    ends = []
+    out: list[Vec] = []
     for sign in (1.0, -1.0):
-        centre = c + sign * 0.5 * length * ax
-        arc = sign * (np.cos(th)[None, :, None] * ax + np.sin(th)[None, :, None] * b[:, None, :])
-        ends.append(centre + rr[:, :, None] * arc)
-    return np.concatenate(ends, axis=1)
+        for t in th:
+            ca, sa = sign * float(np.cos(t)), sign * float(np.sin(t))
+            # centre ± (ℓ/2) axis + R′ (±cos t · axis ± sin t · b) − p = −q ± …
+            out.append(tuple((sign * half + rr * ca) * aa[i] + (rr * sa) * b[i] - q[i] for i in range(3)))  # type: ignore[arg-type]
+    return out
+
+
+def _edge(a: Vec, b: Vec) -> Any:
+    """atan2(‖a × b‖, a·b) ẑ·(a × b)/‖a × b‖ for unit a, b (0 where ‖a × b‖ ≤ 10⁻¹²): one edge of [1] eq. 11.
+    atan2 instead of acos(a·b): acos loses √u of the angle of a short edge in float32, atan2 keeps u."""
+    import drjit as dr
+
+    cr = _cross(a, b)
+    crn = dr.sqrt(dot(cr, cr))
+    ok = crn > 1e-12
+    return dr.select(ok, dr.atan2(crn, dot(a, b)) * cr[2] / dr.select(ok, crn, 1.0), 0.0)
+
+
+def form_factor_dr(poly: list[Vec]) -> Any:
+    """(1/2π) |Σ_edges atan2(‖p_i × p_j‖, p_i·p_j) ẑ·(p_i × p_j)/‖p_i × p_j‖| of the polygon (K vertices, drjit)
+    clipped to z ≥ 0 and projected on the unit sphere: ∫_poly max(0, z)/π dω ([1] eq. 11), either winding.
+
+    Clipping (Sutherland–Hodgman on the horizon): each edge contributes its part above z = 0 — the whole edge,
+    vertex → exit point, or entry point → vertex — and each entry point is joined to the exit point before it
+    (cyclically) along the horizon. Vertices with z ≥ 0 count as above; a clipped polygon of fewer than three
+    points (vertices above + crossings) integrates to 0."""
+    import drjit as dr
+
+    k = len(poly)
+    above = [v[2] >= 0.0 for v in poly]
+    units = [unit_dr(v) for v in poly]
+    cross_pts, exits, entries = [], [], []
+    count = dr.zeros(type(poly[0][2]), dr.width(poly[0][2]))
+    for i in range(k):
+        j = (i + 1) % k
+        a, b = poly[i], poly[j]
+        dz = a[2] - b[2]
+        t = dr.select(dz != 0.0, a[2] / dr.select(dz != 0.0, dz, 1.0), 0.0)
+        x = unit_dr((dr.fma(t, b[0] - a[0], a[0]), dr.fma(t, b[1] - a[1], a[1]), a[2] * 0.0))
+        cross_pts.append(x)
+        exits.append(above[i] & ~above[j])
+        entries.append(~above[i] & above[j])
+        count += dr.select(above[i], 1.0, 0.0) + dr.select(above[i] != above[j], 1.0, 0.0)
+    zero = count * 0.0
+    pending = (zero, zero, zero)  # the last exit point of the cycle: the exit that precedes the first entry
+    for i in range(k):
+        pending = tuple(dr.select(exits[i], cross_pts[i][c], pending[c]) for c in range(3))  # type: ignore[assignment]
+    total = zero
+    for i in range(k):
+        j = (i + 1) % k
+        both = above[i] & above[j]
+        start = tuple(dr.select(entries[i], cross_pts[i][c], units[i][c]) for c in range(3))
+        end = tuple(dr.select(exits[i], cross_pts[i][c], units[j][c]) for c in range(3))
+        total += dr.select(both | exits[i] | entries[i], _edge(start, end), 0.0)  # type: ignore[arg-type]
+        total += dr.select(entries[i], _edge(pending, cross_pts[i]), 0.0)  # type: ignore[arg-type]
+        pending = tuple(dr.select(exits[i], cross_pts[i][c], pending[c]) for c in range(3))  # type: ignore[assignment]
+    return dr.select(count >= 3.0, dr.abs(total), 0.0) / (2.0 * np.pi)
 
 
 def clipped_form_factor(poly: np.ndarray) -> np.ndarray:
-    """(1/2π) Σ acos(p_i·p_j) ẑ·(p_i × p_j)/‖p_i × p_j‖ over the polygon (N, K, 3) clipped to z ≥ 0 and projected
-    on the unit sphere: ∫_poly max(0, z)/π dω (the clamped cosine's integral, [1] eq. 11)."""
+    """:func:`form_factor_dr` of polygons given as numpy (N, K, 3), in the active dtype → (N,) float64."""
+    poly = np.asarray(poly, dtype=np.float64)
     n, k, _ = poly.shape
-    cur, nxt = poly, np.roll(poly, -1, axis=1)
-    zc, zn = cur[..., 2], nxt[..., 2]
-    t = np.where(np.abs(zc - zn) > 1e-300, zc / np.where(np.abs(zc - zn) > 1e-300, zc - zn, 1.0), 0.0)
-    cross_pt = cur + t[..., None] * (nxt - cur)
-    cross_pt[..., 2] = 0.0
-    slots = np.empty((n, 2 * k, 3))
-    valid = np.empty((n, 2 * k), dtype=bool)
-    slots[:, 0::2], slots[:, 1::2] = cur, cross_pt
-    valid[:, 0::2], valid[:, 1::2] = zc >= 0.0, (zc >= 0.0) != (zn >= 0.0)
-    slots = unit(slots)
-    idx = np.broadcast_to(np.arange(2 * k), (n, 2 * k))
-    nxt_idx = np.full((n, 2 * k), -1)
-    for off in range(2 * k - 1, 0, -1):  # the nearest valid slot after each slot, cyclically
-        cand = (idx + off) % (2 * k)
-        nxt_idx = np.where(np.take_along_axis(valid, cand, 1), cand, nxt_idx)
-    a = slots
-    b = np.take_along_axis(slots, np.maximum(nxt_idx, 0)[..., None], 1)
-    cosang = np.clip(np.sum(a * b, -1), -1.0, 1.0)
-    cr = np.cross(a, b)
-    crn = np.linalg.norm(cr, axis=-1)
-    term = np.where(crn > 1e-12, np.arccos(cosang) * cr[..., 2] / np.maximum(crn, 1e-300), 0.0)
-    use = valid & (nxt_idx >= 0) & (np.sum(valid, axis=1, keepdims=True) >= 3)
-    return np.abs(np.sum(np.where(use, term, 0.0), axis=1)) / (2.0 * np.pi)  # either winding
+    cols = precision.packed_to_dr(*(poly[:, i, c] for i in range(k) for c in range(3)))
+    return precision.to_np(form_factor_dr([tuple(cols[3 * i:3 * i + 3]) for i in range(k)]), (n,))  # type: ignore[misc]
 
 
 def local_frames(normals: np.ndarray, views: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(rows [X, Y, n] (N, 3, 3) with v in the XZ plane, μ_v = n·v)."""
+    """(rows [X, Y, n] (N, 3, 3) with v in the XZ plane, μ_v = n·v) in numpy float64 (the analysis path of the
+    arealights experiment; the evaluation uses :func:`local_frames_dr`)."""
     n = unit(normals)
     v = unit(views)
     mu = np.sum(n * v, -1)
@@ -434,22 +501,81 @@ def local_frames(normals: np.ndarray, views: np.ndarray) -> tuple[np.ndarray, np
     return np.stack([x, np.cross(n, x), n], axis=1), mu
 
 
+def local_frames_dr(n: Vec, v: Vec) -> tuple[Vec, Vec, Any, Any]:
+    """(X, Y, μ_v = n·v, x = ‖n − v‖/√2) for unit n, v (drjit): X = (v − μ n)/‖v − μ n‖ (perp(n) at normal
+    incidence), Y = n × X. The table coordinate x = √(1 − μ_v) is taken as ‖n − v‖/√2 (equal for unit vectors):
+    1 − μ_v from a float32 μ_v carries an absolute u, so √(1 − μ_v) would carry √u ≈ 2.4·10⁻⁴ near normal
+    incidence; ‖n − v‖ carries u."""
+    import drjit as dr
+
+    mu = dot(n, v)
+    xv = (v[0] - mu * n[0], v[1] - mu * n[1], v[2] - mu * n[2])
+    xn = dr.sqrt(dot(xv, xv))
+    ok = xn > 1e-9
+    fb = _perp_dr(n)
+    inv = 1.0 / dr.select(ok, xn, 1.0)
+    x_axis = tuple(dr.select(ok, xv[i] * inv, fb[i]) for i in range(3))
+    d = (n[0] - v[0], n[1] - v[1], n[2] - v[2])
+    return x_axis, _cross(n, x_axis), mu, dr.sqrt(dot(d, d)) * (1.0 / np.sqrt(2.0))  # type: ignore[return-value]
+
+
+def table_row(tab: Table, alpha: float) -> np.ndarray:
+    """(size, 6): the table interpolated in roughness √α (per light: numpy set-up), columns m⁻¹₀₀, m⁻¹₀₂, m⁻¹₁₁,
+    m⁻¹₂₀, E, E_f along x = √(1 − cos θ_v)."""
+    n = tab.size
+    fr = float(np.clip(np.sqrt(alpha), 0.0, 1.0)) * (n - 1)
+    i0 = min(int(np.floor(fr)), n - 2)
+    tr = fr - i0
+    a = np.concatenate([tab.m_inv.reshape(n, n, 4), tab.norm[..., None], tab.fresnel[..., None]], axis=-1)
+    return (1 - tr) * a[i0] + tr * a[i0 + 1]
+
+
+def ltc_integral_dr(light: Mapping[str, Any], alpha: float, points: np.ndarray, normals: np.ndarray,
+                    views: np.ndarray, who: str = "ltc", table: Table | None = None) -> tuple[Any, Any, Any]:
+    """(∫_light D_ltc dω, E, E_f) per receiver as drjit arrays of the active dtype: the table row at √α (numpy
+    set-up), then per receiver the frame, the bilinear lookup in x (a gather), the polygon in the frame transformed
+    by M⁻¹ and its clipped form factor (:func:`form_factor_dr`); zero behind a one-sided light or for n·v ≤ 0."""
+    import drjit as dr
+
+    tab = table or load_table()
+    pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    col = precision.packed_to_dr(*pts.T, *unit(normals).T, *unit(views).T)
+    p, n, v = (col[0], col[1], col[2]), unit_dr((col[3], col[4], col[5])), unit_dr((col[6], col[7], col[8]))
+    x_axis, y_axis, mu, x = local_frames_dr(n, v)
+    size_t = tab.size
+    rows = precision.to_dr(table_row(tab, alpha).T.ravel())  # column-major: entry c of node j at c·size + j
+    dr.make_opaque(rows)
+    fx = dr.clip(x, 0.0, 1.0) * float(size_t - 1)
+    j0 = dr.minimum(dr.floor(fx), float(size_t - 2))
+    tx = fx - j0
+    u = precision.uint_type()
+    j = u(j0)
+    ft = precision.float_type()
+    m00, m02, m11, m20, norm, fres = (dr.lerp(dr.gather(ft, rows, j + c * size_t),
+                                              dr.gather(ft, rows, j + c * size_t + 1), tx) for c in range(6))
+    poly = []
+    for w in light_polygon_dr(light, pts, p, who):
+        lx, ly, lz = dot(x_axis, w), dot(y_axis, w), dot(n, w)
+        poly.append((dr.fma(m02, lz, m00 * lx), m11 * ly, dr.fma(m20, lx, lz)))
+    ff = form_factor_dr(poly)
+    front = mu > 0.0
+    if light.get("shape") not in ("sphere", "tube"):
+        k = precision.constants_dr(np.r_[np.asarray(light.get("center"), dtype=np.float64),
+                             np.asarray(light.get("normal", (0.0, 0.0, 0.0)), dtype=np.float64)])
+        front &= ((k[0] - p[0]) * k[3] + (k[1] - p[1]) * k[4] + (k[2] - p[2]) * k[5]) < 0.0
+    return dr.select(front, ff, 0.0), norm, fres
+
+
 def ltc_integral(light: Mapping[str, Any], alpha: float, points: np.ndarray, normals: np.ndarray,
                  views: np.ndarray, who: str = "ltc", table: Table | None = None
                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(∫_light D_ltc dω, E, E_f) per receiver."""
-    tab = table or load_table()
-    frames, mu = local_frames(normals, views)
-    m_inv, norm, fres = tab.lookup(alpha, np.clip(mu, 0.0, 1.0))
-    poly = light_polygon(light, np.asarray(points, dtype=np.float64), who) - np.asarray(points)[:, None, :]
-    local = np.einsum("nij,nkj->nki", frames, poly)
-    front = np.sum((np.asarray(light.get("center"), dtype=np.float64) - points)
-                   * np.asarray(light.get("normal", (0.0, 0.0, 0.0)), dtype=np.float64), -1) < 0.0
-    if light.get("shape") in ("sphere", "tube"):
-        front = np.ones(len(points), dtype=bool)
-    trans = np.einsum("nij,nkj->nki", m_inv, local)
-    ff = clipped_form_factor(trans)
-    return np.where(front & (mu > 0.0), ff, 0.0), norm, fres
+    """:func:`ltc_integral_dr` as (N,) float64 numpy arrays (∫_light D_ltc dω, E, E_f)."""
+    import drjit as dr
+
+    ff, norm, fres = ltc_integral_dr(light, alpha, points, normals, views, who, table)
+    dr.eval(ff, norm, fres)
+    n = len(np.asarray(points).reshape(-1, 3))
+    return precision.to_np(ff, (n,)), precision.to_np(norm, (n,)), precision.to_np(fres, (n,))
 
 
 @specular_arealight.register("ltc", "Linearly Transformed Cosines (Heitz et al. 2016), GGX table fitted here "
@@ -458,13 +584,20 @@ def ltc_integral(light: Mapping[str, Any], alpha: float, points: np.ndarray, nor
                              shapes=SHAPES)
 def ltc(light: Mapping[str, Any], brdf: Mapping[str, Any], points: np.ndarray, normals: np.ndarray,
         views: np.ndarray) -> np.ndarray:
+    """L_o = L_e F (F₀ E + (1 − F₀) E_f) per channel ([1] §5.2), in the family's dtype (:func:`ltc_integral_dr`)."""
+    import drjit as dr
+
     alpha, f0 = brdf_params(brdf, "ltc")
-    ff, norm, fres = ltc_integral(light, alpha, np.asarray(points, dtype=np.float64), normals, views)
-    le = float(light.get("radiance", 1.0))
-    return le * ff[:, None] * (f0[None, :] * norm[:, None] + (1.0 - f0[None, :]) * fres[:, None])
+    ff, norm, fres = ltc_integral_dr(light, alpha, np.asarray(points, dtype=np.float64), normals, views)
+    k = precision.constants_dr(np.r_[float(light.get("radiance", 1.0)), f0])
+    lf = k[0] * ff
+    out = [lf * dr.fma(k[1 + c], norm - fres, fres) for c in range(3)]
+    dr.eval(*out)
+    return precision.rgb_to_np(*out, len(np.asarray(points).reshape(-1, 3)))
 
 
 __all__ = ["specular_arealight", "fit_entry", "fit_entry_ad", "fit_entry_scipy", "fit_problem", "FitProblem",
            "l3_error_ad", "fit_quadrature", "ggx_cos", "ltc_density", "table_axes", "alpha_of",
-           "pack", "load_table", "Table", "Entry", "clipped_form_factor", "light_polygon", "local_frames",
-           "ltc_integral", "brdf_params", "tube_polygon"]
+           "pack", "load_table", "Table", "Entry", "clipped_form_factor", "form_factor_dr", "light_polygon_dr",
+           "local_frames", "local_frames_dr", "ltc_integral", "ltc_integral_dr", "table_row", "brdf_params",
+           "tube_polygon_dr"]

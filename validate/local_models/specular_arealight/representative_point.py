@@ -61,17 +61,20 @@ import numpy as np
 from ...errors import ValidateError
 from ...scenes.area_lights import tube_geometry
 from ..families import specular_arealight
-from ..precision import rgb_to_np, to_np, vec_to_dr
+from ..precision import constants_dr, packed_to_dr, rgb_to_np, to_np, vec_to_dr
 from .common import TINY, Vec, axpy, brdf_params, dot, ggx_point_dr, unit_dr
 
 
 def _receivers(points: np.ndarray, normals: np.ndarray, views: np.ndarray) -> tuple[Vec, Vec, Vec, Vec]:
-    """p, unit n, unit v and the mirror direction r = 2(n·v) n − v as drjit vectors of the active dtype."""
-    n, v = unit_dr(vec_to_dr(normals)), unit_dr(vec_to_dr(views))
-    return vec_to_dr(points), n, v, axpy(2.0 * dot(n, v), n, (-v[0], -v[1], -v[2]))
+    """p, unit n, unit v and the mirror direction r = 2(n·v) n − v as drjit vectors of the active dtype (one packed
+    input, :func:`~..precision.packed_to_dr`)."""
+    cols = [np.asarray(a, dtype=np.float64).reshape(-1, 3).T for a in (points, normals, views)]
+    c = packed_to_dr(*cols[0], *cols[1], *cols[2])
+    n, v = unit_dr((c[3], c[4], c[5])), unit_dr((c[6], c[7], c[8]))
+    return (c[0], c[1], c[2]), n, v, axpy(2.0 * dot(n, v), n, (-v[0], -v[1], -v[2]))
 
 
-def _toward_sphere(to_c: Vec, r: Vec, radius: float) -> Vec:
+def _toward_sphere(to_c: Vec, r: Vec, radius: Any) -> Vec:
     """l: the unit direction to eq. 11's representative point, P = L + C·saturate(R/‖C‖), C = (L·r) r − L."""
     import drjit as dr
 
@@ -89,18 +92,21 @@ def representative_point(light: Mapping[str, Any], brdf: Mapping[str, Any], poin
     if light.get("shape") != "sphere":
         raise ValidateError(f"technique '{who}' (specular_arealight): handles sphere lights only, got "
                             f"{light.get('shape')!r}")
-    alpha, f0 = brdf_params(brdf, who)
-    radius = float(light["radius"])
-    c = [float(x) for x in np.asarray(light["center"], dtype=np.float64)]
+    alpha0, f0 = brdf_params(brdf, who)
+    r0 = float(light["radius"])
+    # the light's and the BRDF's numbers opaque (a new light or α reuses the kernel), products formed in float64
+    # as the literals were
+    cx, cy, cz, radius, e0, alpha = constants_dr(np.r_[np.asarray(light["center"], dtype=np.float64), r0,
+                                                       float(light.get("radiance", 1.0)) * np.pi * r0 ** 2, alpha0])
     p, n, v, r = _receivers(points, normals, views)
-    to_c = (c[0] - p[0], c[1] - p[1], c[2] - p[2])
+    to_c = (cx - p[0], cy - p[1], cz - p[2])
     dist2 = dot(to_c, to_c)
     l = _toward_sphere(to_c, r, radius)
-    e_perp = float(light.get("radiance", 1.0)) * np.pi * radius ** 2 / dist2
+    e_perp = e0 / dist2
     if normalise:
         a1 = alpha / dr.clip(alpha + radius / (2.0 * dr.sqrt(dist2)), 0.0, 1.0)
         e_perp = e_perp * a1 * a1
-    return rgb_to_np(*ggx_point_dr(alpha, f0, n, l, v, e_perp), len(np.asarray(points).reshape(-1, 3)))
+    return rgb_to_np(*ggx_point_dr(alpha0, f0, n, l, v, e_perp), len(np.asarray(points).reshape(-1, 3)))
 
 
 @specular_arealight.register("representative_point", "Karis 2013 representative point on the sphere closest to the "

@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import ValidateError
+from ..precision import constants_dr, packed_to_dr
 from ..precision import to_dr as _to_dr
 
 SHAPE_KEYS = ("width", "height", "width_edge", "height_edge", "roundness")
@@ -59,12 +60,16 @@ def superellipse_shape(light: Mapping[str, Any], lc: Any) -> Any:
     front = z > 0
     zs = dr.select(front, z, 1.0)
     px, py = dr.abs(x / zs), dr.abs(y / zs)
-    w, h = float(light["width"]), float(light["height"])
-    ww, hh = w + float(light["width_edge"]), h + float(light["height_edge"])
+    w0, h0 = float(light["width"]), float(light["height"])
+    ww0, hh0 = w0 + float(light["width_edge"]), h0 + float(light["height_edge"])
+    # widths opaque (precision.constants_dr: a new light reuses the kernel), the products w h formed in float64 as
+    # the literals were; the exponents stay literals: drjit's power takes exact fast paths on literal integer
+    # exponents (e₁ = 2 at roundness 1), an opaque exponent would change the float32 numbers
+    w, h, ww, hh, wh, wwhh = constants_dr([w0, h0, ww0, hh0, w0 * h0, ww0 * hh0])
     e1, e2 = 2.0 / float(light["roundness"]), -float(light["roundness"]) / 2.0
     at_axis = (px == 0) & (py == 0)
-    inner = w * h * dr.power(dr.select(at_axis, 1.0, dr.power(h * px, e1) + dr.power(w * py, e1)), e2)
-    outer = ww * hh * dr.power(dr.select(at_axis, 1.0, dr.power(hh * px, e1) + dr.power(ww * py, e1)), e2)
+    inner = wh * dr.power(dr.select(at_axis, 1.0, dr.power(h * px, e1) + dr.power(w * py, e1)), e2)
+    outer = wwhh * dr.power(dr.select(at_axis, 1.0, dr.power(hh * px, e1) + dr.power(ww * py, e1)), e2)
     shape = 1.0 - smoothstep(inner, outer, dr.full(type(inner), 1.0, dr.width(inner)))
     return dr.select(front, dr.select(at_axis, 1.0, shape), 0.0)
 
@@ -74,7 +79,8 @@ def distance_shape(light: Mapping[str, Any], z: Any) -> Any:
     near, far = float(light["near"]), float(light["far"])
     ne, fe = float(light["near_edge"]), float(light["far_edge"])
     one = z * 0.0
-    return smoothstep(one + (near - ne), one + near, z) * (1.0 - smoothstep(one + far, one + (far + fe), z))
+    a, b, c, d = constants_dr([near - ne, near, far, far + fe])  # opaque: a new light reuses the kernel
+    return smoothstep(one + a, one + b, z) * (1.0 - smoothstep(one + c, one + d, z))
 
 
 def superellipse_shape_np(light: Mapping[str, Any], x: np.ndarray, y: np.ndarray, z: np.ndarray) -> np.ndarray:
@@ -159,8 +165,6 @@ def shade(light: Mapping[str, Any], points: np.ndarray, normals: np.ndarray, vie
     check_light(light)
     p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
     lc64 = light_coordinates(light, p)
-    lc = [_f(lc64[:, i]) for i in range(3)]
-    a = superellipse_shape(light, lc) * distance_shape(light, lc[2])
     to_light = np.asarray(light["position"], dtype=np.float64) - p
     dist = np.linalg.norm(to_light, axis=1)
     ldir = to_light / np.maximum(dist, 1e-30)[:, None]
@@ -168,14 +172,18 @@ def shade(light: Mapping[str, Any], points: np.ndarray, normals: np.ndarray, vie
     v = np.asarray(views, dtype=np.float64).reshape(-1, 3)
     half = ldir + v
     half /= np.maximum(np.linalg.norm(half, axis=1), 1e-30)[:, None]
-    ndotl = dr.maximum(_f(np.einsum("nk,nk->n", n, ldir)), 0.0)
-    ndoth = dr.maximum(_f(np.einsum("nk,nk->n", n, half)), 0.0)
     albedo = np.broadcast_to(np.asarray(material.get("albedo", 1.0), dtype=np.float64), (len(p),))
+    vis = np.ones(len(p)) if shadow is None else shadow
+    fall = np.broadcast_to(np.asarray(falloff, dtype=np.float64), (len(p),))
+    # one packed input (precision.packed_to_dr): with eight separate ones the kernel's hash followed drjit's
+    # variable numbering and every call recompiled (≈ 0.2 s each, measured with drjit's kernel history)
+    x, y, z, cl, ch, rho, vis_d, fall_d = packed_to_dr(*lc64.T, np.einsum("nk,nk->n", n, ldir),
+                                                       np.einsum("nk,nk->n", n, half), albedo / math.pi, vis, fall)
+    a = superellipse_shape(light, [x, y, z]) * distance_shape(light, z)
     ks, s = float(material.get("ks", 0.0)), float(material.get("specular_exponent", 20.0))
-    refl = _f(albedo / math.pi) * ndotl + ks * dr.power(ndoth, s)
-    vis = _f(np.ones(len(p)) if shadow is None else shadow)
-    c = float(light["intensity"]) * a * _f(np.broadcast_to(np.asarray(falloff, dtype=np.float64), (len(p),)))
-    return np.array(c * vis * refl, dtype=np.float64)
+    refl = rho * dr.maximum(cl, 0.0) + ks * dr.power(dr.maximum(ch, 0.0), s)
+    c = constants_dr([float(light["intensity"])])[0] * a * fall_d
+    return np.array(c * vis_d * refl, dtype=np.float64)
 
 
 def _distance(light: Mapping[str, Any], points: np.ndarray) -> np.ndarray:

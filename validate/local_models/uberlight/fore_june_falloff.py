@@ -30,6 +30,7 @@ import numpy as np
 
 from ...errors import ValidateError
 from ..families import uberlight
+from ..precision import constants_dr, vec_to_dr
 from ..uberlight.common import check_light, shade
 
 
@@ -54,6 +55,18 @@ def falloff_listing(d: np.ndarray, k: float, m: float, d0: float, alpha: float) 
     return np.where(d <= d0, m * np.exp(s * (d / d0) ** beta), k * (d0 / d) ** alpha)
 
 
+def falloff_printed_dr(d: Any, k: float, m: float, d0: float, alpha: float) -> Any:
+    """:func:`falloff_printed` on a drjit array of distances, in its dtype (the technique's path; the float64 numpy
+    form stays for :func:`slopes_at_d0`'s finite differences, which float32 would drown). K, M, d₀, α, s, β enter
+    as opaque values (:func:`~validate.local_models.precision.constants_dr`): a new light reuses the kernel."""
+    import drjit as dr
+
+    s, beta = _constants(k, m, alpha)
+    kk, mm, dd0, aa, ss, bb = constants_dr([k, m, d0, alpha, s, beta])
+    ratio = dd0 / dr.maximum(d, 1e-30)
+    return dr.select(d < dd0, mm * dr.exp(ss * dr.power(ratio, bb)), kk * dr.power(ratio, aa))
+
+
 def slopes_at_d0(k: float, m: float, d0: float, alpha: float, form: str, h: float = 1e-6) -> tuple[float, float]:
     """(inner, outer) one-sided derivatives at d₀ by central differences of width h·d₀ (the C¹ check)."""
     f = falloff_printed if form == "printed" else falloff_listing
@@ -69,12 +82,17 @@ def uberlight_fore_june_printed(light: Mapping[str, Any], points: np.ndarray, no
                                 views: np.ndarray, material: Mapping[str, Any],
                                 shadow: np.ndarray | None = None) -> np.ndarray:
     """Orange Book shaping (:func:`validate.local_models.uberlight.shade`) × falloff_printed(d)/I₀ with
-    K = I₀/d₀^α (as ``uberlight_fore_june``, whose near branch is the listing's)."""
+    K = I₀/d₀^α (as ``uberlight_fore_june``, whose near branch is the listing's); d and the falloff in drjit, in
+    the family's dtype (:func:`falloff_printed_dr`)."""
+    import drjit as dr
+
     check_light(light, "d0", "alpha", "max_intensity")
     i0, d0, alpha = float(light["intensity"]), float(light["d0"]), float(light["alpha"])
-    d = np.linalg.norm(np.asarray(points, dtype=np.float64).reshape(-1, 3) - np.asarray(light["position"]), axis=1)
-    f = falloff_printed(d, i0 / d0 ** alpha, float(light["max_intensity"]), d0, alpha) / i0
+    px, py, pz = vec_to_dr(points)
+    cx, cy, cz, inv_i0 = constants_dr(np.r_[np.asarray(light["position"], dtype=np.float64), 1.0 / i0])
+    d = dr.sqrt(dr.square(px - cx) + dr.square(py - cy) + dr.square(pz - cz))
+    f = falloff_printed_dr(d, i0 / d0 ** alpha, float(light["max_intensity"]), d0, alpha) * inv_i0
     return shade(light, points, normals, views, material, shadow, f)
 
 
-__all__ = ["falloff_listing", "falloff_printed", "slopes_at_d0", "uberlight_fore_june_printed"]
+__all__ = ["falloff_listing", "falloff_printed", "falloff_printed_dr", "slopes_at_d0", "uberlight_fore_june_printed"]
