@@ -8,6 +8,10 @@
 //       the engine reads them (OpenGL cube-map layout: row i at t = (i + ½)/size, column j at
 //       s = (j + ½)/size); float32, or IEEE half bits (uint16) for "float16".
 //       reply: {coefficients: {...}} — the engine's own numbers, kept under `key`.
+//   {op: "project_panorama", key, width, height, size, clamp: bool}   (Babylon only)
+//       payload: the lat-long panorama, height × width RGB float32, rows top (zenith) first; the engine
+//       makes its own faces (PanoramaToCubeMapTools) and projects them; reply payload: those faces,
+//       6 × size × size RGB float32 in Babylon's order right, left, up, down, front, back.
 //   {op: "evaluate", key, path, count}
 //       payload: count × 3 float64 unit normals; reply payload: count × 3 float64 irradiance E
 //       evaluated exactly as the engine's shader (or CPU helper) does for `path`.
@@ -55,6 +59,15 @@ async function handle(header, payload) {
       const state = await engine.project(faces, header);
       states.set(header.key, state);
       send({ ok: true, coefficients: state.coefficients });
+    } else if (header.op === 'project_panorama') {
+      if (!engine.projectPanorama) throw new Error(`${engineName}: no CPU panorama path`);
+      const panorama = aligned(payload, Float32Array);
+      if (panorama.length !== 3 * header.width * header.height) {
+        throw new Error(`expected ${3 * header.width * header.height} values, got ${panorama.length}`);
+      }
+      const { state, faces } = await engine.projectPanorama(panorama, header);
+      states.set(header.key, state);
+      send({ ok: true, coefficients: state.coefficients }, faces);
     } else if (header.op === 'evaluate') {
       const state = states.get(header.key);
       if (!state) throw new Error(`no projection under key ${header.key}`);
