@@ -33,11 +33,10 @@ export const FACE_ORDER = ['right', 'left', 'up', 'down', 'front', 'back'];
 // (RGB, in FACE_ORDER) so the caller can see what the engine integrated.
 export async function projectPanorama(panorama, header) {
   const cube = PanoramaToCubeMapTools.ConvertPanoramaToCubemap(panorama, header.width, header.height, header.size);
-  const state = fromCubeInfo(cube, header.clamp);
   const n = header.size * header.size * 3;
   const faces = new Float32Array(6 * n);
   FACE_ORDER.forEach((name, i) => faces.set(cube[name], i * n));
-  return { state, faces };
+  return { state: fromCubeInfo(cube, true), unclamped: fromCubeInfo(cube, false), faces };
 }
 
 function fromCubeInfo(cubeInfo, clamp) {

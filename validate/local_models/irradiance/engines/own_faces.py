@@ -68,21 +68,22 @@ def three_equirect_faces(radiance: np.ndarray, size: int) -> np.ndarray:
 
 
 def babylon_panorama(radiance: np.ndarray, size: int, clamp: bool = True) -> tuple[str, np.ndarray]:
-    """Babylon's own panorama → faces → spherical polynomial; returns the Node key and its faces (6, N, N, 3)
-    float32 in +X, −X, +Y, −Y, +Z, −Z order (the order and texel layout its projection reads)."""
+    """Babylon's own panorama → faces → spherical polynomial (one request projects with and without the clamp);
+    returns the Node key of the one asked for and the faces (6, N, N, 3) float32 in +X, −X, +Y, −Y, +Z, −Z order
+    (the order and texel layout its projection reads)."""
     pano = np.ascontiguousarray(radiance, dtype=np.float32)
-    key = f"pano:{worker.radiance_digest(pano)}:{size}:{int(clamp)}"
+    key = f"pano:{worker.radiance_digest(pano)}:{size}"
     w = worker.worker("babylon")
     cached = _BABYLON_FACES.get(key)
     if key not in w.keys or cached is None:
         reply, body = w.request({"op": "project_panorama", "key": key, "width": int(pano.shape[1]),
-                                 "height": int(pano.shape[0]), "size": int(size), "clamp": clamp}, pano.tobytes())
+                                 "height": int(pano.shape[0]), "size": int(size)}, pano.tobytes())
         w.keys[key] = reply["coefficients"]
         cached = np.frombuffer(body, dtype=np.float32).reshape(6, size, size, 3).copy()
         _BABYLON_FACES[key] = cached
         while len(_BABYLON_FACES) > 2 * worker.FACE_CACHE:
             _BABYLON_FACES.pop(next(iter(_BABYLON_FACES)))
-    return key, cached
+    return (key if clamp else f"{key}:unclamped"), cached
 
 
 _BABYLON_FACES: dict[str, np.ndarray] = {}
