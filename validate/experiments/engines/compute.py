@@ -190,6 +190,8 @@ def measure_own_faces(env: Environment, normals: np.ndarray, e_ref: np.ndarray, 
             "max_face_texel": float(faces.max()), "above_clamp": bool(faces.max() > BABYLON_CLAMP),
             "clamp_share": clamp_share(faces),
             "face_flux_error": float(np.max(np.abs(cube_faces.face_flux(faces)[ok] / flux[ok] - 1.0))),
+            "face_flux_ratio": float(latlong.luminance(cube_faces.face_flux(faces)) / latlong.luminance(flux))
+            if latlong.luminance(flux) > 0 else 1.0,
             "errors": stats_json(errs),
             "faces_deviation": deviation(e, _faces_sh9(faces, own_faces.to_engine_frame(engine, normals), babylon),
                                          flux),

@@ -308,7 +308,22 @@ def own_faces_findings(m: Measurements) -> list[str]:
                      f"{pct(own[e]['errors']['flux_luminance']['max'])} with the clamp vs "
                      f"{pct(own[e]['errors_unclamped']['flux_luminance']['max'])} without" for e in own_above]
             line += (": " + "; ".join(parts) + ".") if parts else "."
+            suite_parts = [f"{e} {pct(m.environments[e]['babylon_sh_unclamped']['flux_luminance']['max'])} → "
+                           f"{pct(m.environments[e]['techniques'][name]['errors']['flux_luminance']['max'])}"
+                           for e in suite_above if "babylon_sh_unclamped" in m.environments[e]]
+            if suite_parts:
+                line += (" On the suite's texel-averaged faces the clamp moves the max error (without → with) "
+                         + "; ".join(suite_parts) + ".")
         out.append(line)
+        ratios = {e: o["face_flux_ratio"] for e, o in own.items() if "face_flux_ratio" in o}
+        if ratios:
+            lo, hi = min(ratios, key=ratios.get), max(ratios, key=ratios.get)
+            out.append(f"{name}'s own faces point-sample the panorama, so a source smaller than a cube texel "
+                       f"(90°/{m.settings.face_size} = {90 / m.settings.face_size:.2g}° at N = "
+                       f"{m.settings.face_size}) is hit or missed: their luminance flux ranges from "
+                       f"{ratios[lo]:.3g} × the map's ({lo}, largest own-face texel "
+                       f"{own[lo]['max_face_texel']:.4g}) to {ratios[hi]:.3g} × ({hi}); the suite's faces keep the "
+                       f"flux to within {max(r['face_flux_error'] for r in m.environments.values()):.2g}.")
     return out
 
 
