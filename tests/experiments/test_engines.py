@@ -268,9 +268,11 @@ def test_claims_pass_and_their_power_checks_fail() -> None:
     ids = {c.id for c in cs}
     assert {"engines.faces.flux", "engines.three_sh.equals_faces_sh9", "engines.babylon_sh.equals_faces_sh9",
             "engines.babylon_polynomial.double_lobe", "engines.three_sh.bound.max",
-            "engines.babylon_sh.pi_normalisation"} <= ids
+            "engines.babylon_sh.pi_normalisation", "engines.three_sh.own_faces.equals_faces_sh9",
+            "engines.babylon_sh.own_faces.equals_faces_sh9"} <= ids
     for c in cs:
         assert c.passed, (c.id, c.measured, c.threshold)
         assert c.power is not None and c.power.fails, (c.id, c.power)
         assert "issue" not in c.source.lower()
     assert any("lobe twice" in f for f in findings(m))
+    assert sum("Issue 21 item 5" in f for f in findings(m)) == 2  # one per engine fed from its own faces

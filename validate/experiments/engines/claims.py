@@ -16,9 +16,18 @@ Claims (each with its power check, a perturbation of the size a real bug would h
   (2π/3)·0.488603, 0.858086 = (π/4)·1.092548). Power: the lobe applied once (plain SH9).
 * ``engines.<tech>.pi_normalisation`` — constant environment: E = πL (∫ max(0, n·ω) dω = π).
   Power: the shader's E/π taken for E.
+* ``engines.<tech>.own_faces.equals_faces_sh9`` (three_sh, babylon_sh) — fed from the engine's *own*
+  panorama → cube path (:mod:`validate.local_models.irradiance.engines.own_faces`), the engine equals the exact
+  SH9 of the faces it made (Babylon's clipped to [0, 4096]), to the tolerances above. Power: the same against
+  the suite's texel-averaged faces (faces from the other source).
+* ``engines.babylon_sh.own_faces.clamp_lowers_error`` — only where Babylon's own faces exceed 4096: the clamp
+  lowers its max error (without − with > 0 beyond both reference uncertainties): its nearest-sampled faces
+  over-count a hit sun. Power: the same on the suite's faces.
 """
 
 from __future__ import annotations
+
+from typing import Any
 
 from ...local_models import irradiance
 from ...local_models.registry import Technique
@@ -175,11 +184,86 @@ def face_claims(m: Measurements) -> list[Claim]:
     ).with_power("faces point-sampled at the texel centres (no averaging)", point)]
 
 
+def _own(m: Measurements, tech: Technique) -> dict[str, dict[str, Any]]:
+    return {e: r["own_faces"][tech.name] for e, r in m.environments.items() if tech.name in r.get("own_faces", {})}
+
+
+def own_faces_claims(m: Measurements) -> list[Claim]:
+    """Issue 21 item 5: each engine fed from its *own* panorama → cube path. The engine equals the exact SH9 of
+    the faces it made itself (Babylon's clipped to [0, 4096], its clamp), to the tolerance of
+    :func:`tolerance`; power: the same against the suite's texel-averaged faces (faces from the other source),
+    which must fail — so the face source is measurable. For Babylon, where its own faces exceed 4096 on some
+    environment, :func:`clamp_bias_claims`."""
+    out = []
+    for tech in engine_techniques():
+        own = _own(m, tech)
+        if not own:
+            continue
+        babylon = tech.meta.get("engine") == "babylon"
+        worst = max(own, key=lambda e: own[e]["faces_deviation"])
+        face_err = max(r["face_flux_error"] for r in own.values())
+        if babylon:
+            tol, src = BABYLON_FLOAT32, ("float32 shader arithmetic (17 operations × 2⁻²⁴ on Σ|terms| ≤ 3.1 Φ, 3× "
+                                         "margin); exact SH9 of Babylon's own faces clipped per channel to [0, 4096] "
+                                         "as Clamp(v, 0, MAX_HDRI_VALUE) does")
+        else:
+            tol = K_MAX * m.rho * (1 + face_err) + THREE_CONSTANTS
+            src = (f"|ΔE| ≤ ρ(N)·max K̃·Φ_faces + 10⁻⁵: ρ({m.settings.face_size}) = {m.rho:.3g} (three.js's 4/r³ "
+                   f"weights vs exact solid angles), max K̃ = 17/16 (R&H JOSA 2001), its own faces' flux within "
+                   f"{face_err:.2g} of the map's")
+        out.append(Claim(
+            f"engines.{tech.name}.own_faces.equals_faces_sh9",
+            f"{tech.name} fed from its own panorama → cube path = exact SH9 of those faces"
+            f"{' (clamped at 4096)' if babylon else ''} ({len(own)} environments; worst: {worst})",
+            "max |E − E_SH9(own faces)| / Φ (worst channel)", tol, own[worst]["faces_deviation"], 0.0, unit="%",
+            source=src).with_power("faces from the other source (the suite's texel-averaged faces)",
+                                   max(r["suite_faces_deviation"] for r in own.values())))
+        if babylon:
+            out += clamp_bias_claims(m, tech, own)
+    return out
+
+
+def clamp_bias_claims(m: Measurements, tech: Technique, own: dict[str, dict[str, Any]]) -> list[Claim]:
+    """Where Babylon's own faces exceed 4096: its max flux-normalised luminance error without the clamp minus with
+    it exceeds 0, beyond the two errors' reference uncertainties, on every such environment — nearest sampling
+    gives a sun texel the radiance of the one pixel it hit over the texel's whole solid angle, so the faces
+    over-count the sun's flux and the clamp takes flux away. Power: the same difference on the suite's
+    texel-averaged faces (clamp and no clamp), on the same environments."""
+    above = [e for e, r in own.items() if r["above_clamp"]]
+    if not above:
+        return []
+
+    def gain(clamped: dict, free: dict) -> tuple[float, float]:
+        a, b = clamped["flux_luminance"], free["flux_luminance"]
+        return b["max"] - a["max"], a["max_uncertainty"] + b["max_uncertainty"]
+
+    gains = {e: gain(own[e]["errors"], own[e]["errors_unclamped"]) for e in above}
+    worst = min(gains, key=lambda e: gains[e][0] - gains[e][1])
+    over = min(own[e]["face_flux_error"] for e in above)
+    claim = Claim(
+        f"engines.{tech.name}.own_faces.clamp_lowers_error",
+        f"Babylon's own faces exceed its 4096 clamp on {len(above)} environment(s) ({', '.join(above)}); there the "
+        f"clamp lowers {tech.name}'s max error (least: {worst})",
+        "max error without the clamp − with it (flux_luminance, least over those environments)", 0.0,
+        gains[worst][0], gains[worst][1], comparison=">", unit="%",
+        source=("sign test: nearest-sampled faces over-count a hit sun's flux (their flux error is ≥ "
+                f"{over:.2g} on these environments, measured) and the clamp "
+                "(CubeMapToSphericalPolynomialTools.MAX_HDRI_VALUE = 4096) removes flux; the difference must clear "
+                "0 by more than the two errors' reference uncertainties"))
+    suite = {e: gain(m.environments[e]["techniques"][tech.name]["errors"], m.environments[e]["babylon_sh_unclamped"])
+             for e in above if "babylon_sh_unclamped" in m.environments[e]}
+    if suite:
+        ws = min(suite, key=lambda e: suite[e][0] - suite[e][1])
+        claim = claim.with_power("the same on the suite's texel-averaged faces (the other face source)",
+                                 suite[ws][0], suite[ws][1])
+    return [claim]
+
+
 def claims(m: Measurements) -> list[Claim]:
     if m.unavailable is not None:  # only the faces were measured
         return face_claims(m)
     return (face_claims(m) + equality_claims(m) + bound_claims(m) + polynomial_claims(m) + pi_claims(m)
-            + declared_claims(m))
+            + declared_claims(m) + own_faces_claims(m))
 
 
 __all__ = ["claims", "eligible", "pct", "K_MAX", "POLYNOMIAL_TOL", "PI_TOL"]

@@ -13,7 +13,9 @@ Per environment (:func:`measure_environment`, through ``ctx.map``):
   irradiance is (E(n) − E(−n))/2, so E(−n) is SH9 with L1m ↦ −L1m) and its output × 1.01;
 * Babylon with the 4096 clamp lifted (MAX_HDRI_VALUE = ∞) and the share of the face flux the clamp
   removes; three.js fed half-float faces (a HalfFloatType target); Babylon's polynomial path against
-  SH9 of the faces with band l scaled by A_l/π (the cosine lobe applied twice).
+  SH9 of the faces with band l scaled by A_l/π (the cosine lobe applied twice);
+* each engine fed from its own panorama → cube path (:func:`measure_own_faces`, issue 21 item 5): Babylon's
+  PanoramaToCubeMapTools, three.js's equirect shader transcribed.
 
 :func:`measure_face_sizes` sweeps the cube-face size on a few environments.
 """
@@ -29,7 +31,7 @@ import numpy as np
 from ...geometry import cube_texel_directions, cube_texel_solid_angles
 from ...local_models import irradiance as irradiance_family
 from ...local_models.irradiance import sh as shm
-from ...local_models.irradiance.engines import UNAVAILABLE, cube_faces, worker
+from ...local_models.irradiance.engines import UNAVAILABLE, cube_faces, own_faces, worker
 from ...local_models.registry import Technique
 from ...metrics.irradiance_error import irradiance_errors
 from ...reference.irradiance import reference_irradiance
@@ -146,6 +148,66 @@ def measure_faces(env: Environment, settings: Settings) -> dict:
     }
 
 
+OWN_PATHS = {("three", "getIrradianceAt"), ("babylon", "sh")}  # the engine paths measured on their own faces
+
+
+def _faces_sh9(faces: np.ndarray, normals: np.ndarray, clamp: bool) -> np.ndarray:
+    """Exact-solid-angle SH9 E of ``faces`` at ``normals`` (faces clipped to [0, 4096] per channel if ``clamp``:
+    Babylon's Clamp(v, 0, MAX_HDRI_VALUE))."""
+    f = np.clip(faces, 0.0, BABYLON_CLAMP) if clamp else faces
+    return cube_faces.render_sh9(cube_faces.project_faces_sh9(f), normals)
+
+
+def _difference(own: dict[str, float], suite: dict[str, float]) -> dict[str, float]:
+    """own − suite for the mean and the max, each ± the sum of the two references' uncertainties (the same
+    reference, so this bounds the difference's uncertainty from above)."""
+    return {k: v for stat in ("mean", "max") for k, v in
+            ((stat, own[stat] - suite[stat]), (f"{stat}_uncertainty", own[f"{stat}_uncertainty"]
+                                               + suite[f"{stat}_uncertainty"]))}
+
+
+def measure_own_faces(env: Environment, normals: np.ndarray, e_ref: np.ndarray, unc: np.ndarray, flux: np.ndarray,
+                      suite_faces: np.ndarray, techs: dict[str, dict]) -> dict:
+    """Each engine fed from its own panorama → cube path (:mod:`own_faces`) beside the same engine on the suite's
+    texel-averaged faces (issue 21 item 5): the faces it made (largest texel, Babylon's clamp, flux), its errors
+    with and (Babylon) without the clamp, its departure from the exact SH9 of its own faces and — the power
+    check — from the exact SH9 of the suite's faces, and the error difference own − suite ± the two references'
+    uncertainties."""
+    out: dict[str, Any] = {}
+    ok = flux > 0
+    for tech in engine_techniques():
+        engine, path = tech.meta.get("engine"), tech.meta.get("path")
+        if (engine, path) not in OWN_PATHS or tech.name not in techs:
+            continue
+        babylon = engine == "babylon"
+        faces = own_faces.own_faces(engine, env.radiance, suite_faces.shape[1])
+        a, fit = own_faces.orientation(engine, suite_faces.shape[1])
+        e = own_faces.own_irradiance(engine, env.radiance, normals, suite_faces.shape[1])
+        errs = irradiance_errors(e_ref, e, flux, unc)
+        suite = techs[tech.name]["errors"]
+        r: dict[str, Any] = {
+            "orientation": a.tolist(), "orientation_fit": fit,
+            "max_face_texel": float(faces.max()), "above_clamp": bool(faces.max() > BABYLON_CLAMP),
+            "clamp_share": clamp_share(faces),
+            "face_flux_error": float(np.max(np.abs(cube_faces.face_flux(faces)[ok] / flux[ok] - 1.0))),
+            "face_flux_ratio": float(latlong.luminance(cube_faces.face_flux(faces)) / latlong.luminance(flux))
+            if latlong.luminance(flux) > 0 else 1.0,
+            "errors": stats_json(errs),
+            "faces_deviation": deviation(e, _faces_sh9(faces, own_faces.to_engine_frame(engine, normals), babylon),
+                                         flux),
+            "suite_faces_deviation": deviation(e, _faces_sh9(suite_faces, normals, babylon), flux),
+            "vs_suite_faces": deviation(e, techs[tech.name]["_irradiance"], flux),
+            "difference": {metric: _difference(errs[metric].to_json(), suite[metric])
+                           for metric in ("flux_luminance", "flux_rgb")},
+        }
+        if babylon:
+            r["errors_unclamped"] = stats_json(irradiance_errors(
+                e_ref, own_faces.own_irradiance(engine, env.radiance, normals, suite_faces.shape[1], clamp=False),
+                flux, unc))
+        out[tech.name] = r
+    return out
+
+
 def measure_environment(env: Environment, settings: Settings) -> dict:
     """Everything the experiment measures on one environment (JSON-able but for ``_``-keys)."""
     normals = latlong.fibonacci_sphere(settings.normals)
@@ -163,6 +225,7 @@ def measure_environment(env: Environment, settings: Settings) -> dict:
             e_sh9 = techs[tech.name]["_irradiance"]
     poly = _output_of(techs, "babylon", "polynomial")
     three = _output_of(techs, "three", "getIrradianceAt")
+    own = measure_own_faces(env, normals, ref.irradiance, ref.uncertainty, flux, faces, techs)
     for t in techs.values():
         t.pop("_irradiance")
     return {
@@ -172,6 +235,7 @@ def measure_environment(env: Environment, settings: Settings) -> dict:
         "faces_vs_sh9": deviation(e_faces, e_sh9, flux) if e_sh9 is not None else None,
         **babylon_variants(env, normals, ref.irradiance, ref.uncertainty, flux, coeffs, poly),
         **half_float(env, normals, faces, three, flux),
+        "own_faces": own,
     }
 
 

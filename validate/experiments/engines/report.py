@@ -8,7 +8,7 @@ from ...local_models import irradiance
 from ...local_models.irradiance.engines.worker import package_version
 from ...report import plots
 from ..base import Context, Figure, Section, Table
-from ..formatting import col, pct
+from ..formatting import col, pct, pm
 from ..techniques import technique_entry
 from .claims import K_MAX, eligible
 from .compute import BABYLON_CLAMP, Measurements, engine_techniques
@@ -74,6 +74,35 @@ def clamp_table(m: Measurements) -> Table:
                  "three.js with half-float faces.")
 
 
+def own_faces_table(m: Measurements) -> Table | None:
+    """Per environment and engine: the suite's texel-averaged faces against the engine's own panorama → cube path
+    (largest texel, Babylon's clamp, flux-normalised luminance max error ± the reference's uncertainty, and
+    their difference)."""
+    rows = []
+    for env, r in m.environments.items():
+        for name, o in r.get("own_faces", {}).items():
+            suite = r["techniques"][name]["errors"]["flux_luminance"]
+            own = o["errors"]["flux_luminance"]
+            d = o["difference"]["flux_luminance"]
+            rows.append([env, name, f"{r['max_face_texel']:.4g}", f"{o['max_face_texel']:.4g}",
+                         ("yes" if r["above_clamp"] else "no") + " / " + ("yes" if o["above_clamp"] else "no"),
+                         pct(o["clamp_share"]), pm(suite["max"], suite["max_uncertainty"]),
+                         pm(own["max"], own["max_uncertainty"]), pm(d["max"], d["max_uncertainty"]),
+                         pm(d["mean"], d["mean_uncertainty"]), f"{o['vs_suite_faces']:.3g}",
+                         f"{o['face_flux_error']:.2g}", f"{o['faces_deviation']:.2g}"])
+    if not rows:
+        return None
+    return Table(["environment", "engine", col("largest texel, suite faces", "W/(m²·sr)"),
+                  col("largest texel, own faces", "W/(m²·sr)"), col(f"> {BABYLON_CLAMP:g}? suite / own", "–"),
+                  col("flux the clamp removes, own faces", "%"), col("max error, suite faces", "%"),
+                  col("max error, own faces", "%"), col("max error own − suite", "%"),
+                  col("mean error own − suite", "%"), col("|E_own − E_suite| / Φ", "–"),
+                  col("own faces' flux error", "–"), col("|E − E_SH9(own faces)| / Φ", "–")], rows,
+                 "Flux-normalised luminance error (max over normals ± the reference's uncertainty; the difference ± "
+                 "the sum of both). Own faces: Babylon's PanoramaToCubeMapTools (its code) and three.js's "
+                 "fromEquirectangularTexture shader (transcribed; three has no CPU path).")
+
+
 def sweep_section(m: Measurements, ctx: Context) -> Section:
     tables, figs = [], []
     for env, s in m.sweeps.items():
@@ -115,6 +144,15 @@ def sections(m: Measurements, ctx: Context) -> list[Section]:
             tables=[decomposition_table(m)]),
         Section("Babylon's 4096 clamp and half-float faces", [], tables=[clamp_table(m)]),
     ]
+    own = own_faces_table(m)
+    if own is not None:
+        out.append(Section("Each engine's own faces (issue 21 item 5)", [
+            "A user hands the engine the panorama, not the suite's faces. Babylon's HDRCubeTexture path converts it "
+            "with PanoramaToCubeMapTools.ConvertPanoramaToCubemap — one nearest panorama pixel per face texel, taken "
+            "at the texel's corner — and three.js renders it with fromEquirectangularTexture (bilinear at texel "
+            "centres, GPU only, transcribed here). Both then project with their own code as above. Each engine's "
+            "frame is measured from its own pipeline (a panorama holding its directions) and the normals mapped "
+            "into it."], tables=[own]))
     if m.sweeps:
         out.append(sweep_section(m, ctx))
     return out
@@ -242,10 +280,58 @@ def sh9_findings(m: Measurements) -> list[str]:
             "centre."]
 
 
+def own_faces_findings(m: Measurements) -> list[str]:
+    """Issue 21 item 5, both ways: which environments trip Babylon's clamp on each face source, and what each
+    engine's error is on its own faces against the suite's."""
+    out = []
+    for name in [t.name for t in engine_techniques()]:
+        own = {e: r["own_faces"][name] for e, r in m.environments.items() if name in r.get("own_faces", {})}
+        if not own:
+            continue
+        diffs = {e: o["difference"]["flux_luminance"] for e, o in own.items()}
+        worse = [e for e, d in diffs.items() if d["max"] - d["max_uncertainty"] > 0]
+        better = [e for e, d in diffs.items() if d["max"] + d["max_uncertainty"] < 0]
+        top = max(diffs, key=lambda e: diffs[e]["max"])
+        line = (f"Issue 21 item 5 (\"the suite reports the engine better than the engine is\"): {name} on its own "
+                f"faces has a larger max flux-normalised luminance error than on the suite's on {len(worse)} of "
+                f"{len(own)} environments and a smaller one on {len(better)} (beyond the reference's uncertainty); "
+                f"the largest rise is {pm(diffs[top]['max'], diffs[top]['max_uncertainty'])} on {top} "
+                f"({pct(m.environments[top]['techniques'][name]['errors']['flux_luminance']['max'])} → "
+                f"{pct(own[top]['errors']['flux_luminance']['max'])}).")
+        if m.environments and "babylon" in name:
+            suite_above = [e for e in own if m.environments[e]["above_clamp"]]
+            own_above = [e for e, o in own.items() if o["above_clamp"]]
+            line += (f" Babylon's 4096 clamp triggers on {len(suite_above)} environment(s) with the suite's faces "
+                     f"({', '.join(suite_above) or 'none'}) and on {len(own_above)} with its own "
+                     f"({', '.join(own_above) or 'none'})")
+            parts = [f"{e}: {pct(own[e]['clamp_share'])} of the flux removed, max error "
+                     f"{pct(own[e]['errors']['flux_luminance']['max'])} with the clamp vs "
+                     f"{pct(own[e]['errors_unclamped']['flux_luminance']['max'])} without" for e in own_above]
+            line += (": " + "; ".join(parts) + ".") if parts else "."
+            suite_parts = [f"{e} {pct(m.environments[e]['babylon_sh_unclamped']['flux_luminance']['max'])} → "
+                           f"{pct(m.environments[e]['techniques'][name]['errors']['flux_luminance']['max'])}"
+                           for e in suite_above if "babylon_sh_unclamped" in m.environments[e]]
+            if suite_parts:
+                line += (" On the suite's texel-averaged faces the clamp moves the max error (without → with) "
+                         + "; ".join(suite_parts) + ".")
+        out.append(line)
+        ratios = {e: o["face_flux_ratio"] for e, o in own.items() if "face_flux_ratio" in o}
+        if ratios:
+            lo, hi = min(ratios, key=ratios.get), max(ratios, key=ratios.get)
+            out.append(f"{name}'s own faces point-sample the panorama, so a source smaller than a cube texel "
+                       f"(90°/{m.settings.face_size} = {90 / m.settings.face_size:.2g}° at N = "
+                       f"{m.settings.face_size}) is hit or missed: their luminance flux ranges from "
+                       f"{ratios[lo]:.3g} × the map's ({lo}, largest own-face texel "
+                       f"{own[lo]['max_face_texel']:.4g}) to {ratios[hi]:.3g} × ({hi}); the suite's faces keep the "
+                       f"flux to within {max(r['face_flux_error'] for r in m.environments.values()):.2g}.")
+    return out
+
+
 def findings(m: Measurements) -> list[str]:
     if m.unavailable is not None:
         return [f"The engines did not run: {m.unavailable}."]
-    return named_findings(m) + polynomial_findings(m) + clamp_findings(m) + precision_findings(m)
+    return (named_findings(m) + polynomial_findings(m) + clamp_findings(m) + precision_findings(m)
+            + own_faces_findings(m))
 
 
 def summary(m: Measurements) -> str:

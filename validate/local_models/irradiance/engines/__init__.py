@@ -21,6 +21,9 @@ techniques of the ``irradiance`` family:
 * ``babylon_polynomial`` — the same projection, shader path useSphericalHarmonics = false: the
   spherical polynomial (x, y, z, xx − zz, yy − zz, zz, xy, yz, zx) [4, 5], ×π.
 
+The faces each engine makes itself from a panorama (Babylon's PanoramaToCubeMapTools, three.js's equirect
+shader transcribed) are in :mod:`.own_faces`; the ``engines`` experiment measures both face sources.
+
 Conventions: faces in OpenGL's cube-map layout [6, Table 8.19], which both engines read (tested).
 Babylon's world is left-handed; its axes are identified with Mitsuba's, i.e. the environment and
 the normals are mirrored together — irradiance errors are invariant under that reflection (the SH

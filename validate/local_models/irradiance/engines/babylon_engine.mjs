@@ -6,6 +6,7 @@
 //                 vSphericalXX_ZZ = xx − zz and vSphericalYY_ZZ = yy − zz (materialHelper.functions.js).
 // Both return E/π ("Lambertian radiance"); the caller multiplies by π.
 import { CubeMapToSphericalPolynomialTools as Tools } from '@babylonjs/core/Misc/HighDynamicRange/cubemapToSphericalPolynomial.js';
+import { PanoramaToCubeMapTools } from '@babylonjs/core/Misc/HighDynamicRange/panoramaToCubemap.js';
 import { createRequire } from 'node:module';
 
 const f = Math.fround;
@@ -17,14 +18,33 @@ export function versions() {
 
 export async function project(faces, header) {
   if (header.type !== 'float32') throw new Error('babylon: faces must be float32 (cubeInfo.type = 1)');
+  return fromCubeInfo({
+    size: header.size, right: faces[0], left: faces[1], up: faces[2], down: faces[3], front: faces[4],
+    back: faces[5], format: 5, type: 1, gammaSpace: false,
+  }, header.clamp);
+}
+
+export const FACE_ORDER = ['right', 'left', 'up', 'down', 'front', 'back'];
+
+// Babylon's own panorama path, as HDRCubeTexture / EquiRectangularCubeTexture run it on the CPU
+// (hdr.js GetCubeMapTextureData): PanoramaToCubeMapTools.ConvertPanoramaToCubemap(data, width, height, size)
+// with its defaults (supersample = false, invertY = true), then ConvertCubeMapToSphericalPolynomial(cubeInfo)
+// (sphericalPolynomialTargetSize = 0: no downsampling). Returns the state and the six faces it made
+// (RGB, in FACE_ORDER) so the caller can see what the engine integrated.
+export async function projectPanorama(panorama, header) {
+  const cube = PanoramaToCubeMapTools.ConvertPanoramaToCubemap(panorama, header.width, header.height, header.size);
+  const n = header.size * header.size * 3;
+  const faces = new Float32Array(6 * n);
+  FACE_ORDER.forEach((name, i) => faces.set(cube[name], i * n));
+  return { state: fromCubeInfo(cube, true), unclamped: fromCubeInfo(cube, false), faces };
+}
+
+function fromCubeInfo(cubeInfo, clamp) {
   const saved = Tools.MAX_HDRI_VALUE;
-  if (header.clamp === false) Tools.MAX_HDRI_VALUE = Infinity;
+  if (clamp === false) Tools.MAX_HDRI_VALUE = Infinity;
   let poly;
   try {
-    poly = Tools.ConvertCubeMapToSphericalPolynomial({
-      size: header.size, right: faces[0], left: faces[1], up: faces[2], down: faces[3], front: faces[4],
-      back: faces[5], format: 5, type: 1, gammaSpace: false,
-    });
+    poly = Tools.ConvertCubeMapToSphericalPolynomial(cubeInfo);
   } finally {
     Tools.MAX_HDRI_VALUE = saved;
   }

@@ -8,6 +8,11 @@
 //       the engine reads them (OpenGL cube-map layout: row i at t = (i + ½)/size, column j at
 //       s = (j + ½)/size); float32, or IEEE half bits (uint16) for "float16".
 //       reply: {coefficients: {...}} — the engine's own numbers, kept under `key`.
+//   {op: "project_panorama", key, width, height, size}   (Babylon only)
+//       payload: the lat-long panorama, height × width RGB float32, rows top (zenith) first; the engine
+//       makes its own faces (PanoramaToCubeMapTools) and projects them; reply payload: those faces,
+//       6 × size × size RGB float32 in Babylon's order right, left, up, down, front, back. The projection
+//       with the clamp is kept under `key`, the one without (MAX_HDRI_VALUE = ∞) under `key:unclamped`.
 //   {op: "evaluate", key, path, count}
 //       payload: count × 3 float64 unit normals; reply payload: count × 3 float64 irradiance E
 //       evaluated exactly as the engine's shader (or CPU helper) does for `path`.
@@ -24,7 +29,7 @@ if (!engine) {
 }
 
 const states = new Map();
-let pending = Buffer.alloc(0);
+let pending = Buffer.alloc(0);  // the bytes of the frame being read
 let busy = Promise.resolve();
 
 function send(header, payload) {
@@ -55,6 +60,16 @@ async function handle(header, payload) {
       const state = await engine.project(faces, header);
       states.set(header.key, state);
       send({ ok: true, coefficients: state.coefficients });
+    } else if (header.op === 'project_panorama') {
+      if (!engine.projectPanorama) throw new Error(`${engineName}: no CPU panorama path`);
+      const panorama = aligned(payload, Float32Array);
+      if (panorama.length !== 3 * header.width * header.height) {
+        throw new Error(`expected ${3 * header.width * header.height} values, got ${panorama.length}`);
+      }
+      const { state, unclamped, faces } = await engine.projectPanorama(panorama, header);
+      states.set(header.key, state);
+      states.set(`${header.key}:unclamped`, unclamped);
+      send({ ok: true, coefficients: state.coefficients }, faces);
     } else if (header.op === 'evaluate') {
       const state = states.get(header.key);
       if (!state) throw new Error(`no projection under key ${header.key}`);
@@ -72,18 +87,33 @@ async function handle(header, payload) {
   }
 }
 
+// Chunks are joined only once a whole frame has arrived (joining on every 64 KiB chunk would copy a
+// megabyte panorama hundreds of times over).
+const chunks = [];
+let buffered = 0;
+let need = 4;
 process.stdin.on('data', (chunk) => {
-  pending = Buffer.concat([pending, chunk]);
+  chunks.push(chunk);
+  buffered += chunk.length;
+  if (buffered < need) return;
+  pending = chunks.length === 1 ? chunks[0] : Buffer.concat(chunks, buffered);
+  chunks.length = 0;
   for (;;) {
-    if (pending.length < 4) return;
+    need = 4;
+    if (pending.length < 4) break;
     const hlen = pending.readUInt32LE(0);
-    if (pending.length < 4 + hlen) return;
+    need = 4 + hlen;
+    if (pending.length < need) break;
     const header = JSON.parse(pending.subarray(4, 4 + hlen).toString('utf8'));
     const plen = header.payload_bytes || 0;
-    if (pending.length < 4 + hlen + plen) return;
+    need = 4 + hlen + plen;
+    if (pending.length < need) break;
     const payload = pending.subarray(4 + hlen, 4 + hlen + plen);
     pending = pending.subarray(4 + hlen + plen);
+    need = 4;
     busy = busy.then(() => handle(header, payload));
   }
+  if (pending.length) chunks.push(pending);
+  buffered = pending.length;
 });
 process.stdin.on('end', () => { busy.then(() => process.exit(0)); });
