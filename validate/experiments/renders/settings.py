@@ -32,5 +32,6 @@ class Settings:
 # quick: three.js and Filament (Babylon's page load and first prefilter cost ~80 s on 2 cores; Filament's page and
 # its four punctual scenes ~17 s at 64², measured); full: all three engines
 QUICK = Settings(spp=16, passes=8, engines=("three", "filament"), env_spp=256, probe_roughness=(0.25, 0.5),
-                 probe_resolution=32, probe_spp=128, rect_resolution=32, shadow_resolution=32, shadow_spp=16, shadow_engines=("three",))
+                 probe_resolution=32, probe_spp=128, rect_resolution=32, shadow_resolution=32, shadow_spp=16,
+                 shadow_engines=("three",))
 FULL = Settings(spp=128, passes=8)
