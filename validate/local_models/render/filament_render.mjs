@@ -2,15 +2,18 @@
 // geometry as a glTF 2.0 binary built here (a UV sphere of the scene's segments, or the plane z = 0, normal +z,
 // doubleSided), loaded by gltfio's AssetLoader, whose built-in ubershader materials shade it
 // (pbrMetallicRoughness; KHR_materials_ior ior = 1 → F0 = ((ior − 1)/(ior + 1))² = 0 and KHR_materials_specular
-// factor 0: a Lambertian); lights from LightManager in Filament's units — DIRECTIONAL intensity = lux, POINT / SPOT
-// intensity = luminous power Φ in lm, converted by Filament (FLightManager::setIntensity) to candela I = Φ/(4π) for
-// POINT and I = Φ/π for SPOT (its cone does not enter: LightManager.h), so Φ = 4π·cd resp. π·cd is passed; falloff (Filament's influence radius, inverse square
-// windowed by (1 − (d/r)⁴)², gltfio uses 10 m for an unbounded KHR light) = FALLOFF_M so the window is 1 within
-// float precision; a SPOT's cone = KHR's half angles (Filament's attenuation saturate(cd·scale + offset)² is KHR's
-// reference formula). Camera: orthographic; exposure e (pre-exposed lights: output = e × radiance) picked from
-// Filament's own frames so the image fills the 8-bit range (renderFilament), set as ISO (setExposure below). Post-processing off (no tone mapping, dithering, FXAA): the colour pass writes
-// radiance × exposure straight into the canvas's RGBA8 (linear, no OETF: the swap chain is not sRGB), read back
-// with the context's gl.readPixels (Filament's JS Renderer has no readPixels). Row 0 = bottom.
+// factor 0: a Lambertian). Lights from LightManager in Filament's units: DIRECTIONAL intensity = lux; POINT / SPOT
+// intensity = luminous power Φ in lm, which Filament (FLightManager::setIntensity) turns into candela I = Φ/(4π)
+// for POINT and I = Φ/π for SPOT (the cone does not enter), so Φ = 4π·cd resp. π·cd is passed (measured: with
+// 4π·cd the spot came out 3.95× too bright). falloff = FALLOFF_M: Filament windows the inverse square by
+// (1 − (d/r)⁴)² (getSquareFalloffAttenuation), 1 − 6e-11 at d = 2.3 m, r = 1000 m. A SPOT's cone = KHR's half
+// angles; Filament's attenuation saturate(cd·scale + offset)² is KHR's reference formula, with cos θ_i, cos θ_o
+// from its fast::cos (FLightManager::setSpotLightCone). Camera: orthographic; exposure e (pre-exposed lights:
+// output = e × radiance) picked from Filament's own frames so the image fills the 8-bit range (renderFilament),
+// set as ISO (setExposure below). Post-processing off (no tone mapping, dithering, FXAA): the colour pass writes
+// e × radiance straight into the canvas's RGBA8 (linear, no OETF: the swap chain is not sRGB; measured: at e = 1
+// the directional sphere's peak ρE/π = 0.955 read 242–243 of 255), read back with the context's gl.readPixels
+// (Filament's JS Renderer has no readPixels). Row 0 = bottom.
 export let version = '';
 let engine = null, renderer = null, swapChain = null, canvas = null, gl = null, loader = null;
 export const FALLOFF_M = 1000.0;
