@@ -1,4 +1,4 @@
-"""Experiment ``renders``: engines' pixels (three.js, Babylon.js) against the Mitsuba path tracer (issue 21).
+"""Experiment ``renders``: engines' pixels (three.js, Babylon.js, Filament) against the Mitsuba path tracer (issue 21).
 
 Scenes (:mod:`validate.scenes.render_scenes`: (a) furnace, (b) the shared probe ``ict_uffizi_256x128.hdr`` of
 ``--probes`` on white metal spheres over roughness and a Lambertian sphere, and white glTF spheres over metalness ×
@@ -8,7 +8,9 @@ microsurface (:mod:`validate.reference.microsurface_bsdf`), kept apart, (c) dire
 at pixel centres
 (:mod:`validate.reference.render_reference`) and by each engine through its own pipeline in headless
 Chromium (:mod:`validate.local_models.render`), then judged per pixel (:mod:`validate.metrics.pixel_z`).
-Without Chromium or node_modules every engine is skipped with the reason.
+Without Chromium or node_modules every engine is skipped with the reason. Filament renders only the punctual
+lights (c) (``compute.KIND_SKIP``: no IBL prefilter, no area lights in its npm package); its 8-bit canvas readback
+carries its quantisation as an uncertainty added in quadrature to Mitsuba's.
 (e) Shadows — a directional and a spot light over the plane with a box occluder, each engine's shadow types against
 the path-traced penumbra of a light with a size — live apart: :mod:`validate.scenes.render_shadow_scenes`,
 ``shadow_compute`` / ``shadow_claims`` / ``shadow_report`` here.
@@ -24,7 +26,7 @@ from .report import findings, sections
 from .settings import FULL, QUICK
 
 NAME = "renders"
-TITLE = "Engines' pixels against the path tracer: three.js and Babylon.js vs Mitsuba"
+TITLE = "Engines' pixels against the path tracer: three.js, Babylon.js and Filament vs Mitsuba"
 DESCRIPTION = ("Furnace, probe, directional, point, spot and hemisphere lights rendered by the engines, judged "
                "per pixel with uncertainty")
 ORDER = 95

@@ -51,9 +51,16 @@ SPOT_CONE_OFFSET_DEG = 1.0  # power: a cone falloff off by 1° (the outer angle 
 # engines rendering only some kinds: three's LightProbe built as its removed HemisphereLightProbe did (issue 26668)
 KIND_ENGINES = {"hemisphere": {"three": ("three_probe",)}}
 # engines left out of a kind, with the reason (reported as skipped)
+FILAMENT_NO_IBL = ("Filament 1.53.4's npm package has no IBL prefilter (cmgen/libibl are not in the WebAssembly "
+                   "build): IndirectLight.Builder takes only precomputed irradianceSh and a prefiltered reflections "
+                   "cubemap, so an environment cannot go through Filament's own pipeline")
 KIND_SKIP = {"rect": {"babylon": "Babylon 9.35's RectAreaLight loads its LTC tables from assets.babylonjs.com "
                                  "(Lights/LTC/ltcTextureTool.js: Tools.LoadFileAsync of areaLightsLTC.bin); the "
-                                 "render machine has no network"}}
+                                 "render machine has no network",
+                      "filament": "Filament has no area lights (LightManager types: SUN, DIRECTIONAL, POINT, "
+                                  "FOCUSED_SPOT, SPOT)"},
+             "furnace": {"filament": FILAMENT_NO_IBL}, "hemisphere": {"filament": FILAMENT_NO_IBL},
+             "probe": {"filament": FILAMENT_NO_IBL}, "probe_lambert": {"filament": FILAMENT_NO_IBL}}
 # (b) probe on metal spheres: the furnace budget per unit radiance (2 half-float lookups + SwiftShader trig), relative
 PROBE_BUDGET_REL = FURNACE_BUDGET
 
@@ -68,6 +75,12 @@ class EngineResult:
     judgements: dict[str, PixelJudgement] = field(default_factory=dict)  # reference kind → judgement
     energy: float = float("nan")  # mean radiance over the interior mask
     info: dict[str, Any] = field(default_factory=dict)  # the page's extra report (three: light.power in lm)
+    stderr: float = 0.0  # the readback's standard uncertainty per value (Filament's 8-bit canvas), radiance
+
+
+def with_readback(stderr: np.ndarray, er: EngineResult) -> np.ndarray:
+    """The reference's standard error and the engine readback's (quantisation) in quadrature, √(s² + σ_q²)."""
+    return np.sqrt(stderr**2 + er.stderr**2)
 
 
 @dataclass
@@ -198,12 +211,12 @@ def measure_scene(scene: rs.RenderScene, kind: str, s: Settings) -> SceneResult:
             res.skipped[name] = " ".join(f"{type(exc).__name__}: {exc}".split())[:300]
             continue
         out = EngineResult(er.image[..., :3].astype(np.float64), er.image[..., 3], er.frame_ms, er.wall_s, er.version,
-                           info=er.info)
+                           info=er.info, stderr=er.stderr)
         mask = interior_mask(hit, out.coverage)
         res.mask = mask
         for k, (m, se, dof) in truths.items():
             b, text = budget(kind, m)
-            out.judgements[k] = judge(out.image, m, se, dof, mask, b, text)
+            out.judgements[k] = judge(out.image, m, with_readback(se, out), dof, mask, b, text)
         out.energy = float(out.image[mask].mean())
         res.engines[name] = out
     for k, (m, se, _) in truths.items():

@@ -11,8 +11,13 @@ Engines
 ``three``    three.js 0.187 — MeshPhysicalMaterial, PMREMGenerator, FloatType target (three_render.mjs).
 ``babylon``  Babylon.js 9.35 — PBRMaterial, its HDR prefilter, TEXTURETYPE_FLOAT target (babylon_render.mjs).
 
-Filament is not here: its npm package (1.53) ships no IBL prefilter (cmgen) and no ``readPixels`` of a
-float target, so it cannot render the scene from the same file through its own pipeline (issue 21).
+``filament`` Filament 1.53.4 (npm, WebAssembly) — a glTF binary of the geometry through gltfio's ubershader, its
+             LightManager lights (filament.html + filament_render.mjs). Punctual lights only: the package ships no
+             IBL prefilter (cmgen), no area lights, and its JS Renderer has no ``readPixels``; the canvas (RGBA8,
+             post-processing off: linear, no OETF) is read with WebGL2's own ``gl.readPixels``. The 8-bit readback
+             is decoded as radiance = q/(255·e) (e = the exposure the page picked) and carries its quantisation as
+             a per-pixel standard uncertainty ``EngineRender.stderr`` = 1/(255·√12·e) (±½ LSB uniform, rounding to
+             nearest: OpenGL ES 3.0 §2.1.6.1).
 
 Precision budget (what an engine may differ from the exact integral of its own model without a bug):
 three's PMREM and Babylon's prefiltered cube store half floats (relative 2⁻¹¹ ≈ 4.9e-4 per texel);
@@ -35,7 +40,8 @@ from ...scenes.render_scenes import RenderScene
 # (removed from three; three issue 26668) instead of a HemisphereLight.
 ENGINES = {"three": ("three.html", "renderThree", {}), "babylon": ("babylon.html", "renderBabylon", {}),
            "babylon_lambert": ("babylon.html", "renderBabylon", {"diffuseModel": 2}),
-           "three_probe": ("three.html", "renderThree", {"hemisphereProbe": True})}
+           "three_probe": ("three.html", "renderThree", {"hemisphereProbe": True}),
+           "filament": ("filament.html", "renderFilament", {})}
 HALF_FLOAT_RTOL = 2.0**-11  # IEEE binary16: 10 explicit mantissa bits, unit roundoff 2⁻¹¹
 SWIFTSHADER_TRIG_ATOL = 2e-4  # measured sin/cos error (validate.gl.webgl docstring)
 
@@ -47,6 +53,7 @@ class EngineRender:
     wall_s: float
     version: str
     info: dict = field(default_factory=dict)  # what the page reports besides pixels (e.g. three's light.power)
+    stderr: float = 0.0  # the readback's own standard uncertainty per value (radiance; 0 for a float target)
 
 
 def render(engine: str, scene: RenderScene) -> EngineRender:
@@ -55,10 +62,27 @@ def render(engine: str, scene: RenderScene) -> EngineRender:
     t0 = time.perf_counter()
     r = browser_page.call(page, fn, dict(scene.engine_json(), options=options))
     n = scene.resolution
-    img = browser_page.decode_f32(r["data"], (n, n, 4))[::-1].copy()  # readPixels row 0 = bottom
+    stderr = 0.0
+    if r.get("encoding") == "unorm8_linear":  # Filament's canvas: q = round(255·e·L), alpha 255 = covered
+        img, stderr = decode_unorm8(r["data"], (n, n, 4), float(r["exposure"]))
+    else:
+        img = browser_page.decode_f32(r["data"], (n, n, 4))
+    img = img[::-1].copy()  # readPixels row 0 = bottom
     return EngineRender(img, float(r.get("frame_ms", np.nan)), time.perf_counter() - t0, str(r.get("version", "")),
-                        dict(r.get("info") or {}))
+                        dict(r.get("info") or {}), stderr)
 
 
-__all__ = ["ENGINES", "EngineRender", "render", "HALF_FLOAT_RTOL", "SWIFTSHADER_TRIG_ATOL"]
+def decode_unorm8(data: str, shape: tuple[int, ...], exposure: float) -> tuple[np.ndarray, float]:
+    """8-bit linear readback → (radiance L = q/(255·e) with alpha q/255, its standard uncertainty).
+
+    Rounding to nearest leaves an error uniform on ±½ LSB: standard deviation 1/√12 LSB, i.e.
+    σ_L = 1/(255·√12·e) in radiance."""
+    import base64
+
+    q = np.frombuffer(base64.b64decode(data), dtype=np.uint8).reshape(shape).astype(np.float32) / 255.0
+    q[..., :3] /= exposure
+    return q, 1.0 / (255.0 * np.sqrt(12.0) * exposure)
+
+
+__all__ = ["ENGINES", "EngineRender", "render", "decode_unorm8", "HALF_FLOAT_RTOL", "SWIFTSHADER_TRIG_ATOL"]
 
