@@ -57,7 +57,8 @@ The numbers these bounds are checked against are printed in each assertion messa
 phong_prefiltered against the same shading as a fragment shader in the suite's GLSL harness (the only one of the
 three with a GLSL form: no LTC shader exists here, and Fore June's listing codes the *listing's* near branch on the
 depth, not eq. 20.47 as printed), and drjit's kernel cache: a second call with new numbers, of the same or a new
-size, compiles no kernel (on main's code each of the six techniques checked compiles one per call).
+size, compiles no kernel (on main's code each of the six techniques checked compiles one per call; so did the brdf,
+point-light and tube techniques of :func:`_brdf_light_recompile_cases` before their numbers were made opaque).
 """
 
 from __future__ import annotations
@@ -831,7 +832,62 @@ def _recompile_cases() -> dict[str, Callable[[int, int], object]]:
                                             {"model": "phong", "exponent": 10.0, "reflectance": 0.8 - 0.1 * v}, nrm, vw)
 
     return {"ltc": ltc, "representative_point": rep, "uberlight_fore_june_printed": fore_june, "cap_exact": cap,
-            "sh9": sh9, "phong_prefiltered": phong}
+            "sh9": sh9, "phong_prefiltered": phong, **_brdf_light_recompile_cases(receivers)}
+
+
+BRDF_RECOMPILE = ("lambert", "phong", "blinn_phong", "phong_normalized", "blinn_phong_normalized",
+                  "cook_torrance_printed", "cook_torrance", "oren_nayar", "oren_nayar_full", "minnaert",
+                  "cook_torrance_ganovelli", "cook_torrance_ganovelli_nl")
+POINT_LIGHT_RECOMPILE = ("point_inverse_square", "point_two_sided", "point_gl_default", "point_ogre_r7",
+                         "point_ogre_r50", "point_gltf_range", "point_ue4", "point_usc420_a1b1c0")
+
+
+def _brdf_light_recompile_cases(receivers: Callable[[int, int], tuple[np.ndarray, np.ndarray, np.ndarray]]
+                                ) -> dict[str, Callable[[int, int], object]]:
+    """The brdf techniques (every number of the parameter set changes with the variant: albedo, k_s, the integral
+    lobe exponents, α, η + ik, σ, Minnaert's K; GGX for the microfacet ones), the point, spot and directional
+    lights (position, intensity, range, axis, cutoff, beam, exponent, E⊥), an area grid and Karis's tube (length,
+    axis, centre, radius, radiance, α, F₀). On main's code each compiled one kernel per call (literals)."""
+    def brdf_params(v: int) -> dict:
+        return {"albedo": [0.8 - 0.1 * v, 0.5, 0.3], "ks": 0.5 + 0.1 * v, "exponent": 10.0 + 5 * v,
+                "phong_exponent": 20.0 + 3 * v, "alpha": 0.2 + 0.05 * v, "eta": [1.5 + 0.1 * v, 1.2, 0.9],
+                "k": [0.1 * v, 2.0, 3.0], "sigma": 0.3 + 0.1 * v, "minnaert_k": 0.7 + 0.05 * v, "distribution": "ggx"}
+
+    def light_map(v: int, kind: str) -> dict:
+        axis = unit(np.array([0.1 * v, -1.0, 0.05]))
+        return {"type": kind, "position": (0.3 + 0.1 * v, 3.0, -0.2), "intensity": 10.0 + v, "range": 4.0 + v,
+                "direction": tuple(axis), "cutoff_angle": 40.0 + 5 * v, "beam_width": 20.0 + v, "exponent": 2.0 + v,
+                "irradiance": 1.0 + v}
+
+    def brdf_case(name: str) -> Callable[[int, int], object]:
+        def call(v: int, n: int) -> object:
+            _, nrm, vw = receivers(v, n)
+            lt = unit(nrm + np.random.default_rng(10 + v).normal(0.0, 0.6, nrm.shape))
+            return lm.FAMILIES["brdf"].call(name, brdf_params(v), nrm, lt, vw)
+        return call
+
+    def light_case(name: str, kind: str) -> Callable[[int, int], object]:
+        return lambda v, n: lm.FAMILIES["light"].call(name, light_map(v, kind), *receivers(v, n)[:2])
+
+    def grid(v: int, n: int) -> object:
+        return lm.FAMILIES["light"].call("area_grid", {"type": "sphere", "position": (0.5, 3.0 + 0.1 * v, 0.2),
+                                                       "radius": 0.4 + 0.05 * v, "radiance": 2.0 + v, "grid": 4},
+                                         *receivers(v, n)[:2])
+
+    def tube_case(name: str) -> Callable[[int, int], object]:
+        def call(v: int, n: int) -> object:
+            light = {"shape": "tube", "center": (0.1 * v, 3.0, 0.0), "axis": tuple(unit(np.array([1.0, 0.1 * v, 0.2]))),
+                     "length": 1.0 + 0.2 * v, "radius": 0.1 + 0.02 * v, "radiance": 4.0 + v}
+            return lm.FAMILIES["specular_arealight"].call(name, light, {"alpha": 0.3 + 0.05 * v, "f0": 0.9 - 0.1 * v},
+                                                          *receivers(v, n))
+        return call
+
+    cases: dict[str, Callable[[int, int], object]] = {name: brdf_case(name) for name in BRDF_RECOMPILE}
+    cases |= {name: light_case(name, "point") for name in POINT_LIGHT_RECOMPILE}
+    cases |= {name: light_case(name, "spot") for name in ("spot_cos_f", "spot_mitsuba")}
+    cases |= {"directional": light_case("directional", "directional"), "area_grid": grid}
+    cases |= {name: tube_case(name) for name in ("representative_point_tube", "representative_point_tube_unnormalized")}
+    return cases
 
 
 @pytest.mark.parametrize("name", list(_recompile_cases()))
@@ -858,3 +914,19 @@ def test_second_call_with_new_numbers_compiles_no_kernel(name: str) -> None:
     finally:
         dr.set_flag(dr.JitFlag.KernelHistory, flag)
     assert misses == [0, 0], f"{name}: kernels compiled on the 2nd (same size) / 3rd (new size) call: {misses}"
+
+
+@pytest.mark.parametrize("backend", ["llvm", "scalar"])
+def test_opaque_power_equals_drjit_power_bit_for_bit(backend: str) -> None:
+    """brdf.common.power_dr (the exponent opaque: the multiply chain over opaque bits, or exp2(log2 x · s)) gives
+    drjit.power's float32 result bit for bit, for integral exponents 0 … 300 and the general case, on [0, 1.5]
+    (cosines, with values > 1 whose high powers overflow) and at 0 and 1: the ports' outputs stay those of the
+    literal exponent."""
+    import drjit as dr
+
+    x_np = np.r_[np.random.default_rng(3).uniform(0.0, 1.5, 4000), 0.0, 1.0, 1e-30]
+    with precision.computing_in("float32", backend=backend):
+        x = precision.to_dr(x_np)
+        bad = [s for s in [*map(float, range(301)), 0.3, 2.5, 7.5, -0.3, -1.0]
+               if not np.array_equal(np.array(bc.power_dr(x, s)), np.array(dr.power(x, s)), equal_nan=True)]
+    assert bad == [], f"power_dr differs from drjit.power for exponents {bad}"

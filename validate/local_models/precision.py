@@ -160,10 +160,24 @@ def acos(x: Any) -> Any:
     return dr.atan2(dr.sqrt(dr.maximum((1.0 - c) * (1.0 + c), 0.0)), c)
 
 
+ALIGN = 256  # bytes: ≥ drjit's LLVM vector load (16 lanes × 8 bytes = 128) and the CUDA/scalar needs
+
+
 def to_dr(a: Any) -> Any:
-    """numpy (any shape; flattened) or a number → a flat drjit array of the active dtype and backend."""
+    """numpy (any shape; flattened) or a number → a flat drjit array of the active dtype and backend.
+
+    The values go into a numpy buffer aligned to :data:`ALIGN` bytes: drjit maps numpy memory without a copy and
+    marks a pointer off its vector alignment ``unaligned`` (LLVM ``load …, align 1``), which is part of the kernel's
+    IR and hash, so an input at wherever numpy's allocator put it missed the kernel cache at random (measured:
+    cook_torrance, spot_cos_f recompiling on some runs and not on others, kernel history)."""
     p = active()
-    return float_type(p)(np.ascontiguousarray(np.asarray(a, dtype=np.float64).ravel(), dtype=NUMPY_DTYPE[p]))
+    src = np.asarray(a, dtype=np.float64).ravel()
+    dt = np.dtype(NUMPY_DTYPE[p])
+    buf = np.empty(src.size + ALIGN // dt.itemsize, dtype=dt)
+    start = (-buf.ctypes.data % ALIGN) // dt.itemsize
+    out = buf[start:start + src.size]
+    out[...] = src
+    return float_type(p)(out)
 
 
 def to_np(x: Any, shape: tuple[int, ...] | None = None) -> np.ndarray:

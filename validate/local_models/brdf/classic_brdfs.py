@@ -93,8 +93,11 @@ from .common import (
     below_half_pi,
     cook_torrance_printed_dr,
     microfacet_specular_dr,
+    opaque,
+    opaque_rgb,
     oren_nayar_ab,
     oren_nayar_full_dr,
+    power_dr,
     rgb_param,
     scalar_param,
 )
@@ -109,7 +112,7 @@ FLOAT32 = ("Mitsuba evaluates BSDFs in float32 (2⁻²⁴ ≈ 6·10⁻⁸ per op
 @brdf.register("lambert", "Lambert: ρ/π · (n·l)", thresholds={"max_rel.diffuse_r0.8": 1e-4}, source=FLOAT32)
 def lambert(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray, views: np.ndarray) -> np.ndarray:
     g = GeometryDr(normals, lights, views)
-    return g.finish(rgb_param(params, "albedo", "lambert") / np.pi * g.cl)
+    return g.finish(opaque_rgb(rgb_param(params, "albedo", "lambert") / np.pi) * g.cl)
 
 
 @brdf.register("phong", "textbook Phong: [k_d (n·l) + k_s max(0, r·v)^s] / π, not normalised (Ganovelli §6.8)")
@@ -118,20 +121,19 @@ def phong(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray, vi
 
     g = GeometryDr(normals, lights, views)
     s = scalar_param(params, "phong_exponent", "phong", 0.0)
-    spec = dr.power(dr.maximum(g.rv, 0.0), s)
-    return g.finish((rgb_param(params, "albedo", "phong") * g.cl
-                     + rgb_param(params, "ks", "phong") * spec) / np.pi)
+    spec = power_dr(dr.maximum(g.rv, 0.0), s)
+    return g.finish((opaque_rgb(rgb_param(params, "albedo", "phong")) * g.cl
+                     + opaque_rgb(rgb_param(params, "ks", "phong")) * spec) / np.pi)
 
 
 @brdf.register("blinn_phong", "textbook Blinn–Phong: [k_d (n·l) + k_s (n·h)^s] / π, not normalised")
 def blinn_phong(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray, views: np.ndarray) -> np.ndarray:
-    import drjit as dr
 
     g = GeometryDr(normals, lights, views)
     s = scalar_param(params, "exponent", "blinn_phong", 0.0)
-    spec = dr.power(g.ch, s)
-    return g.finish((rgb_param(params, "albedo", "blinn_phong") * g.cl
-                     + rgb_param(params, "ks", "blinn_phong") * spec) / np.pi)
+    spec = power_dr(g.ch, s)
+    return g.finish((opaque_rgb(rgb_param(params, "albedo", "blinn_phong")) * g.cl
+                     + opaque_rgb(rgb_param(params, "ks", "blinn_phong")) * spec) / np.pi)
 
 
 @brdf.register("phong_normalized", "modified Phong: [ρ/π + k_s (s+2)/(2π) max(0, r·v)^s] (n·l) (Lafortune 1994)",
@@ -142,21 +144,23 @@ def phong_normalized(params: Mapping[str, Any], normals: np.ndarray, lights: np.
 
     g = GeometryDr(normals, lights, views)
     s = scalar_param(params, "phong_exponent", "phong_normalized", 0.0)
-    lobe = (s + 2.0) / (2.0 * np.pi) * dr.power(dr.maximum(g.rv, 0.0), s)
-    f = rgb_param(params, "albedo", "phong_normalized") / np.pi + rgb_param(params, "ks", "phong_normalized") * lobe
+    (norm,) = opaque((s + 2.0) / (2.0 * np.pi))
+    lobe = norm * power_dr(dr.maximum(g.rv, 0.0), s)
+    f = (opaque_rgb(rgb_param(params, "albedo", "phong_normalized") / np.pi)
+         + opaque_rgb(rgb_param(params, "ks", "phong_normalized")) * lobe)
     return g.finish(f * g.cl)
 
 
 @brdf.register("blinn_phong_normalized", "normalised Blinn–Phong: [ρ/π + k_s (s+8)/(8π) (n·h)^s] (n·l) (RTR3 §7.6)")
 def blinn_phong_normalized(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray,
                            views: np.ndarray) -> np.ndarray:
-    import drjit as dr
 
     g = GeometryDr(normals, lights, views)
     s = scalar_param(params, "exponent", "blinn_phong_normalized", 0.0)
-    lobe = (s + 8.0) / (8.0 * np.pi) * dr.power(g.ch, s)
-    f = (rgb_param(params, "albedo", "blinn_phong_normalized") / np.pi
-         + rgb_param(params, "ks", "blinn_phong_normalized") * lobe)
+    (norm,) = opaque((s + 8.0) / (8.0 * np.pi))
+    lobe = norm * power_dr(g.ch, s)
+    f = (opaque_rgb(rgb_param(params, "albedo", "blinn_phong_normalized") / np.pi)
+         + opaque_rgb(rgb_param(params, "ks", "blinn_phong_normalized")) * lobe)
     return g.finish(f * g.cl)
 
 
@@ -165,7 +169,7 @@ def blinn_phong_normalized(params: Mapping[str, Any], normals: np.ndarray, light
 def cook_torrance_printed(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray,
                           views: np.ndarray) -> np.ndarray:
     g = GeometryDr(normals, lights, views)
-    diffuse = rgb_param(params, "albedo", "cook_torrance_printed") / np.pi * g.cl
+    diffuse = opaque_rgb(rgb_param(params, "albedo", "cook_torrance_printed") / np.pi) * g.cl
     return g.finish(diffuse + cook_torrance_printed_dr(params, g))
 
 
@@ -179,7 +183,7 @@ def cook_torrance_printed(params: Mapping[str, Any], normals: np.ndarray, lights
 def cook_torrance(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray,
                   views: np.ndarray) -> np.ndarray:
     g = GeometryDr(normals, lights, views)
-    diffuse = rgb_param(params, "albedo", "cook_torrance") / np.pi * g.cl
+    diffuse = opaque_rgb(rgb_param(params, "albedo", "cook_torrance") / np.pi) * g.cl
     return g.finish(diffuse + microfacet_specular_dr(params, g))
 
 
@@ -188,10 +192,10 @@ def oren_nayar(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarra
     import drjit as dr
 
     g = GeometryDr(normals, lights, views)
-    a, b = oren_nayar_ab(scalar_param(params, "sigma", "oren_nayar", 0.0))
+    a, b = opaque(*oren_nayar_ab(scalar_param(params, "sigma", "oren_nayar", 0.0)))
     al, be = alpha_beta_dr(g)
     shape = a + b * dr.maximum(g.cos_dphi, 0.0) * dr.sin(al) * dr.tan(dr.minimum(be, below_half_pi()))
-    return g.finish(rgb_param(params, "albedo", "oren_nayar") / np.pi * (shape * g.cl))
+    return g.finish(opaque_rgb(rgb_param(params, "albedo", "oren_nayar") / np.pi) * (shape * g.cl))
 
 
 @brdf.register("oren_nayar_full",
@@ -210,7 +214,7 @@ def minnaert(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray,
 
     g = GeometryDr(normals, lights, views)
     kk = scalar_param(params, "minnaert_k", "minnaert", 0.0)
-    shape = dr.power(dr.maximum(g.cl * g.cv, 1e-30), kk - 1.0)
-    return g.finish(rgb_param(params, "albedo", "minnaert") / np.pi * (shape * g.cl))
+    shape = power_dr(dr.maximum(g.cl * g.cv, 1e-30), kk - 1.0)
+    return g.finish(opaque_rgb(rgb_param(params, "albedo", "minnaert") / np.pi) * (shape * g.cl))
 
 

@@ -293,22 +293,69 @@ def acos_dr(x: Any) -> Any:
     return acos(x)
 
 
+def _number(x: Any) -> bool:
+    return isinstance(x, (int, float, np.floating, np.integer))
+
+
+def opaque(*values: float) -> list[Any]:
+    """Per-call numbers (a BRDF parameter, a product of parameters formed in float64) as opaque drjit values of the
+    active dtype (:func:`validate.local_models.precision.constants_dr`): the same float32 (float64) value the Python
+    literal was rounded to, but not baked into the kernel, so a new parameter reuses the compiled kernel."""
+    from ..precision import constants_dr  # noqa: PLC0415
+
+    return constants_dr(np.asarray(values, dtype=np.float64))
+
+
+def opaque_rgb(x: Any) -> RGB:
+    """An :class:`RGB` (or anything :meth:`RGB.of` takes) with each number channel opaque (:func:`opaque`; always
+    three values, so a scalar and an RGB parameter give the same kernel), drjit channels as they are."""
+    ch = RGB.of(x).ch
+    nums = [float(c) for c in ch if _number(c)]
+    vals = iter(opaque(*nums)) if nums else iter(())
+    return RGB(*(next(vals) if _number(c) else c for c in ch))
+
+
+POWER_BITS = 10  # integral exponents 0 … 2¹⁰ − 1 take the opaque multiply chain of :func:`power_dr`
+
+
+def power_dr(x: Any, s: float) -> Any:
+    """``drjit.power(x, s)`` bit for bit with the exponent opaque. drjit expands an integral Python exponent into
+    the square-and-multiply chain (r ← r·p on bit i of s, p ← p²) and any other one into exp2(log2(x)·s) (its
+    documented rule); the same chain runs here over :data:`POWER_BITS` bits selected by opaque 0/1 values, and the
+    general case with an opaque s, so a new exponent reuses the kernel. A negative integral exponent (drjit's
+    reciprocal of the chain) keeps the literal."""
+    dr = _dr()
+    s = float(s)
+    if s.is_integer() and 0.0 <= s < 2 ** POWER_BITS:
+        k = int(s)
+        bits = opaque(*((k >> i) & 1 for i in range(POWER_BITS)))
+        res, p = dr.full(type(x), 1.0, dr.width(x)), x
+        for i, b in enumerate(bits):
+            res = dr.select(b > 0.5, res * p, res)
+            if i + 1 < POWER_BITS:
+                p = p * p
+        return res
+    if s.is_integer():
+        return dr.power(x, s)
+    (e,) = opaque(s)
+    return dr.exp2(dr.log2(x) * e)
+
+
 class GeometryDr:
     """:class:`Geometry` on drjit arrays of the active dtype: the same per-sample cosines (n·l, n·v, n·h, v·h, r·v),
     horizon mask, cos Δφ and polar angles, from (N, 3) numpy directions converted once
     (:func:`validate.local_models.precision.vec_to_dr`)."""
 
     def __init__(self, normals: np.ndarray, lights: np.ndarray, views: np.ndarray):
-        from ..precision import float_type, to_dr, uint_type  # noqa: PLC0415
+        from ..precision import packed_to_dr  # noqa: PLC0415
 
         dr = _dr()
-        # one packed input gathered nine ways: with nine separate inputs the LLVM kernel's hash follows the
-        # order drjit happens to number them in, so identical calls missed the kernel cache (≈ 60 ms each)
+        # one packed input gathered nine ways (precision.packed_to_dr: row-major, offsets free of the size): with
+        # nine separate inputs the LLVM kernel's hash follows the order drjit happens to number them in, and a
+        # column-major offset k·N is a literal of the size, so identical calls or a new N missed the kernel cache
         size = len(np.asarray(normals).reshape(-1, 3))
-        packed = to_dr(np.concatenate([np.asarray(a, dtype=np.float64).reshape(-1, 3).T.ravel()
-                                       for a in (normals, lights, views)]))
-        idx = dr.arange(uint_type(), size)
-        c = [dr.gather(float_type(), packed, idx + k * size) for k in range(9)]
+        c = packed_to_dr(*(col for a in (normals, lights, views) for col in np.asarray(a, dtype=np.float64)
+                           .reshape(-1, 3).T))
         n, l, v = (_unit((c[3 * i], c[3 * i + 1], c[3 * i + 2])) for i in range(3))
         self.size = size
         self.cl, self.cv = _dot(n, l), _dot(n, v)
@@ -343,16 +390,16 @@ def fresnel_exact_dr(cos_theta: Any, eta: RGB, k: RGB) -> RGB:
     dr = _dr()
     c = dr.clip(cos_theta, 0.0, 1.0)
     s2 = 1.0 - c * c
-    memo: dict[tuple[float, float], Any] = {}
 
     def one(e: float, kk: float) -> Any:
         if math.hypot(e, kk) < 1e-12:
             e, kk = 1e-12, 0.0
-        if (e, kk) in memo:
-            return memo[(e, kk)]
         a, b = e * e - kk * kk, 2.0 * e * kk  # ñ²
         m2 = a * a + b * b
-        x, y = 1.0 - s2 * (a / m2), s2 * (b / m2)  # w = 1 − s²/ñ², 1/ñ² = (a − ib)/|ñ²|²
+        # η, k and the two parts of 1/ñ² opaque (formed in float64 as the literals were), each channel its own,
+        # so neither a new index nor equal channels change the kernel
+        e, kk, am, bm = opaque(e, kk, a / m2, b / m2)
+        x, y = 1.0 - s2 * am, s2 * bm  # w = 1 − s²/ñ², 1/ñ² = (a − ib)/|ñ²|²
         r = dr.sqrt(x * x + y * y)
         big = dr.sqrt(0.5 * (r + dr.abs(x)))
         small = y / (2.0 * dr.maximum(big, _tiny()))
@@ -362,8 +409,7 @@ def fresnel_exact_dr(cos_theta: Any, eta: RGB, k: RGB) -> RGB:
         rs = (dr.square(c - p) + q * q) / (dr.square(c + p) + q * q)
         rp = ((dr.square(e * c - ctr) + dr.square(kk * c - cti))
               / (dr.square(e * c + ctr) + dr.square(kk * c + cti)))
-        memo[(e, kk)] = 0.5 * (rs + rp)
-        return memo[(e, kk)]
+        return 0.5 * (rs + rp)
 
     return RGB(*(one(float(e), float(kk)) for e, kk in zip(RGB.of(eta).ch, RGB.of(k).ch, strict=True)))
 
@@ -377,22 +423,23 @@ def fresnel_schlick_dr(cos_theta: Any, f0: RGB) -> RGB:
     """Schlick [8] on drjit arrays: F = F₀ + (1 − F₀)(1 − cos θ)⁵."""
     dr = _dr()
     w = dr.power(1.0 - dr.clip(cos_theta, 0.0, 1.0), 5)
-    return RGB.of(f0) + (1.0 - RGB.of(f0)) * w
+    return opaque_rgb(f0) + opaque_rgb(1.0 - RGB.of(f0)) * w
 
 
 def beckmann_d_dr(cos_h: Any, m: float, normalised: bool = True) -> Any:
     """:func:`beckmann_d` on drjit arrays."""
     dr = _dr()
+    (m2,) = opaque(m * m)
     c2 = dr.maximum(cos_h * cos_h, 1e-12)
-    d = dr.exp(-(1.0 - c2) / (c2 * (m * m))) / ((m * m) * c2 * c2)
+    d = dr.exp(-(1.0 - c2) / (c2 * m2)) / (m2 * c2 * c2)
     return dr.select(cos_h > 1e-6, d / np.pi if normalised else d, 0.0)
 
 
 def ggx_d_dr(cos_h: Any, alpha: float) -> Any:
     """:func:`ggx_d` on drjit arrays."""
     dr = _dr()
-    a2 = alpha * alpha
-    return dr.select(cos_h > 0.0, a2 / (np.pi * dr.square(cos_h * cos_h * (a2 - 1.0) + 1.0)), 0.0)
+    a2, a2m1 = opaque(alpha * alpha, alpha * alpha - 1.0)
+    return dr.select(cos_h > 0.0, a2 / (np.pi * dr.square(cos_h * cos_h * a2m1 + 1.0)), 0.0)
 
 
 def smith_g1_dr(cos_theta: Any, alpha: float, distribution: str) -> Any:
@@ -401,8 +448,10 @@ def smith_g1_dr(cos_theta: Any, alpha: float, distribution: str) -> Any:
     c = dr.clip(cos_theta, 1e-12, 1.0)
     tan = dr.sqrt(dr.maximum(1.0 - c * c, 0.0)) / c
     if distribution == "ggx":
-        return 2.0 / (1.0 + dr.sqrt(1.0 + (alpha * alpha) * tan * tan))
-    a = dr.minimum(1.0 / dr.maximum(alpha * tan, _tiny()), 1e8)
+        (a2,) = opaque(alpha * alpha)
+        return 2.0 / (1.0 + dr.sqrt(1.0 + a2 * tan * tan))
+    (al,) = opaque(alpha)
+    a = dr.minimum(1.0 / dr.maximum(al * tan, _tiny()), 1e8)
     tail = dr.exp(-dr.minimum(a * a, 700.0)) / (2.0 * a * math.sqrt(np.pi))
     lam = dr.select(a < 30.0, 0.5 * (dr.erf(a) - 1.0) + tail, 0.0)
     return 1.0 / (1.0 + lam)
@@ -453,10 +502,11 @@ def oren_nayar_full_dr(sigma: float, albedo: RGB, g: GeometryDr) -> tuple[RGB, R
     al, be = alpha_beta_dr(g)
     be = dr.minimum(be, below_half_pi())
     cd = g.cos_dphi
-    c1 = 1.0 - 0.5 * s2 / (s2 + 0.33)
-    b = 0.45 * s2 / (s2 + 0.09)
+    c1, b, b3, b_inter = opaque(1.0 - 0.5 * s2 / (s2 + 0.33), 0.45 * s2 / (s2 + 0.09), 0.125 * s2 / (s2 + 0.09),
+                                0.17 * s2 / (s2 + 0.13))
     c2 = dr.select(cd >= 0.0, b * dr.sin(al), b * (dr.sin(al) - dr.power(2.0 * be / np.pi, 3)))
-    c3 = 0.125 * s2 / (s2 + 0.09) * dr.square(4.0 * al * be / np.pi ** 2)
+    c3 = b3 * dr.square(4.0 * al * be / np.pi ** 2)
     direct = c1 + cd * c2 * dr.tan(be) + (1.0 - dr.abs(cd)) * c3 * dr.tan(0.5 * (al + be))
-    inter = 0.17 * s2 / (s2 + 0.13) * (1.0 - cd * dr.square(2.0 * be / np.pi))
-    return RGB.of(albedo) / np.pi * (direct * g.cl), RGB.of(albedo) * RGB.of(albedo) / np.pi * (inter * g.cl)
+    inter = b_inter * (1.0 - cd * dr.square(2.0 * be / np.pi))
+    return (opaque_rgb(RGB.of(albedo) / np.pi) * (direct * g.cl),
+            opaque_rgb(RGB.of(albedo) * RGB.of(albedo) / np.pi) * (inter * g.cl))

@@ -43,7 +43,16 @@ from typing import Any
 
 import numpy as np
 
-from ..brdf.common import RGB, GeometryDr, beckmann_d_dr, fresnel_f0_rgb, fresnel_schlick_dr, param, rgb_param
+from ..brdf.common import (
+    RGB,
+    GeometryDr,
+    beckmann_d_dr,
+    fresnel_f0_rgb,
+    fresnel_schlick_dr,
+    opaque_rgb,
+    param,
+    rgb_param,
+)
 from ..families import brdf
 
 READINGS: dict[str, tuple[bool, float]] = {  # name -> (multiply by N·L, factor in G2)
@@ -71,7 +80,7 @@ def reading(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray, 
     """One reading of :data:`READINGS` plus the Lambert term ρ/π (N·L); zero below either horizon."""
     g = GeometryDr(normals, lights, views)
     with_nl, g2 = READINGS[name]
-    diffuse = rgb_param(params, "albedo", "cook_torrance_ganovelli") / np.pi * g.cl
+    diffuse = opaque_rgb(rgb_param(params, "albedo", "cook_torrance_ganovelli") / np.pi) * g.cl
     return g.finish(diffuse + ganovelli_specular(params, g, with_nl, g2))
 
 

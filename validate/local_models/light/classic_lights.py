@@ -43,7 +43,8 @@ from typing import Any
 import numpy as np
 
 from ..families import light
-from .common import DIRECTIONAL_REACH, Visible, as_points, point_irradiance, require, shadow, to_dr
+from ..precision import packed_to_dr
+from .common import DIRECTIONAL_REACH, Visible, as_points, opaque, point_irradiance, require, shadow
 
 
 @light.register("directional", "directional light: E = E⊥ max(0, n·l) V (Red Book ch. 7)", lights=("directional",),
@@ -58,8 +59,10 @@ def directional(light_map: Mapping[str, Any], points: Any, normals: Any, visible
     p, n = as_points(points, normals)
     to_light = -np.asarray(light_map["direction"], dtype=np.float64)
     to_light /= np.linalg.norm(to_light)
-    cos_t = sum(to_dr(n[:, k]) * float(to_light[k]) for k in range(3))
-    out = np.array(float(light_map["irradiance"]) * dr.maximum(cos_t, 0.0), dtype=np.float64)
+    *lk, e_perp = opaque(*to_light, float(light_map["irradiance"]))
+    cols = packed_to_dr(*(n[:, k] for k in range(3)))  # one packed input (precision.packed_to_dr)
+    cos_t = sum(cols[k] * lk[k] for k in range(3))
+    out = np.array(e_perp * dr.maximum(cos_t, 0.0), dtype=np.float64)
     lit = out > 0
     if visible is not None and lit.any():
         out[lit] *= shadow(visible, p[lit], n[lit], p[lit] + DIRECTIONAL_REACH * to_light)
@@ -91,10 +94,11 @@ def spot_cos_profile(exponent: float, cutoff_deg: float) -> Callable[[Any], Any]
     """I(α)/I₀ = cos^f α for cos α > cos(cutoff), else 0 [1, ch. 7; 2, eq. 6.41]."""
     import drjit as dr
 
-    cos_cut = float(np.cos(np.radians(cutoff_deg)))
+    from ..brdf.common import power_dr  # noqa: PLC0415
 
     def profile(cos_a: Any) -> Any:
-        return dr.select(cos_a > cos_cut, dr.power(dr.maximum(cos_a, 0.0), float(exponent)), 0.0)
+        (cos_cut,) = opaque(float(np.cos(np.radians(cutoff_deg))))  # opaque: a new cutoff reuses the kernel
+        return dr.select(cos_a > cos_cut, power_dr(dr.maximum(cos_a, 0.0), float(exponent)), 0.0)
     return profile
 
 
@@ -107,8 +111,9 @@ def spot_mitsuba_profile(beam_deg: float, cutoff_deg: float) -> Callable[[Any], 
     cos_cut, cos_beam = float(np.cos(cut)), float(np.cos(beam))
 
     def profile(cos_a: Any) -> Any:
-        ramp = (cut - dr.acos(dr.clip(cos_a, -1.0, 1.0))) * inv_width
-        return dr.select(cos_a > cos_cut, dr.select(cos_a >= cos_beam, 1.0, ramp), 0.0)
+        k_cut, k_inv, k_cos_cut, k_cos_beam = opaque(cut, inv_width, cos_cut, cos_beam)  # a new spot, same kernel
+        ramp = (k_cut - dr.acos(dr.clip(cos_a, -1.0, 1.0))) * k_inv
+        return dr.select(cos_a > k_cos_cut, dr.select(cos_a >= k_cos_beam, 1.0, ramp), 0.0)
     return profile
 
 

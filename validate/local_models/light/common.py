@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import ValidateError
+from ..precision import constants_dr, packed_to_dr
 from ..precision import to_dr as _to_dr
 
 Visible = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
@@ -39,6 +40,13 @@ def to_dr(a: np.ndarray) -> Any:
     return _to_dr(a)
 
 
+def opaque(*values: float) -> list[Any]:
+    """Per-call numbers (a light's intensity, direction, range) as opaque drjit values of the active dtype
+    (:func:`..precision.constants_dr`): the float32 value the Python literal was rounded to, not baked into the
+    kernel, so a new light reuses the compiled kernel."""
+    return constants_dr(np.asarray(values, dtype=np.float64))
+
+
 def shadow(visible: Visible | None, points: np.ndarray, normals: np.ndarray, targets: np.ndarray) -> np.ndarray:
     """V ∈ {0, 1} per receiver from the scene's shadow-ray test (1 everywhere when ``visible`` is None)."""
     if visible is None:
@@ -50,10 +58,14 @@ def point_geometry(position: np.ndarray, points: np.ndarray, normals: np.ndarray
     """drjit (d, cos θ = n·ω, ω) for a point at ``position``; ω is a tuple of three arrays."""
     import drjit as dr
 
-    v = [to_dr(np.asarray(position, dtype=np.float64)[k] - points[:, k]) for k in range(3)]
+    # p − x formed in float64 as before, and the normals: six columns of one packed input (precision.packed_to_dr:
+    # one input per column lets the kernel hash follow drjit's variable numbering, a cache miss per call)
+    pos = np.asarray(position, dtype=np.float64)
+    c = packed_to_dr(*(pos[k] - points[:, k] for k in range(3)), *(normals[:, k] for k in range(3)))
+    v = c[:3]
     d = dr.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
     w = [c / d for c in v]
-    cos_t = w[0] * to_dr(normals[:, 0]) + w[1] * to_dr(normals[:, 1]) + w[2] * to_dr(normals[:, 2])
+    cos_t = w[0] * c[3] + w[1] * c[4] + w[2] * c[5]
     return d, cos_t, w
 
 
@@ -70,10 +82,11 @@ def point_irradiance(light_map: Mapping[str, Any], points: Any, normals: Any, vi
     d, cos_t, w = point_geometry(pos, p, n)
     cos_term = dr.abs(cos_t) if two_sided else dr.maximum(cos_t, 0.0)
     att = attenuation(d) if attenuation is not None else 1.0 / (d * d)
-    e = float(light_map["intensity"]) * cos_term * att
+    (intensity,) = opaque(float(light_map["intensity"]))
+    e = intensity * cos_term * att
     if profile is not None:
-        axis = np.asarray(light_map["direction"], dtype=np.float64)
-        cos_a = -(w[0] * float(axis[0]) + w[1] * float(axis[1]) + w[2] * float(axis[2]))
+        ax = opaque(*np.asarray(light_map["direction"], dtype=np.float64)[:3])
+        cos_a = -(w[0] * ax[0] + w[1] * ax[1] + w[2] * ax[2])
         e = e * profile(cos_a)
     out = np.array(e, dtype=np.float64)
     lit = out > 0

@@ -37,7 +37,7 @@ from typing import Any
 import numpy as np
 
 from ..families import light
-from .common import Visible, point_irradiance, require
+from .common import Visible, opaque, point_irradiance, require
 
 DEFAULT_RANGE = 10.0  # m: range used by the windowed falloffs when the light mapping gives none
 
@@ -53,12 +53,24 @@ def gl_attenuation(kc: float, kl: float, kq: float) -> Callable[[Any], Any]:
     return lambda d: 1.0 / (kc + d * (kl + d * kq))
 
 
+def over(d: Any, rng: float) -> Any:
+    """d/range with the range opaque (a new range reuses the kernel), bit for bit as with the literal: drjit's JIT
+    backends turn a division by a literal into a product with its reciprocal rounded in the array's dtype, the
+    scalar backend divides."""
+    from ..precision import NUMPY_DTYPE, active, active_backend  # noqa: PLC0415
+
+    if active_backend() == "scalar":
+        return d / opaque(rng)[0]
+    dt = NUMPY_DTYPE[active()]
+    return d * opaque(float(dt(1.0) / dt(rng)))[0]
+
+
 def gltf_range_attenuation(rng: float) -> Callable[[Any], Any]:
     """a(d) = clamp(1 − (d/range)⁴, 0, 1) / d² [5]."""
     import drjit as dr
 
     def att(d: Any) -> Any:
-        x = d / rng
+        x = over(d, rng)
         return dr.clip(1.0 - x * x * x * x, 0.0, 1.0) / (d * d)
     return att
 
@@ -68,7 +80,7 @@ def ue4_attenuation(rng: float) -> Callable[[Any], Any]:
     import drjit as dr
 
     def att(d: Any) -> Any:
-        x = d / rng
+        x = over(d, rng)
         w = dr.clip(1.0 - x * x * x * x, 0.0, 1.0)
         return w * w / (d * d + 1.0)
     return att

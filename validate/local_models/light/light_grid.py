@@ -42,7 +42,8 @@ import numpy as np
 
 from ...errors import ValidateError
 from ..families import light
-from .common import Visible, as_points, require, shadow, to_dr
+from ..precision import packed_to_dr
+from .common import Visible, as_points, require, shadow
 
 AREA_KINDS = ("rectangle", "disk", "sphere")
 DEFAULT_GRID = 8
@@ -132,12 +133,14 @@ def _grid_chunk(light_map: Mapping[str, Any], x: np.ndarray, nx: np.ndarray, n: 
     q, nl, area = emitter_points(light_map, x, n, offset)
     k = q.shape[1]
     v = q - x[:, None, :]  # (N, K, 3) receiver → emitter point
-    vx, vy, vz = (to_dr(v[..., i]) for i in range(3))
+    # the nine columns as one packed input (precision.packed_to_dr: one input per column misses the kernel cache)
+    vx, vy, vz, rx, ry, rz, lx, ly, lz = packed_to_dr(*(v[..., i] for i in range(3)),
+                                                      *(np.repeat(nx[:, i], k) for i in range(3)),
+                                                      *(nl[..., i] for i in range(3)))
     r2 = vx * vx + vy * vy + vz * vz
     inv_r = dr.rsqrt(r2)
-    cos_r = (vx * to_dr(np.repeat(nx[:, 0], k)) + vy * to_dr(np.repeat(nx[:, 1], k))
-             + vz * to_dr(np.repeat(nx[:, 2], k))) * inv_r
-    cos_l = -(vx * to_dr(nl[..., 0]) + vy * to_dr(nl[..., 1]) + vz * to_dr(nl[..., 2])) * inv_r
+    cos_r = (vx * rx + vy * ry + vz * rz) * inv_r
+    cos_l = -(vx * lx + vy * ly + vz * lz) * inv_r
     term = np.array(dr.maximum(cos_r, 0.0) * dr.maximum(cos_l, 0.0) / r2, dtype=np.float64).reshape(-1, k)
     if visible is not None:
         lit = term > 0

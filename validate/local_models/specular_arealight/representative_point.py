@@ -137,15 +137,18 @@ def tube_solid_angle_dr(center: np.ndarray, axis: np.ndarray, length: float, rad
     receivers ``p`` (a drjit vector)."""
     import drjit as dr
 
-    ax = [float(x) for x in axis]
-    q = (p[0] - float(center[0]), p[1] - float(center[1]), p[2] - float(center[2]))
+    # the tube's numbers opaque (a new tube reuses the kernel), the products formed in float64 as the literals were
+    k = constants_dr(np.r_[np.asarray(axis, dtype=np.float64)[:3], np.asarray(center, dtype=np.float64)[:3],
+                           -0.5 * length, 0.5 * length, 2.0 * radius, 0.5 * np.pi * radius ** 2])
+    ax, cen, lo, hi, two_r, cap = (k[0], k[1], k[2]), k[3:6], k[6], k[7], k[8], k[9]
+    q = (p[0] - cen[0], p[1] - cen[1], p[2] - cen[2])
     s_p = dot(q, ax)
     perp = axpy(-s_p, ax, q)
     h = dr.maximum(dr.sqrt(dot(perp, perp)), TINY)
-    s0, s1 = -0.5 * length - s_p, 0.5 * length - s_p
+    s0, s1 = lo - s_p, hi - s_p
     r0, r1 = dr.sqrt(h * h + s0 * s0), dr.sqrt(h * h + s1 * s1)
-    line = 2.0 * radius * (s1 * r0 - s0 * r1) / (h * r0 * r1)
-    return line + 0.5 * np.pi * radius ** 2 * (1.0 / (r0 * r0) + 1.0 / (r1 * r1))
+    line = two_r * (s1 * r0 - s0 * r1) / (h * r0 * r1)
+    return line + cap * (1.0 / (r0 * r0) + 1.0 / (r1 * r1))
 
 
 def tube_solid_angle(center: np.ndarray, axis: np.ndarray, length: float, radius: float,
@@ -167,21 +170,27 @@ def representative_point_tube(light: Mapping[str, Any], brdf: Mapping[str, Any],
     alpha, f0 = brdf_params(brdf, who)
     c, ax, length, radius = tube_light(light, who)
     p, n, v, r = _receivers(points, normals, views)
-    ld = [float(length * a) for a in ax]
     base = c - 0.5 * length * ax
-    l0 = (float(base[0]) - p[0], float(base[1]) - p[1], float(base[2]) - p[2])
+    # the tube's and the BRDF's numbers opaque (length, axis, ends, radius, radiance, α: a new tube or α reuses the
+    # kernel), the products formed in float64 as the literals were
+    k = constants_dr(np.r_[[float(length * a) for a in ax], [float(x) for x in base], [float(x) for x in c],
+                           length ** 2, 1e-12 * max(length, 1e-30) ** 2, length, radius,
+                           float(light.get("radiance", 1.0)), alpha])
+    ld, b0, cc = (k[0], k[1], k[2]), k[3:6], k[6:9]
+    length2, den_floor, length_k, radius_k, radiance, alpha_k = k[9:15]
+    l0 = (b0[0] - p[0], b0[1] - p[1], b0[2] - p[2])
     rl0, rld = dot(r, l0), dot(r, ld)
-    den = length ** 2 - rld * rld
-    ok = den > 1e-12 * max(length, 1e-30) ** 2
+    den = length2 - rld * rld
+    ok = den > den_floor
     t = dr.select(ok, (rl0 * rld - dot(l0, ld)) / dr.select(den > 0.0, den, 1.0), 0.5)
     lt = axpy(dr.clip(t, 0.0, 1.0), ld, l0)
-    l = _toward_sphere(lt, r, radius)
-    to_c = (float(c[0]) - p[0], float(c[1]) - p[1], float(c[2]) - p[2])
+    l = _toward_sphere(lt, r, radius_k)
+    to_c = (cc[0] - p[0], cc[1] - p[1], cc[2] - p[2])
     dist = dr.sqrt(dot(to_c, to_c))
-    e_perp = float(light.get("radiance", 1.0)) * tube_solid_angle_dr(c, ax, length, radius, p)
-    a_line = dr.clip(alpha + 0.5 * dr.clip(length / dist, 0.0, 1.0), 0.0, 1.0)
-    a_sph = dr.clip(alpha + radius / (2.0 * dist), 0.0, 1.0)
-    scale = dr.power(alpha / a_line, line_power) * dr.power(alpha / a_sph, sphere_power)
+    e_perp = radiance * tube_solid_angle_dr(c, ax, length, radius, p)
+    a_line = dr.clip(alpha_k + 0.5 * dr.clip(length_k / dist, 0.0, 1.0), 0.0, 1.0)
+    a_sph = dr.clip(alpha_k + radius_k / (2.0 * dist), 0.0, 1.0)
+    scale = dr.power(alpha_k / a_line, line_power) * dr.power(alpha_k / a_sph, sphere_power)
     return rgb_to_np(*ggx_point_dr(alpha, f0, n, l, v, e_perp * scale), len(np.asarray(points).reshape(-1, 3)))
 
 
