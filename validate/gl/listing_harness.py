@@ -103,8 +103,9 @@ def pixel_layout(n: int) -> tuple[int, int]:
 def pixel_ndc(n: int) -> np.ndarray:
     """(n, 2) NDC of the pixel centre of each receiver: x = (col + ½)/W·2 − 1, y = (row + ½)/H·2 − 1."""
     w, h = pixel_layout(n)
-    i = np.arange(n)
-    return np.stack([((i % w) + 0.5) / w * 2.0 - 1.0, ((i // w) + 0.5) / h * 2.0 - 1.0], axis=1)
+    x = (np.arange(w) + 0.5) / w * 2.0 - 1.0
+    y = (np.arange(h) + 0.5) / h * 2.0 - 1.0
+    return np.stack([np.tile(x, h)[:n], np.repeat(y, w)[:n]], axis=1)
 
 
 def placement_matrix(q: np.ndarray, ndc: np.ndarray) -> np.ndarray:
@@ -220,14 +221,32 @@ def _per_point_setters(gl: Any, prog: Any, per_point: Mapping[str, np.ndarray]) 
     return out
 
 
+def _placement_offsets(positions: np.ndarray, placement: Placement) -> np.ndarray:
+    """(N, 3) float64 translation ndc − M p of each receiver's U_i (module docstring)."""
+    if placement.pre is None:  # M = I: M p = p (the product with I is exact; only a zero's sign could differ)
+        q = positions[:, :3]
+    else:
+        q = (np.c_[positions[:, :3], np.ones(len(positions))] @ placement.pre_matrix().T)[:, :3]
+    out = -q
+    out[:, :2] += pixel_ndc(len(positions))
+    return out
+
+
 def placement_matrices(positions: np.ndarray, placement: Placement) -> np.ndarray:
     """(N, 4, 4) float32 U_i (row-major) for every receiver (module docstring)."""
-    pre = placement.pre_matrix()
-    q = (np.c_[positions[:, :3], np.ones(len(positions))] @ pre.T)[:, :3]
-    ndc = pixel_ndc(len(positions))
-    u = np.tile(np.eye(4), (len(positions), 1, 1))
-    u[:, 0, 3], u[:, 1, 3], u[:, 2, 3] = ndc[:, 0] - q[:, 0], ndc[:, 1] - q[:, 1], -q[:, 2]
-    return np.ascontiguousarray(u, dtype=np.float32)
+    u = np.zeros((len(positions), 4, 4), dtype=np.float32)
+    u[:, [0, 1, 2, 3], [0, 1, 2, 3]] = 1.0
+    u[:, :3, 3] = _placement_offsets(positions, placement)
+    return u
+
+
+def placement_columns(positions: np.ndarray, placement: Placement) -> np.ndarray:
+    """(N, 16) float32: each U_i in GL's column-major order (columns 0–3 = floats 0–3, 4–7, …), the same float32
+    values as :func:`placement_matrices`."""
+    u = np.zeros((len(positions), 16), dtype=np.float32)
+    u[:, [0, 5, 10, 15]] = 1.0
+    u[:, 12:15] = _placement_offsets(positions, placement)
+    return u
 
 
 _PRECISION = r"(?:(?:highp|mediump|lowp)\s+)?"
@@ -283,7 +302,7 @@ def _draw_batched(gl: Any, prog: Any, positions: np.ndarray, placement: Placemen
     loc = gl.glGetAttribLocation(prog.glo, placement.uniform)
     if loc < 0:
         raise ValidateError(f"listing harness: placement input {placement.uniform!r} is not active in the program")
-    cols = np.ascontiguousarray(np.transpose(placement_matrices(positions, placement), (0, 2, 1)))
+    cols = placement_columns(positions, placement)
     base = cols.ctypes.data
     for j in range(4):
         gl.glEnableVertexAttribArray(loc + j)
