@@ -103,15 +103,22 @@ def _mesh_scene(slopes: np.ndarray) -> Any:
     return mi.load_dict(shapes)
 
 
+def _rays(origins: np.ndarray, dirs: np.ndarray) -> tuple[Any, int]:
+    """Mitsuba rays of (M, 3) origins and directions, padded to :func:`validate.backend.padded_count` rows (the
+    last row repeated; see there), each component imported from its own contiguous float32 row; (rays, M)."""
+    import mitsuba as mi
+
+    m = origins.shape[0]
+    o, d = (np.ascontiguousarray(pad_rows(a, padded_count(m)).T) for a in (origins, dirs))
+    return mi.Ray3f(mi.Point3f(o[0], o[1], o[2]), mi.Vector3f(d[0], d[1], d[2])), m
+
+
 def _intersect(scene: Any, origins: np.ndarray, dirs: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(hit mask, hit points, geometric normals oriented to +z) of rays. The three outputs are evaluated in one
     kernel (``dr.eval``): read one by one, each would launch its own kernel and trace the rays again."""
     import drjit as dr
-    import mitsuba as mi
 
-    m = origins.shape[0]
-    o, d = pad_rows(origins, padded_count(m)), pad_rows(dirs, padded_count(m))  # see backend.padded_count
-    ray = mi.Ray3f(mi.Point3f(o[:, 0], o[:, 1], o[:, 2]), mi.Vector3f(d[:, 0], d[:, 1], d[:, 2]))
+    ray, m = _rays(origins, dirs)
     si = scene.ray_intersect(ray)
     valid, pos, nrm = si.is_valid(), si.p, si.n
     dr.eval(valid, pos, nrm)
@@ -123,11 +130,7 @@ def _intersect(scene: Any, origins: np.ndarray, dirs: np.ndarray) -> tuple[np.nd
 
 
 def _occluded(scene: Any, origins: np.ndarray, dirs: np.ndarray) -> np.ndarray:
-    import mitsuba as mi
-
-    m = origins.shape[0]
-    o, d = pad_rows(origins, padded_count(m)), pad_rows(dirs, padded_count(m))  # see backend.padded_count
-    ray = mi.Ray3f(mi.Point3f(o[:, 0], o[:, 1], o[:, 2]), mi.Vector3f(d[:, 0], d[:, 1], d[:, 2]))
+    ray, m = _rays(origins, dirs)
     return np.array(scene.ray_test(ray), dtype=bool)[:m]
 
 
@@ -154,26 +157,28 @@ def trace_vgrooves(scene: Any, mesh_index: np.ndarray, lights: np.ndarray, views
     half = 0.5 * bs.VGROOVE_FOOTPRINT
     p0 = np.stack([rng.uniform(-half, half, len(k)) + SLOPE_SPACING * mesh_index[k],
                    rng.uniform(-half, half, len(k)), np.zeros(len(k))], -1)
+    # The live paths' rays are kept compact (row j = path alive[j]); every live path has had the same number
+    # of facet hits, so its throughput ρ^b is one number (the same float64 products as per path).
     origin = p0 + 2.0 * v / np.maximum(v[:, 2:3], 1e-3)
     direction = -v
-    throughput = np.ones(len(k))
+    throughput = 1.0
     value = np.zeros(len(k))
     alive = np.arange(len(k))
     for _ in range(depth):
-        hit, p, n = _intersect(scene, origin[alive], direction[alive])
+        hit, p, n = _intersect(scene, origin, direction)
         alive, p, n = alive[hit], p[hit], n[hit]
         if alive.size == 0:
             break
-        cos_l = np.sum(n * lgt[alive], axis=-1)
+        la = lgt[alive]
+        cos_l = np.sum(n * la, axis=-1)
         lit = cos_l > 0.0
-        shadow_o = p + RAY_EPS * n
+        origin = p + RAY_EPS * n
         occ = np.zeros(alive.size, dtype=bool)
         if lit.any():
-            occ[lit] = _occluded(scene, shadow_o[lit], lgt[alive][lit])
-        value[alive] += np.where(lit & ~occ, throughput[alive] * albedo / np.pi * cos_l, 0.0)
-        throughput[alive] *= albedo
-        direction[alive] = _cosine_about(n, rng.random(alive.size), rng.random(alive.size))
-        origin[alive] = shadow_o
+            occ[lit] = _occluded(scene, origin[lit], la[lit])
+        value[alive] += np.where(lit & ~occ, throughput * albedo / np.pi * cos_l, 0.0)
+        throughput *= albedo
+        direction = _cosine_about(n, rng.random(alive.size), rng.random(alive.size))
     per = value.reshape(m, paths)
     return per.mean(axis=1), per.std(axis=1, ddof=1) / np.sqrt(paths)
 
