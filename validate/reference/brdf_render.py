@@ -134,15 +134,24 @@ def _occluded(scene: Any, origins: np.ndarray, dirs: np.ndarray) -> np.ndarray:
     return np.array(scene.ray_test(ray), dtype=bool)[:m]
 
 
+def _cross(a: tuple[np.ndarray, ...], b: tuple[np.ndarray, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """a × b by components: (a₁b₂ − a₂b₁, a₂b₀ − a₀b₂, a₀b₁ − a₁b₀), the products and differences ``np.cross``
+    forms (same float64 results), without its (N, 3) temporaries."""
+    return a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]
+
+
 def _cosine_about(n: np.ndarray, u1: np.ndarray, u2: np.ndarray) -> np.ndarray:
-    """Cosine-distributed directions about unit normals n (pdf cos θ/π)."""
+    """Cosine-distributed directions about unit normals n (pdf cos θ/π): local (√u₁ cos 2πu₂, √u₁ sin 2πu₂,
+    √(1 − u₁)) in the frame t = n × a/|n × a|, b = n × t (a = y where |n_x| > 0.9, else x)."""
     r, phi = np.sqrt(u1), 2.0 * np.pi * u2
-    local = np.stack([r * np.cos(phi), r * np.sin(phi), np.sqrt(np.maximum(1.0 - u1, 0.0))], -1)
-    a = np.where(np.abs(n[:, :1]) > 0.9, np.array([[0.0, 1.0, 0.0]]), np.array([[1.0, 0.0, 0.0]]))
-    t = np.cross(n, a)
-    t /= np.linalg.norm(t, axis=-1, keepdims=True)
-    b = np.cross(n, t)
-    return local[:, :1] * t + local[:, 1:2] * b + local[:, 2:3] * n
+    lx, ly, lz = r * np.cos(phi), r * np.sin(phi), np.sqrt(np.maximum(1.0 - u1, 0.0))
+    nc = (n[:, 0], n[:, 1], n[:, 2])
+    ya = np.abs(nc[0]) > 0.9
+    t = _cross(nc, (np.where(ya, 0.0, 1.0), np.where(ya, 1.0, 0.0), np.zeros(len(n))))
+    norm = np.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
+    t = (t[0] / norm, t[1] / norm, t[2] / norm)
+    b = _cross(nc, t)
+    return np.stack([lx * t[k] + ly * b[k] + lz * nc[k] for k in range(3)], -1)
 
 
 def trace_vgrooves(scene: Any, mesh_index: np.ndarray, lights: np.ndarray, views: np.ndarray, albedo: float,
