@@ -113,9 +113,11 @@ def _rays(origins: np.ndarray, dirs: np.ndarray) -> tuple[Any, int]:
     return mi.Ray3f(mi.Point3f(o[0], o[1], o[2]), mi.Vector3f(d[0], d[1], d[2])), m
 
 
-def _intersect(scene: Any, origins: np.ndarray, dirs: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(hit mask, hit points, geometric normals oriented to +z) of rays. The three outputs are evaluated in one
-    kernel (``dr.eval``): read one by one, each would launch its own kernel and trace the rays again."""
+def _intersect(scene: Any, origins: np.ndarray, dirs: np.ndarray,
+               hits_only: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(hit mask, hit points, geometric normals oriented to +z) of rays (points and normals of the hits only, in
+    ray order, with ``hits_only``). The three outputs are evaluated in one kernel (``dr.eval``): read one by one,
+    each would launch its own kernel and trace the rays again."""
     import drjit as dr
 
     ray, m = _rays(origins, dirs)
@@ -123,8 +125,12 @@ def _intersect(scene: Any, origins: np.ndarray, dirs: np.ndarray) -> tuple[np.nd
     valid, pos, nrm = si.is_valid(), si.p, si.n
     dr.eval(valid, pos, nrm)
     hit = np.array(valid, dtype=bool)[:m]
-    p = np.array(pos, dtype=np.float64).reshape(3, -1).T[:m]
-    n = np.array(nrm, dtype=np.float64).reshape(3, -1).T[:m]
+    if hits_only:  # select in float32, then widen (exact): only the hits are converted
+        p = np.array(pos).reshape(3, -1)[:, :m][:, hit].T.astype(np.float64)
+        n = np.array(nrm).reshape(3, -1)[:, :m][:, hit].T.astype(np.float64)
+    else:
+        p = np.array(pos, dtype=np.float64).reshape(3, -1).T[:m]
+        n = np.array(nrm, dtype=np.float64).reshape(3, -1).T[:m]
     n = np.where(n[:, 2:3] < 0.0, -n, n)
     return hit, p, n
 
@@ -174,8 +180,8 @@ def trace_vgrooves(scene: Any, mesh_index: np.ndarray, lights: np.ndarray, views
     value = np.zeros(len(k))
     alive = np.arange(len(k))
     for _ in range(depth):
-        hit, p, n = _intersect(scene, origin, direction)
-        alive, p, n = alive[hit], p[hit], n[hit]
+        hit, p, n = _intersect(scene, origin, direction, hits_only=True)
+        alive = alive[hit]
         if alive.size == 0:
             break
         la = lgt[alive]
