@@ -130,7 +130,8 @@ def grid_metrics(m: Measurements, mat: bs.Material) -> None:
 def furnace_albedo(fn: Any, views_deg: tuple[float, ...], nodes: tuple[int, int]) -> np.ndarray:
     """W(θ_v) = ∫ Y(q(l, v)) dω_l for each view angle (luminance), with ``fn(lights, views) -> q``: one call over
     every view (the quadrature tiled; q is per sample, so each view's block is what a call of its own returns —
-    the GL listings pay a shader compile per call), each view's sum over its own block as before."""
+    fewer, larger calls: each has a fixed cost, a GL listing's draw and read-back), each view's sum over its own
+    block as before."""
     dirs, w = bs.hemisphere_quadrature(*nodes)
     views = np.concatenate([np.tile(bs.direction(np.radians(t), 0.0), (len(dirs), 1)) for t in views_deg])
     q = fn(np.tile(dirs, (len(views_deg), 1)), views)
