@@ -31,7 +31,7 @@ harness changes that one declaration — nothing else — into a per-vertex inpu
 (``in mat4 U;``, ``attribute mat4 U;`` below GLSL 1.30) and feeds U_i as a vertex attribute, so that one
 ``glDrawArrays(GL_POINTS, 0, N)`` draws every receiver. Every statement of the listing is unchanged, and U only
 places the point, so every varying — hence every fragment — is the same float32 computation as with a uniform U
-and one draw per receiver (``tests/infra/test_gl_runtime.py`` compares the two paths bit for bit). Otherwise
+and one draw per receiver (``tests/local_models/test_listings.py`` compares the two paths bit for bit). Otherwise
 (the fixed-function placement, per-receiver uniforms) one ``glDrawArrays(GL_POINTS, i, 1)`` is made per
 receiver, its U_i and ``per_point`` values set before it.
 
