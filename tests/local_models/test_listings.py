@@ -84,6 +84,51 @@ def test_glsl_listing_equals_python_transcription(name: str) -> None:
     assert np.max(np.abs(a - b)) <= TRANSCRIPTION_BOUND * np.max(np.abs(a))
 
 
+BATCHED = ["forejune_20_1", "forejune_20_4_disc", "forejune_20_4_grace", "forejune_20_5", "ganovelli_6_3_6_4",
+           "ganovelli_6_9", "redbook_7_4", "redbook_7_5", "redbook_7_6", "redbook_7_12", "redbook_7_14", "usc420_l11"]
+
+
+@needs_gl
+@pytest.mark.parametrize("name", BATCHED)
+def test_one_draw_equals_one_draw_per_receiver(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The batched draw (placement uniform declared as a vertex input, one glDrawArrays for all receivers) gives
+    the same float32 bits as one draw per receiver with the placement a uniform (the listing as printed)."""
+    from validate.gl import listing_harness as lh
+
+    calls: list[bool] = []
+    real = lh.batched_vertex_shader
+
+    def spy(*a: object) -> str | None:
+        out = real(*a)  # type: ignore[arg-type]
+        calls.append(out is not None)
+        return out
+
+    gl = _pairs()[name][1]
+    monkeypatch.setattr(lh, "batched_vertex_shader", spy)
+    one = np.asarray(gl())
+    assert calls and all(calls)  # every render of this listing took the batched path
+    monkeypatch.setattr(lh, "batched_vertex_shader", lambda *a: None)
+    per = np.asarray(gl())
+    assert one.shape == per.shape and np.array_equal(one, per, equal_nan=True)
+
+
+def test_batched_declaration_only() -> None:
+    """Only the one placement declaration changes (same line count); a name also in the fragment stage, a missing
+    or repeated declaration, or the fixed-function placement keep the per-receiver draws."""
+    from validate.gl.listing_harness import batched_vertex_shader as bvs
+
+    vs = ("#version 150\nin vec3 p;\nuniform mat4 P;\nuniform mat4 M;\n"
+          "void main() { gl_Position = P * M * vec4(p, 1); }\n")
+    out = bvs(vs, "void main() {}", "P")
+    assert out == vs.replace("uniform mat4 P;", "in mat4 P;")
+    assert bvs(vs.replace("#version 150\n", ""), "void main() {}", "P") == vs.replace(
+        "#version 150\n", "").replace("uniform mat4 P;", "attribute mat4 P;")
+    assert bvs(vs, "uniform mat4 P; void main() {}", "P") is None
+    assert bvs(vs, "void main() {}", "Q") is None
+    assert bvs(vs + "uniform mat4 P;\n", "void main() {}", "P") is None
+    assert bvs(vs, "void main() {}", None) is None
+
+
 @needs_gl
 def test_version_glue_is_needed() -> None:
     """Without `#version 120` Fore June's disc shader does not compile: `radians ( 20 )` passes an int (GLSL 1.10)."""

@@ -13,10 +13,9 @@ What the harness adds to a printed listing, and nothing else:
    ``gl_Normal``), and fixed-function state (``glLight*``, ``glMaterial*``, ``glMatrixMode``/
    ``glLoadMatrixf``) through a ``setup`` callback that receives PyOpenGL's ``GL`` module.
 
-Receivers are drawn as ``GL_POINTS`` (size 1), one ``glDrawArrays(GL_POINTS, i, 1)`` per receiver,
-into an RGBA32F target of width ``min(N, 256)``; receiver i lands on pixel (i mod W, i div W)
-(row 0 = the bottom row, GL's order, as :func:`validate.gl.egl.read_rgba32f` returns it). A point's
-varyings are not interpolated: the fragment sees exactly the vertex shader's outputs.
+Receivers are drawn as ``GL_POINTS`` (size 1) into an RGBA32F target of width ``min(N, 256)``; receiver i
+lands on pixel (i mod W, i div W) (row 0 = the bottom row, GL's order, as :func:`validate.gl.egl.read_rgba32f`
+returns it). A point's varyings are not interpolated: the fragment sees exactly the vertex shader's outputs.
 
 Placing a receiver on its pixel without touching the shader: the listing computes
 ``gl_Position = U · (M · p)`` with U a matrix that feeds only the clip position (an MVP or
@@ -26,6 +25,20 @@ U_i = translate(ndc_i − M p_i), so that gl_Position = (ndc_i, 1) with ndc_i th
 (:func:`placement_matrix`). Rounding of U_i · (M p) in float32 moves the point by ≲ 10⁻⁶ in NDC,
 far below half a pixel (1/512 at W = 256).
 
+**One draw for all receivers** (:func:`batched_vertex_shader`): where the placement is a ``uniform mat4 U;``
+declared once in the vertex stage (not in the fragment stage) and no ``per_point`` uniform is asked for, the
+harness changes that one declaration — nothing else — into a per-vertex input of the same name and type
+(``in mat4 U;``, ``attribute mat4 U;`` below GLSL 1.30) and feeds U_i as a vertex attribute, so that one
+``glDrawArrays(GL_POINTS, 0, N)`` draws every receiver. Every statement of the listing is unchanged, and U only
+places the point, so every varying — hence every fragment — is the same float32 computation as with a uniform U
+and one draw per receiver (``tests/local_models/test_listings.py`` compares the two paths bit for bit). Otherwise
+(the fixed-function placement, per-receiver uniforms) one ``glDrawArrays(GL_POINTS, i, 1)`` is made per
+receiver, its U_i and ``per_point`` values set before it.
+
+Programs are compiled once per (vertex text, fragment text, names of the uniforms set) and kept for the run
+(:func:`_program`): a call sets every uniform it names again, and the names are part of the key, so a kept
+program's uniform state is exactly what a freshly linked one would have after the call's writes.
+
 Pixels no receiver reaches keep the clear value −FLT_MAX in all four channels (:data:`UNWRITTEN`), which
 no lighting listing writes; :func:`render_points` checks that every receiver wrote its pixel. A NaN the
 shader itself computes comes back as NaN (the family contract then names it).
@@ -34,6 +47,8 @@ shader itself computes comes back as NaN (the family contract then names it).
 from __future__ import annotations
 
 import math
+import re
+from collections import OrderedDict
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -88,8 +103,9 @@ def pixel_layout(n: int) -> tuple[int, int]:
 def pixel_ndc(n: int) -> np.ndarray:
     """(n, 2) NDC of the pixel centre of each receiver: x = (col + ½)/W·2 − 1, y = (row + ½)/H·2 − 1."""
     w, h = pixel_layout(n)
-    i = np.arange(n)
-    return np.stack([((i % w) + 0.5) / w * 2.0 - 1.0, ((i // w) + 0.5) / h * 2.0 - 1.0], axis=1)
+    x = (np.arange(w) + 0.5) / w * 2.0 - 1.0
+    y = (np.arange(h) + 0.5) / h * 2.0 - 1.0
+    return np.stack([np.tile(x, h)[:n], np.repeat(y, w)[:n]], axis=1)
 
 
 def placement_matrix(q: np.ndarray, ndc: np.ndarray) -> np.ndarray:
@@ -128,6 +144,10 @@ def set_uniform(prog: Any, name: str, value: Any) -> None:
     if name not in prog:
         return
     u = prog[name]
+    import moderngl  # noqa: PLC0415
+
+    if not isinstance(u, moderngl.Uniform):  # a vertex input of that name (the batched placement)
+        return
     arr = np.asarray(value, dtype=np.float64)
     if arr.ndim == 2:
         u.value = tuple(float(x) for x in arr.T.ravel())
@@ -201,14 +221,98 @@ def _per_point_setters(gl: Any, prog: Any, per_point: Mapping[str, np.ndarray]) 
     return out
 
 
+def _placement_offsets(positions: np.ndarray, placement: Placement) -> np.ndarray:
+    """(N, 3) float64 translation ndc − M p of each receiver's U_i (module docstring)."""
+    if placement.pre is None:  # M = I: M p = p (the product with I is exact; only a zero's sign could differ)
+        q = positions[:, :3]
+    else:
+        q = (np.c_[positions[:, :3], np.ones(len(positions))] @ placement.pre_matrix().T)[:, :3]
+    out = -q
+    out[:, :2] += pixel_ndc(len(positions))
+    return out
+
+
 def placement_matrices(positions: np.ndarray, placement: Placement) -> np.ndarray:
     """(N, 4, 4) float32 U_i (row-major) for every receiver (module docstring)."""
-    pre = placement.pre_matrix()
-    q = (np.c_[positions[:, :3], np.ones(len(positions))] @ pre.T)[:, :3]
-    ndc = pixel_ndc(len(positions))
-    u = np.tile(np.eye(4), (len(positions), 1, 1))
-    u[:, 0, 3], u[:, 1, 3], u[:, 2, 3] = ndc[:, 0] - q[:, 0], ndc[:, 1] - q[:, 1], -q[:, 2]
-    return np.ascontiguousarray(u, dtype=np.float32)
+    u = np.zeros((len(positions), 4, 4), dtype=np.float32)
+    u[:, [0, 1, 2, 3], [0, 1, 2, 3]] = 1.0
+    u[:, :3, 3] = _placement_offsets(positions, placement)
+    return u
+
+
+def placement_columns(positions: np.ndarray, placement: Placement) -> np.ndarray:
+    """(N, 16) float32: each U_i in GL's column-major order (columns 0–3 = floats 0–3, 4–7, …), the same float32
+    values as :func:`placement_matrices`."""
+    u = np.zeros((len(positions), 16), dtype=np.float32)
+    u[:, [0, 5, 10, 15]] = 1.0
+    u[:, 12:15] = _placement_offsets(positions, placement)
+    return u
+
+
+_PRECISION = r"(?:(?:highp|mediump|lowp)\s+)?"
+
+
+def _glsl_version(text: str) -> int:
+    """The number of the stage's ``#version`` line (110 where there is none: GLSL 1.10)."""
+    m = re.search(r"^\s*#\s*version\s+(\d+)", text, flags=re.MULTILINE)
+    return int(m.group(1)) if m else 110
+
+
+def batched_vertex_shader(vertex_shader: str, fragment_shader: str, uniform: str | None) -> str | None:
+    """The vertex stage with its one ``uniform mat4 <uniform>;`` declaration made a per-vertex input (module
+    docstring), or None where that cannot be done: no placement uniform (fixed function), the declaration not
+    found exactly once, or the name also in the fragment stage. The line structure is kept (``#line`` numbers
+    stay the listing's)."""
+    if uniform is None or re.search(rf"\b{re.escape(uniform)}\b", fragment_shader):
+        return None
+    pat = re.compile(rf"\buniform(\s+{_PRECISION}mat4\s+{re.escape(uniform)}\s*;)")
+    if len(pat.findall(vertex_shader)) != 1:
+        return None
+    v = _glsl_version(vertex_shader)
+    word = "attribute" if v < 130 else "in"  # 100: GLSL ES 1.00
+    return pat.sub(lambda m: word + m.group(1), vertex_shader)
+
+
+_KEEP_PROGRAMS = 32  # programs kept per context
+
+
+def _program(ctx: Any, vertex_shader: str, fragment_shader: str, names: tuple[str, ...]) -> Any:
+    """``ctx.program(vert, frag)``, compiled once per (texts, names of the uniforms the call sets) and kept on the
+    context (module docstring; they go with it); the least recently used beyond :data:`_KEEP_PROGRAMS` are
+    released."""
+    kept: OrderedDict[tuple, Any] = ctx.__dict__.setdefault("_listing_programs", OrderedDict())
+    key = (vertex_shader, fragment_shader, names)
+    prog = kept.get(key)
+    if prog is not None:
+        kept.move_to_end(key)
+        return prog
+    prog = ctx.program(vertex_shader, fragment_shader)
+    kept[key] = prog
+    while len(kept) > _KEEP_PROGRAMS:
+        kept.popitem(last=False)[1].release()
+    return prog
+
+
+def _draw_batched(gl: Any, prog: Any, positions: np.ndarray, placement: Placement) -> None:
+    """One ``glDrawArrays(GL_POINTS, 0, N)``: U_i (module docstring) fed as the mat4 vertex input of the
+    placement's name (four vec4 columns at locations loc … loc + 3, column-major)."""
+    import ctypes  # noqa: PLC0415
+
+    _, gl11, gl20 = _raw()
+    loc = gl.glGetAttribLocation(prog.glo, placement.uniform)
+    if loc < 0:
+        raise ValidateError(f"listing harness: placement input {placement.uniform!r} is not active in the program")
+    cols = placement_columns(positions, placement)
+    base = cols.ctypes.data
+    for j in range(4):
+        gl.glEnableVertexAttribArray(loc + j)
+        gl20.glVertexAttribPointer(loc + j, 4, gl.GL_FLOAT, gl.GL_FALSE, 64, ctypes.c_void_p(base + 16 * j))
+    try:
+        gl11.glDrawArrays(gl.GL_POINTS, 0, len(positions))
+    finally:
+        for j in range(4):
+            gl.glDisableVertexAttribArray(loc + j)
+    del cols
 
 
 def _draw(gl: Any, prog: Any, positions: np.ndarray, placement: Placement,
@@ -261,9 +365,10 @@ def render_points(vertex_shader: str, fragment_shader: str, positions: np.ndarra
     n = len(pos)
     w, h = pixel_layout(n)
     ctx = runtime.get(KIND)
+    batched = None if per_point else batched_vertex_shader(vertex_shader, fragment_shader, placement.uniform)
     with ctx:
         gl = _gl()
-        prog = ctx.program(vertex_shader, fragment_shader)
+        prog = _program(ctx, batched or vertex_shader, fragment_shader, tuple(sorted(uniforms or {})))
         fbo = ctx.float_target(w, h)
         try:
             fbo.clear(UNWRITTEN, UNWRITTEN, UNWRITTEN, UNWRITTEN)
@@ -277,7 +382,10 @@ def render_points(vertex_shader: str, fragment_shader: str, positions: np.ndarra
                 setup(gl)
             keep = _bind_attributes(gl, prog, attributes or {}, legacy_vertex, legacy_normal)
             try:
-                _draw(gl, prog, pos, placement, per_point)
+                if batched is not None:
+                    _draw_batched(gl, prog, pos, placement)
+                else:
+                    _draw(gl, prog, pos, placement, per_point)
             finally:
                 _unbind(gl, keep)
                 gl.glUseProgram(0)
@@ -285,7 +393,6 @@ def render_points(vertex_shader: str, fragment_shader: str, positions: np.ndarra
             out = egl.read_rgba32f(fbo).reshape(-1, 4)[:n]
         finally:
             fbo.release()
-            prog.release()
     missed = (out == np.float32(UNWRITTEN)).all(axis=1)
     if missed.any():
         raise ValidateError(f"{who}: {int(missed.sum())} of {n} receivers wrote no fragment "
@@ -299,5 +406,5 @@ def homogeneous(points: np.ndarray) -> np.ndarray:
     return np.c_[p, np.ones(len(p))]
 
 
-__all__ = ["Edit", "KIND", "Placement", "apply_edits", "glued", "homogeneous", "pixel_layout", "pixel_ndc",
-           "placement_matrix", "render_points", "set_uniform"]
+__all__ = ["Edit", "KIND", "Placement", "apply_edits", "batched_vertex_shader", "glued", "homogeneous", "pixel_layout",
+           "pixel_ndc", "placement_matrix", "render_points", "set_uniform"]

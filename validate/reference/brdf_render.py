@@ -103,43 +103,61 @@ def _mesh_scene(slopes: np.ndarray) -> Any:
     return mi.load_dict(shapes)
 
 
-def _intersect(scene: Any, origins: np.ndarray, dirs: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(hit mask, hit points, geometric normals oriented to +z) of rays. The three outputs are evaluated in one
-    kernel (``dr.eval``): read one by one, each would launch its own kernel and trace the rays again."""
-    import drjit as dr
+def _rays(origins: np.ndarray, dirs: np.ndarray) -> tuple[Any, int]:
+    """Mitsuba rays of (M, 3) origins and directions, padded to :func:`validate.backend.padded_count` rows (the
+    last row repeated; see there), each component imported from its own contiguous float32 row; (rays, M)."""
     import mitsuba as mi
 
     m = origins.shape[0]
-    o, d = pad_rows(origins, padded_count(m)), pad_rows(dirs, padded_count(m))  # see backend.padded_count
-    ray = mi.Ray3f(mi.Point3f(o[:, 0], o[:, 1], o[:, 2]), mi.Vector3f(d[:, 0], d[:, 1], d[:, 2]))
+    o, d = (np.ascontiguousarray(pad_rows(a, padded_count(m)).T) for a in (origins, dirs))
+    return mi.Ray3f(mi.Point3f(o[0], o[1], o[2]), mi.Vector3f(d[0], d[1], d[2])), m
+
+
+def _intersect(scene: Any, origins: np.ndarray, dirs: np.ndarray,
+               hits_only: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(hit mask, hit points, geometric normals oriented to +z) of rays (points and normals of the hits only, in
+    ray order, with ``hits_only``). The three outputs are evaluated in one kernel (``dr.eval``): read one by one,
+    each would launch its own kernel and trace the rays again."""
+    import drjit as dr
+
+    ray, m = _rays(origins, dirs)
     si = scene.ray_intersect(ray)
     valid, pos, nrm = si.is_valid(), si.p, si.n
     dr.eval(valid, pos, nrm)
     hit = np.array(valid, dtype=bool)[:m]
-    p = np.array(pos, dtype=np.float64).reshape(3, -1).T[:m]
-    n = np.array(nrm, dtype=np.float64).reshape(3, -1).T[:m]
+    if hits_only:  # select in float32, then widen (exact): only the hits are converted
+        p = np.array(pos).reshape(3, -1)[:, :m][:, hit].T.astype(np.float64)
+        n = np.array(nrm).reshape(3, -1)[:, :m][:, hit].T.astype(np.float64)
+    else:
+        p = np.array(pos, dtype=np.float64).reshape(3, -1).T[:m]
+        n = np.array(nrm, dtype=np.float64).reshape(3, -1).T[:m]
     n = np.where(n[:, 2:3] < 0.0, -n, n)
     return hit, p, n
 
 
 def _occluded(scene: Any, origins: np.ndarray, dirs: np.ndarray) -> np.ndarray:
-    import mitsuba as mi
-
-    m = origins.shape[0]
-    o, d = pad_rows(origins, padded_count(m)), pad_rows(dirs, padded_count(m))  # see backend.padded_count
-    ray = mi.Ray3f(mi.Point3f(o[:, 0], o[:, 1], o[:, 2]), mi.Vector3f(d[:, 0], d[:, 1], d[:, 2]))
+    ray, m = _rays(origins, dirs)
     return np.array(scene.ray_test(ray), dtype=bool)[:m]
 
 
+def _cross(a: tuple[np.ndarray, ...], b: tuple[np.ndarray, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """a × b by components: (a₁b₂ − a₂b₁, a₂b₀ − a₀b₂, a₀b₁ − a₁b₀), the products and differences ``np.cross``
+    forms (same float64 results), without its (N, 3) temporaries."""
+    return a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]
+
+
 def _cosine_about(n: np.ndarray, u1: np.ndarray, u2: np.ndarray) -> np.ndarray:
-    """Cosine-distributed directions about unit normals n (pdf cos θ/π)."""
+    """Cosine-distributed directions about unit normals n (pdf cos θ/π): local (√u₁ cos 2πu₂, √u₁ sin 2πu₂,
+    √(1 − u₁)) in the frame t = n × a/|n × a|, b = n × t (a = y where |n_x| > 0.9, else x)."""
     r, phi = np.sqrt(u1), 2.0 * np.pi * u2
-    local = np.stack([r * np.cos(phi), r * np.sin(phi), np.sqrt(np.maximum(1.0 - u1, 0.0))], -1)
-    a = np.where(np.abs(n[:, :1]) > 0.9, np.array([[0.0, 1.0, 0.0]]), np.array([[1.0, 0.0, 0.0]]))
-    t = np.cross(n, a)
-    t /= np.linalg.norm(t, axis=-1, keepdims=True)
-    b = np.cross(n, t)
-    return local[:, :1] * t + local[:, 1:2] * b + local[:, 2:3] * n
+    lx, ly, lz = r * np.cos(phi), r * np.sin(phi), np.sqrt(np.maximum(1.0 - u1, 0.0))
+    nc = (n[:, 0], n[:, 1], n[:, 2])
+    ya = np.abs(nc[0]) > 0.9
+    t = _cross(nc, (np.where(ya, 0.0, 1.0), np.where(ya, 1.0, 0.0), np.zeros(len(n))))
+    norm = np.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
+    t = (t[0] / norm, t[1] / norm, t[2] / norm)
+    b = _cross(nc, t)
+    return np.stack([lx * t[k] + ly * b[k] + lz * nc[k] for k in range(3)], -1)
 
 
 def trace_vgrooves(scene: Any, mesh_index: np.ndarray, lights: np.ndarray, views: np.ndarray, albedo: float,
@@ -154,26 +172,28 @@ def trace_vgrooves(scene: Any, mesh_index: np.ndarray, lights: np.ndarray, views
     half = 0.5 * bs.VGROOVE_FOOTPRINT
     p0 = np.stack([rng.uniform(-half, half, len(k)) + SLOPE_SPACING * mesh_index[k],
                    rng.uniform(-half, half, len(k)), np.zeros(len(k))], -1)
+    # The live paths' rays are kept compact (row j = path alive[j]); every live path has had the same number
+    # of facet hits, so its throughput ρ^b is one number (the same float64 products as per path).
     origin = p0 + 2.0 * v / np.maximum(v[:, 2:3], 1e-3)
     direction = -v
-    throughput = np.ones(len(k))
+    throughput = 1.0
     value = np.zeros(len(k))
     alive = np.arange(len(k))
     for _ in range(depth):
-        hit, p, n = _intersect(scene, origin[alive], direction[alive])
-        alive, p, n = alive[hit], p[hit], n[hit]
+        hit, p, n = _intersect(scene, origin, direction, hits_only=True)
+        alive = alive[hit]
         if alive.size == 0:
             break
-        cos_l = np.sum(n * lgt[alive], axis=-1)
+        la = lgt[alive]
+        cos_l = np.sum(n * la, axis=-1)
         lit = cos_l > 0.0
-        shadow_o = p + RAY_EPS * n
+        origin = p + RAY_EPS * n
         occ = np.zeros(alive.size, dtype=bool)
         if lit.any():
-            occ[lit] = _occluded(scene, shadow_o[lit], lgt[alive][lit])
-        value[alive] += np.where(lit & ~occ, throughput[alive] * albedo / np.pi * cos_l, 0.0)
-        throughput[alive] *= albedo
-        direction[alive] = _cosine_about(n, rng.random(alive.size), rng.random(alive.size))
-        origin[alive] = shadow_o
+            occ[lit] = _occluded(scene, origin[lit], la[lit])
+        value[alive] += np.where(lit & ~occ, throughput * albedo / np.pi * cos_l, 0.0)
+        throughput *= albedo
+        direction = _cosine_about(n, rng.random(alive.size), rng.random(alive.size))
     per = value.reshape(m, paths)
     return per.mean(axis=1), per.std(axis=1, ddof=1) / np.sqrt(paths)
 

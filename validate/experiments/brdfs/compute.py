@@ -130,7 +130,8 @@ def grid_metrics(m: Measurements, mat: bs.Material) -> None:
 def furnace_albedo(fn: Any, views_deg: tuple[float, ...], nodes: tuple[int, int]) -> np.ndarray:
     """W(θ_v) = ∫ Y(q(l, v)) dω_l for each view angle (luminance), with ``fn(lights, views) -> q``: one call over
     every view (the quadrature tiled; q is per sample, so each view's block is what a call of its own returns —
-    the GL listings pay a shader compile per call), each view's sum over its own block as before."""
+    fewer, larger calls: each has a fixed cost, a GL listing's draw and read-back), each view's sum over its own
+    block as before."""
     dirs, w = bs.hemisphere_quadrature(*nodes)
     views = np.concatenate([np.tile(bs.direction(np.radians(t), 0.0), (len(dirs), 1)) for t in views_deg])
     q = fn(np.tile(dirs, (len(views_deg), 1)), views)
@@ -434,17 +435,41 @@ def env_analysis(m: Measurements, mats: list[bs.Material]) -> None:
     env = procedural.two_tone()
     cam = ir.camera_towards(np.array([0.0, 0.3, 1.0]), 0.0, s.env_image)
     out: dict[str, Any] = {}
-    for mat in [x for x in mats if x.name in ENV_MATERIALS]:
-        r = ir.render(env, ir.RenderSpec("sphere", mat.bsdf, cam, spp=s.env_spp, passes=4, seed=11))
+    env_mats = [x for x in mats if x.name in ENV_MATERIALS]
+    renders = {mat.name: ir.render(env, ir.RenderSpec("sphere", mat.bsdf, cam, spp=s.env_spp, passes=4, seed=11))
+               for mat in env_mats}
+
+    def pixels(name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        r = renders[name]
         mask = r.mask.reshape(-1)
-        n, v = r.normal.reshape(-1, 3)[mask], r.view.reshape(-1, 3)[mask]
+        return mask, r.normal.reshape(-1, 3)[mask], r.view.reshape(-1, 3)[mask]
+
+    # The materials' spheres share the camera and the shape, so their pixels (mask, normals, views) are the same
+    # arrays: their directions and map lookups are then made once for both (env_radiance_many), every sum as
+    # in a pass of its own; a material whose pixels differ gets a pass of its own.
+    groups: list[list[bs.Material]] = []
+    for mat in env_mats:
+        g = next((g for g in groups if all(np.array_equal(a, b) for a, b in zip(pixels(g[0].name), pixels(mat.name),
+                                                                                   strict=True))), None)
+        if g is None:
+            groups.append([mat])
+        else:
+            g.append(mat)
+    per_nodes: dict[str, list[dict[str, np.ndarray]]] = {}
+    for g in groups:
+        _, n, v = pixels(g[0].name)
+        fns = {f"{mat.name}\0{t.name}": partial(family("brdf").call, t, mat.params) for mat in g for t in m.techniques}
+        both = [env_radiance_many(fns, env.radiance, n, v, k) for k in (s.env_nodes, s.env_nodes // 2)]
+        for mat in g:
+            per_nodes[mat.name] = [{t.name: x[f"{mat.name}\0{t.name}"] for t in m.techniques} for x in both]
+    for mat in env_mats:
+        r = renders[mat.name]
+        mask, _, _ = pixels(mat.name)
         ref = luminance(r.mean.reshape(-1, 3)[mask])
         noise = float(np.sum(r.stderr_y.reshape(-1)[mask]) / np.sum(ref))
         images: dict[str, Any] = {"mitsuba": r.mean}
-        fns = {t.name: partial(family("brdf").call, t, mat.params) for t in m.techniques}
-        per_nodes = [env_radiance_many(fns, env.radiance, n, v, k) for k in (s.env_nodes, s.env_nodes // 2)]
         for tech in m.techniques:
-            vals = [x[tech.name] for x in per_nodes]
+            vals = [x[tech.name] for x in per_nodes[mat.name]]
             e = [_err(luminance(x), ref) for x in vals]
             m.metrics.setdefault(tech.name, {})[f"env_rel_l1.{mat.name}"] = _entry(
                 e[0], noise + abs(e[0] - e[1]), _err(BIAS * luminance(vals[0]), ref))
