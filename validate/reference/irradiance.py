@@ -91,10 +91,8 @@ def gauss_order(env: Environment, cells: int) -> int:
     return max(2, int(np.ceil(2.0 * cells / (env.height - 1))))
 
 
-def radiance_nodes(env: Environment, g: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Directions (M, 3), solid-angle weights (M,) and Mitsuba radiance (M, 3) of step 1."""
-    import mitsuba as mi
-
+def _node_grid(env: Environment, g: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Step 1's product grid: node θ (R,), node φ (C,), directions (R·C, 3) and weights (R·C,), row-major."""
     h, w = env.height, env.width
     x, wx = np.polynomial.legendre.leggauss(g)
     x, wx = (x + 1) / 2, wx / 2  # on [0, 1]
@@ -103,30 +101,69 @@ def radiance_nodes(env: Environment, g: int) -> tuple[np.ndarray, np.ndarray, np
     wth = (dth * wx[None, :] * np.ones((h - 1, 1))).reshape(-1) * np.sin(th)
     ph = (latlong.col_phi(w)[:, None] + dph * x[None, :]).reshape(-1)
     wph = np.full(ph.shape, 0.0) + np.tile(dph * wx, w)
-    d = latlong.spherical_to_direction(th[:, None], ph[None, :]).reshape(-1, 3)
+    # latlong.spherical_to_direction(th[:, None], ph[None, :]) written in place (the same values)
+    st = np.sin(th)[:, None]
+    d = np.empty((th.size, ph.size, 3))
+    d[..., 0] = np.sin(ph)[None, :] * st
+    d[..., 1] = np.cos(th)[:, None]
+    d[..., 2] = -np.cos(ph)[None, :] * st
     weights = (wth[:, None] * wph[None, :]).reshape(-1)
-    emitter = mi.load_dict(env.mitsuba_emitter())
-    return d, weights, eval_emitter(emitter, d)
+    return th, ph, d.reshape(-1, 3), weights
+
+
+def radiance_nodes(env: Environment, g: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Directions (M, 3), solid-angle weights (M,) and Mitsuba radiance (M, 3) of step 1."""
+    _, _, d, weights = _node_grid(env, g)
+    return d, weights, _mitsuba_radiance(env, d)
+
+
+def _mitsuba_radiance(env: Environment, d: np.ndarray) -> np.ndarray:
+    import mitsuba as mi
+
+    return eval_emitter(mi.load_dict(env.mitsuba_emitter()), d)
+
+
+def _node_cells(th: np.ndarray, ph: np.ndarray, d: np.ndarray, hc: int, wc: int) -> np.ndarray:
+    """Cell index (R·C,) of every node of the grid: row ⌊θ H_c/π⌋, column ⌊φ W_c/2π⌋ with (θ, φ) as
+    :func:`latlong.direction_to_spherical` gives them from the node's direction. Computed once per grid
+    row / column; a row or column within 10⁻⁹ of a cell edge (Gauss point ½ on an edge, g odd) is binned
+    node by node from its directions, as rounding decides it there."""
+    rows, cols = th.size, ph.size
+    d3 = d.reshape(rows, cols, 3)
+    theta = np.arccos(np.clip(np.cos(th), -1.0, 1.0))
+    phi = np.mod(np.arctan2(np.sin(ph), np.cos(ph)), 2.0 * np.pi)
+    fr, fc = theta / np.pi * hc, phi / (2 * np.pi) * wc
+    row = np.broadcast_to(np.minimum(fr.astype(np.int64), hc - 1)[:, None], (rows, cols)).copy()
+    col = np.broadcast_to(np.minimum(fc.astype(np.int64), wc - 1)[None, :], (rows, cols)).copy()
+    edge_r = np.flatnonzero(np.abs(fr - np.round(fr)) < 1e-9)
+    edge_c = np.flatnonzero(np.abs(fc - np.round(fc)) < 1e-9)
+    if edge_r.size:
+        t, _ = latlong.direction_to_spherical(d3[edge_r])
+        row[edge_r] = np.minimum((t / np.pi * hc).astype(np.int64), hc - 1)
+    if edge_c.size:
+        _, p = latlong.direction_to_spherical(d3[:, edge_c])
+        col[:, edge_c] = np.minimum((p / (2 * np.pi) * wc).astype(np.int64), wc - 1)
+    return (row * wc + col).reshape(-1)
 
 
 def cell_nodes(env: Environment, cells: int, g: int) -> tuple[np.ndarray, np.ndarray]:
     """(Φ_c (M, 3), ω_c (M, 3)) of the quadrature with H_c = ``cells`` and g Gauss points (steps 1–3)."""
-    d, w, rad = radiance_nodes(env, g)
+    th, ph, d, w = _node_grid(env, g)
+    rad = _mitsuba_radiance(env, d)
     hc, wc = cells, 2 * cells
-    theta, phi = latlong.direction_to_spherical(d)
-    row = np.minimum((theta / np.pi * hc).astype(np.int64), hc - 1)
-    col = np.minimum((phi / (2 * np.pi) * wc).astype(np.int64), wc - 1)
-    cell = row * wc + col
+    cell = _node_cells(th, ph, d, hc, wc)
     n_cells = hc * wc
     lw = rad * w[:, None]
     flux = np.stack([np.bincount(cell, lw[:, c], n_cells) for c in range(3)], axis=-1)
     y = latlong.luminance(lw)
     cen = np.stack([np.bincount(cell, y * d[:, k], n_cells) for k in range(3)], axis=-1)
-    geo = np.stack([np.bincount(cell, w * d[:, k], n_cells) for k in range(3)], axis=-1)
     cell_y = np.bincount(cell, y, n_cells)
-    weak = cell_y <= 0
-    cen[weak] = geo[weak]
-    occupied = np.bincount(cell, None, n_cells) > 0
+    counts = np.bincount(cell, None, n_cells)
+    occupied = counts > 0
+    weak = (cell_y <= 0) & occupied  # black cells: the geometric centroid (unoccupied ones are dropped)
+    if weak.any():
+        geo = np.stack([np.bincount(cell, w * d[:, k], n_cells) for k in range(3)], axis=-1)
+        cen[weak] = geo[weak]
     norm = np.linalg.norm(cen, axis=-1, keepdims=True)
     cen = np.divide(cen, norm, out=np.zeros_like(cen), where=norm > 0)
 
@@ -135,7 +172,6 @@ def cell_nodes(env: Environment, cells: int, g: int) -> tuple[np.ndarray, np.nda
     keep = occupied.copy()
     extra_flux, extra_dir = [], []
     if total > 0:
-        counts = np.bincount(cell, None, n_cells)
         budget = MAX_REFINED_NODES
         chosen = []
         for c_idx in np.argsort(cell_y)[::-1]:
