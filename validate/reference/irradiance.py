@@ -18,7 +18,9 @@ Method
   3. Cells holding more than 10⁻³ of the total luminance flux (a sun, a small disc) are not
      collapsed: their radiance nodes are kept individually (at most 2¹⁴ of them), so a source smaller
      than a cell still sees the max(0, ·) kink of the kernel at node resolution.
-  4. E(n) = Σ_c Φ_c max(0, n·ω_c)  (a dense product, chunked, float32 BLAS).
+  4. E(n) = Σ_c Φ_c max(0, n·ω_c), organised by cones (:func:`irradiance_at`): node clusters wholly
+     above a block of normals' horizon add n·M_C (a 3 × 3 moment, float64), those wholly below add 0,
+     the rest (the terminator band) a dense float32 product, node by node.
 
 Large maps (H > :data:`TEXEL_PATH_MAX_SMALL` rows: texels ≥ 2× finer than the finest cells) take the
 *texel path* instead of steps 1–3, streaming the map in row blocks so that memory stays at the map
