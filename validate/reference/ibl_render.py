@@ -406,6 +406,7 @@ def _trace(scene: Any, integrator: Any, origins: np.ndarray, directions: np.ndar
         sampler.seed(seed + s, m * spp)
         value, valid, _ = integrator.sample(scene, sampler, mi.RayDifferential3f(ray))
         value = dr.select(valid, value, 0.0)
+        dr.eval(value)  # one kernel for the three channels (block_sum would trace each channel's paths anew)
         out[s:s + m] = np.array(dr.block_sum(value, spp) / spp, dtype=np.float64).reshape(3, -1).T
     return out
 

@@ -91,6 +91,7 @@ def _camera_rays(scene: Any, width: int, height: int, spp: int) -> Any:
 
 def render_gbuffer(scene: Any, width: int, height: int) -> dict[str, np.ndarray]:
     """Position, geometric normal, albedo and hit mask at the pixel centres (Mitsuba ``aov``)."""
+    import drjit as dr
     import mitsuba as mi
 
     integrator = mi.load_dict({"type": "aov", "aovs": "p:position,n:geo_normal,a:albedo"})
@@ -98,6 +99,7 @@ def render_gbuffer(scene: Any, width: int, height: int) -> dict[str, np.ndarray]
     sampler.seed(0, width * height)
     rays = _camera_rays(scene, width, height, 1)
     _, _, aovs = integrator.sample(scene, sampler, rays)
+    dr.eval(aovs)  # one kernel for the nine channels (converting each alone would trace the rays nine times)
     a = np.stack([np.array(c) for c in aovs], axis=-1).reshape(height, width, -1)
     valid = np.array(scene.ray_intersect(rays).is_valid()).reshape(height, width)
     return {"position": a[..., 0:3].astype(np.float64), "normal": a[..., 3:6].astype(np.float64),

@@ -172,13 +172,16 @@ def map_check(scene: Scene, refs: References, nodes: dict[str, im.EnvironmentNod
 
 
 def sh_vs_convolution(scene: Scene, refs: References, nodes: dict[str, im.EnvironmentNodes], face: int,
-                      flip_band: int | None = None) -> dict[str, tuple[float, float]]:
+                      flip_band: int | None = None, conv_maps: dict[str, np.ndarray] | None = None
+                      ) -> dict[str, tuple[float, float]]:
     """max |Y(E_SH9 map) − Y(E_conv map)| / Φ_Y per environment at the cube texels, with the uncertainty
     (the convolution map's deviation from the quadrature + the quadrature's own). ``flip_band`` = 1
-    negates the l = 1 coefficients (the power check: one SH band's sign flipped)."""
+    negates the l = 1 coefficients (the power check: one SH band's sign flipped). ``conv_maps``: the
+    convolution maps' texels (6·face², 3) per environment when already built (:func:`convolution_texels`)."""
+    conv_maps = convolution_texels(scene, nodes, face) if conv_maps is None else conv_maps
     out = {}
     for name, env in scene.envs.items():
-        conv = im.compute_irradiance_cube(env.radiance, face, nodes[name]).faces.reshape(-1, 3).astype(np.float64)
+        conv = conv_maps[name]
         coeffs = shm.project_environment(env.radiance, 2).copy()
         if flip_band is not None:
             coeffs[flip_band ** 2:(flip_band + 1) ** 2] *= -1.0
@@ -190,6 +193,13 @@ def sh_vs_convolution(scene: Scene, refs: References, nodes: dict[str, im.Enviro
         unc = (float(np.max(np.abs(y_conv - latlong.luminance(e_ref)))) + float(np.max(latlong.luminance(e_u)))) / phi_y
         out[name] = (diff, unc)
     return out
+
+
+def convolution_texels(scene: Scene, nodes: dict[str, im.EnvironmentNodes], face: int) -> dict[str, np.ndarray]:
+    """Every texel (6·face², 3) of each environment's convolution cube map (float64), built once for both
+    :func:`sh_vs_convolution` calls (test and power check)."""
+    return {name: im.compute_irradiance_cube(env.radiance, face, nodes[name]).faces.reshape(-1, 3).astype(np.float64)
+            for name, env in scene.envs.items()}
 
 
 @dataclass
@@ -213,9 +223,10 @@ def diffuse_maps(ctx: Any, st: Settings, scene: Scene, refs: References) -> Diff
     claim_face = face if face is not None else st.faces[-1]
     k = st.faces.index(claim_face)
     smaller = map_check(scene, refs, nodes, st.faces[k - 1]) if k > 0 else None
+    conv = convolution_texels(scene, nodes, st.sh_face)
     return DiffuseMaps(sweeps, face, height, claim_face, map_check(scene, refs, nodes, claim_face), smaller,
-                       sh_vs_convolution(scene, refs, nodes, st.sh_face),
-                       sh_vs_convolution(scene, refs, nodes, st.sh_face, flip_band=1), nodes)
+                       sh_vs_convolution(scene, refs, nodes, st.sh_face, conv_maps=conv),
+                       sh_vs_convolution(scene, refs, nodes, st.sh_face, flip_band=1, conv_maps=conv), nodes)
 
 
 # ---------------------------------------------------------------------------------------------

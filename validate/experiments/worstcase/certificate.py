@@ -115,15 +115,25 @@ def delta_map3(height: int, texels: np.ndarray, flux: float = FLUX_REFERENCE) ->
     return m.reshape(height, 2 * height, 3)
 
 
-def _texel_values(fn: Technique, height: int, texels: np.ndarray, metric: str) -> np.ndarray:
-    """(max or mean)_n |d_j(n)| for each texel, three texels per call (one per channel)."""
+TexelErrors = dict[tuple[int, tuple[int, ...]], np.ndarray]  # (H, texel group) → |d_j(n)| (NORMALS, 3)
+
+
+def _texel_values(fn: Technique, height: int, texels: np.ndarray, metric: str,
+                  memo: TexelErrors | None = None) -> np.ndarray:
+    """(max or mean)_n |d_j(n)| for each texel, three texels per call (one per channel). ``memo`` keeps the
+    per-normal errors of each call, so certificates of one technique for several metrics (max and mean) share
+    the technique calls of the maps they have in common (the coarse sweep)."""
     _, stat = check_metric(metric)
     normals = fibonacci_sphere(NORMALS)
+    memo = {} if memo is None else memo
     out = []
     for s in range(0, len(texels), 3):
         group = texels[s:s + 3]
-        m = delta_map3(height, group)
-        e = np.abs(fn(m, normals) - truth_numpy(m, normals)) / FLUX_REFERENCE
+        key = (height, tuple(int(j) for j in group))
+        if key not in memo:
+            m = delta_map3(height, group)
+            memo[key] = np.abs(fn(m, normals) - truth_numpy(m, normals)) / FLUX_REFERENCE
+        e = memo[key]
         out += [_stat(e[:, c], stat) for c in range(len(group))]
     return np.array(out)
 
@@ -150,8 +160,11 @@ def _neighbours(height: int, directions: np.ndarray, radius: float) -> np.ndarra
     return np.flatnonzero(near)
 
 
-def certificate(fn: Technique, name: str, metric: str, coarse: int, levels: int) -> Certificate:
-    """sup over non-negative lighting of ``metric`` for a linear technique (module docstring)."""
+def certificate(fn: Technique, name: str, metric: str, coarse: int, levels: int,
+                memo: TexelErrors | None = None) -> Certificate:
+    """sup over non-negative lighting of ``metric`` for a linear technique (module docstring). ``memo``: shared
+    by the certificates of the same ``fn`` (:func:`_texel_values`); ``calls`` counts the texels evaluated
+    whether or not the memo answered."""
     texels = np.arange(coarse * 2 * coarse)
     h, calls, path = coarse, 0, []
     best_dir, best_n, keep = None, None, None
@@ -159,7 +172,7 @@ def certificate(fn: Technique, name: str, metric: str, coarse: int, levels: int)
         if level > 0:
             h *= 2
             texels = _neighbours(h, keep, 1.5 * np.pi / (h // 2 - 1))
-        vals = _texel_values(fn, h, texels, metric)
+        vals = _texel_values(fn, h, texels, metric, memo)
         calls += len(texels)
         order = np.argsort(vals)[::-1][:KEEP]
         d, _ = texel_geometry(h)

@@ -62,7 +62,8 @@ def compute_certificates(ctx: Context, m: Measurements, s: Settings) -> None:
         if not lin["linear"]:
             continue
         metrics = ["flux_luminance.max"] + (["flux_luminance.mean"] if name in means else [])
-        m.certificates[name] = {met: certificate(registered(name), name, met, s.coarse, s.levels) for met in metrics}
+        fn, memo = registered(name), {}  # one function and memo: the metrics share the coarse sweep's calls
+        m.certificates[name] = {met: certificate(fn, name, met, s.coarse, s.levels, memo) for met in metrics}
         cert = m.certificates[name]["flux_luminance.max"]
         path, rel = ctx.figure_path(NAME, f"certificate_{name}.exr")  # the worst light: a unit-flux texel delta
         write_probe(path, delta_map(cert.levels[-1][0], cert.texel))
@@ -89,9 +90,9 @@ def compute_sh9_power(m: Measurements, s: Settings) -> None:
     if "sh9" not in m.certificates:
         return
     for label, w in ((f"l2 x {L2_SCALE}", (1.0, 1.0, L2_SCALE)), (f"E x {GAIN}", (GAIN,) * 3)):
-        fn = sh9_perturbed(w)
-        mx = certificate(fn, label, "flux_luminance.max", s.coarse, s.power_levels)
-        mean = certificate(fn, label, "flux_luminance.mean", s.coarse, 1)
+        fn, memo = sh9_perturbed(w), {}
+        mx = certificate(fn, label, "flux_luminance.max", s.coarse, s.power_levels, memo)
+        mean = certificate(fn, label, "flux_luminance.mean", s.coarse, 1, memo)
         m.sh9_power[label] = {"max": mx.value, "max_predicted": kernel_bound(w), "mean": mean.value,
                               "mean_predicted": kernel_mean(w), "max_uncertainty": mx.uncertainty}
 

@@ -141,9 +141,11 @@ class Raster:
 
     def numpy(self, theta: np.ndarray) -> np.ndarray:
         """The rasterised map as a float32 numpy array (H, 2H, 3) (no gradients)."""
+        import drjit as dr
         import mitsuba as mi
 
         ch = self.radiance(mi.Float(np.asarray(theta, dtype=np.float32)))
+        dr.eval(ch)  # the three channels in one go (converting each alone would rasterise the map three times)
         return np.stack([np.array(c) for c in ch], axis=-1).reshape(self.height, 2 * self.height, 3).astype(np.float32)
 
 
