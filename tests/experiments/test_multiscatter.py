@@ -174,11 +174,13 @@ def test_furnace_memo_reuses_only_calls_that_read_the_same_parameters():
     so each α is evaluated; every memoised W equals an unmemoised evaluation exactly."""
     import importlib
 
+    from validate.backend import init
+
     c = importlib.import_module("validate.experiments.multiscatter.compute")
     mus, nodes = (0.3, 0.9), 24
     for name, evaluations in (("phong", 1), ("cook_torrance", 2)):
         tech = family("brdf")[name]
-        key = (tech.name, id(tech.fn), mus, nodes)
+        key = (tech.name, id(tech.fn), mus, nodes, init().variant)
         c._FURNACE_MEMO.pop(key, None)
         for a in (0.3, 0.7):
             got = c._furnace(tech, c._f1(a), mus, nodes)

@@ -86,9 +86,9 @@ class _ReadKeys(Mapping[str, Any]):
         return len(self._p)
 
 
-# _furnace's memo: (technique name, its function's id, μ's, nodes) → [(keys read, their values, W)]
+# _furnace's memo: (technique name, its function's id, μ's, nodes, Mitsuba variant) → [(keys read, their values, W)]
 _MemoEntry = tuple[frozenset[str], tuple[Any, ...], np.ndarray]
-_FURNACE_MEMO: dict[tuple[str, int, tuple[float, ...], int], list[_MemoEntry]] = {}
+_FURNACE_MEMO: dict[tuple[str, int, tuple[float, ...], int, str], list[_MemoEntry]] = {}
 
 
 def _param_values(params: Mapping[str, Any], keys: frozenset[str]) -> tuple[Any, ...]:
@@ -104,7 +104,7 @@ def _furnace(tech: Technique, params: dict[str, Any], mus: tuple[float, ...], no
     whose parameters agree with an earlier call's on every key that call read (recorded by :class:`_ReadKeys`; same
     technique, μ's and nodes) returns that call's W — the same number, not recomputed (e.g. Phong reads no α, so
     its grid over α is one evaluation)."""
-    memo = _FURNACE_MEMO.setdefault((tech.name, id(tech.fn), tuple(mus), nodes), [])
+    memo = _FURNACE_MEMO.setdefault((tech.name, id(tech.fn), tuple(mus), nodes, init().variant), [])
     for keys, values, out in memo:
         if _param_values(params, keys) == values:
             return out.copy()
