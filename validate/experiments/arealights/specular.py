@@ -21,11 +21,6 @@ Metrics (per technique; the luminance channel, F = 1 makes all channels equal):
   integrated over the whole sphere: by the triangle inequality |∫_light (E·D − f cos)| ≤ B for every light, so
   the ratio is ≤ 1 wherever the polygon integral is exact (theorem; a disc is a 64-gon of equal area).
 
-Evaluation: the reference per (shape, σ) for every α at once (:func:`references`, bit-identical to one
-configuration at a time); the techniques once per (shape, α, σ, axis) over every configuration, the scene rotated so
-that each configuration's light is the first one's (:func:`technique_values`; L_o is rotation-invariant, the float32
-techniques' outputs move by rounding: ≤ 2·10⁻⁴ relative, measured, at the sharpest lobe α = 0.05).
-
 Tubes (Karis 2013 "Tube lights"): ``representative_point_tube`` (energy (α/α′_line)(α/α′_sphere)²) against its
 unnormalised counterpart, and against two variants measured per configuration — the line factor left out
 (``no_line``: the sphere's factor only) and the line factor squared (``line_squared``: the segment treated as widening
