@@ -97,59 +97,6 @@ def _receiver(theta_v: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return np.zeros((1, 3)), np.array([[0.0, 1.0, 0.0]]), _dir(theta_v, 0.0)[None, :]
 
 
-def light_frame(shape: str, theta_l: float, dphi: float) -> np.ndarray:
-    """Rows (d, u, d × u): the direction d to the light's centre and the light's in-plane reference direction u
-    (:func:`light_for`: a rectangle's tangent, a tube's ``across`` axis, the same construction for disc and sphere),
-    a right-handed orthonormal frame that every light mapping of :func:`light_for` at (θ_l, Δφ) is built from."""
-    d = _dir(theta_l, dphi)
-    fallback = [1.0, 0.0, 0.0] if shape == "rectangle" else [0.0, 0.0, 1.0]
-    u = np.cross(d, [0.0, 1.0, 0.0]) if abs(d[1]) < 0.99 else np.array(fallback)
-    u = u / np.linalg.norm(u)
-    return np.stack([d, u, np.cross(d, u)])
-
-
-def canonical_receivers(shape: str, configs: tuple[tuple[float, float, float], ...]
-                        ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(points, normals, views), one row per configuration, turned by the rotation R_k = F₀ᵀ F_k that takes the
-    k-th configuration's light frame F_k (:func:`light_frame`) to that of the first configuration: L_o is invariant
-    under a rotation of the whole scene, so every configuration's light becomes the first one's (the same mapping,
-    centre, normal, tangent or axis) and one technique call covers them all. The first configuration of
-    :data:`CONFIGS` (the light overhead) has F₀ = a permutation, so R₀ = I exactly."""
-    f0 = light_frame(shape, configs[0][1], configs[0][2])
-    normals, views = [], []
-    for tv, tl, dphi in configs:
-        r = f0.T @ light_frame(shape, tl, dphi)
-        normals.append(r @ np.array([0.0, 1.0, 0.0]))
-        views.append(r @ _dir(tv, 0.0))
-    return np.zeros((len(configs), 3)), np.array(normals), np.array(views)
-
-
-def technique_values(shape: str, alpha: float, sigma: float, techs: list[Technique], axis: str = "across",
-                     configs: tuple[tuple[float, float, float], ...] = CONFIGS) -> list[dict[str, Any]]:
-    """Every supporting technique, the α-as-roughness LTC and (tubes) the variants at every configuration, in one call
-    each: the first configuration's light, the receivers turned by :func:`canonical_receivers`. Float32 results
-    differ from per-configuration calls by rounding (and a disc's or sphere's LTC polygon by its phase about the
-    light's normal, which :mod:`ltc` fixes from the normal alone)."""
-    light = light_for(shape, configs[0][1], configs[0][2], sigma, axis)
-    p, n, v = canonical_receivers(shape, configs)
-    brdf = {"alpha": alpha, "f0": 1.0}
-    out: list[dict[str, Any]] = [{"techniques": {}} for _ in configs]
-    for t in techs:
-        if shape in tuple(t.meta.get("shapes", SHAPES)):
-            vals = family("specular_arealight").call(t, light, brdf, p, n, v)[:, 1]
-            for o, x in zip(out, vals, strict=True):
-                o["techniques"][t.name] = float(x)
-    ff, norm, _ = ltc_integral(light, alpha * alpha, p, n, v)  # r = α instead of √α: the lookup bug
-    for k, o in enumerate(out):
-        o["ltc_alpha_as_roughness"] = float(ff[k] * norm[k])
-    if shape == "tube":
-        variants = {k: representative_point_tube(light, brdf, p, n, v, k, lp, sp)[:, 1]
-                    for k, (lp, sp) in TUBE_VARIANTS.items()}
-        for k, o in enumerate(out):
-            o["tube_variants"] = {name: float(x[k]) for name, x in variants.items()}
-    return out
-
-
 @lru_cache(maxsize=256)
 def misfit(mu_v: float, alpha: float, lookup_alpha: float | None = None) -> float:
     """B/L_e = ∫ |E·D_ltc − f cos| dω of the interpolated table at (μ_v, α) (fine mixture quadrature); cached: it
@@ -161,11 +108,9 @@ def misfit(mu_v: float, alpha: float, lookup_alpha: float | None = None) -> floa
 
 def measure_config(shape: str, alpha: float, sigma: float, cfg: tuple[float, float, float], nodes: int,
                    techs: list[Technique], axis: str = "across",
-                   reference: tuple[float, float] | None = None,
-                   values: dict[str, Any] | None = None) -> dict[str, Any]:
+                   reference: tuple[float, float] | None = None) -> dict[str, Any]:
     """Reference and every supporting technique at one configuration; ``reference`` = (L_ref, u_ref) when already
-    measured (:func:`references`), else :func:`validate.reference.area_specular_render.reference` here; ``values``
-    = this configuration's entry of :func:`technique_values`, else the techniques are called here."""
+    measured (:func:`references`), else :func:`validate.reference.area_specular_render.reference` here."""
     tv, tl, dphi = cfg
     light = light_for(shape, tl, dphi, sigma, axis)
     p, n, v = _receiver(tv)
@@ -175,18 +120,10 @@ def measure_config(shape: str, alpha: float, sigma: float, cfg: tuple[float, flo
     brdf = {"alpha": alpha, "f0": 1.0}
     out: dict[str, Any] = {"theta_v": tv, "theta_l": tl, "dphi": dphi, "ref": reference[0], "unc": reference[1],
                            "techniques": {}}
-    mu = float(np.cos(np.radians(tv)))
-    if values is not None:
-        out["techniques"] = dict(values["techniques"])
-        out["bound"] = misfit(mu, alpha)
-        out["ltc_alpha_as_roughness"] = values["ltc_alpha_as_roughness"]
-        if shape == "tube":
-            out["axis"] = axis
-            out["tube_variants"] = dict(values["tube_variants"])
-        return out
     for t in techs:
         if shape in tuple(t.meta.get("shapes", SHAPES)):
             out["techniques"][t.name] = float(family("specular_arealight").call(t, light, brdf, p, n, v)[0, 1])
+    mu = float(np.cos(np.radians(tv)))
     out["bound"] = misfit(mu, alpha)
     ff, norm, _ = ltc_integral(light, alpha * alpha, p, n, v)  # r = α instead of √α: the lookup bug
     out["ltc_alpha_as_roughness"] = float(ff[0] * norm[0])
@@ -228,13 +165,11 @@ def compute(s: SpecularSettings) -> dict[str, Any]:
     for shape in SHAPES:
         for a in s.alphas:
             for sg in s.sigmas_deg:
-                axes = TUBE_AXES if shape == "tube" else ("across",)
-                vals = {ax: technique_values(shape, a, sg, techs, ax) for ax in axes}
-                for k, cfg in enumerate(CONFIGS):
-                    for ax in axes:
+                for cfg in CONFIGS:
+                    for ax in TUBE_AXES if shape == "tube" else ("across",):
                         rows.append({"shape": shape, "alpha": a, "sigma_deg": sg,
                                      **measure_config(shape, a, sg, cfg, s.nodes, techs, ax,
-                                                      refs[(shape, a, sg, cfg, ax)], vals[ax][k])})
+                                                      refs[(shape, a, sg, cfg, ax)])})
     return {"settings": s.to_json(), "rows": rows, "techniques": [t.name for t in techs],
             "exactness": exactness(s.nodes), "render_check": render_check(s, refs)}
 
