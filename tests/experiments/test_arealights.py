@@ -333,32 +333,3 @@ def test_batched_specular_reference_equals_one_at_a_time() -> None:
         ref, unc = asr.reference(sp.light_for(shape, cfg[1], cfg[2], sg, ax), a, p, n, v, s.nodes)
         assert got == (float(ref[0]), float(unc[0])), (shape, a, sg, cfg, ax)
 
-
-# One technique call per (shape, α, σ) with the receivers rotated (specular.technique_values) against one call per
-# configuration: float32 rounding of the rotated inputs, amplified by the sharpest lobe (α = 0.1), measured ≤ 4.5e-5
-# relative (representative point, sphere and tube); the float64 LTC ≤ 1.4e-7.
-ROTATED_BATCH_TOL = 1e-4
-
-
-def test_rotated_batch_of_configurations_equals_one_call_each() -> None:
-    from validate.experiments.arealights import specular as sp
-    from validate.local_models import family
-
-    techs = list(family("specular_arealight"))
-    for shape, ax in (("rectangle", "across"), ("disc", "across"), ("sphere", "across"), ("tube", "along")):
-        vals = sp.technique_values(shape, 0.1, 15.0, techs, ax)
-        assert len(vals) == len(sp.CONFIGS)
-        for k, cfg in enumerate(sp.CONFIGS):
-            one = sp.measure_config(shape, 0.1, 15.0, cfg, 8, techs, ax, (1.0, 0.0))
-            pairs = [(one["techniques"][t], vals[k]["techniques"][t]) for t in one["techniques"]]
-            pairs += [(one["ltc_alpha_as_roughness"], vals[k]["ltc_alpha_as_roughness"])]
-            pairs += [(x, vals[k]["tube_variants"][name]) for name, x in one.get("tube_variants", {}).items()]
-            for a, b in pairs:
-                assert abs(a - b) <= ROTATED_BATCH_TOL * abs(a) + 1e-12, (shape, cfg, a, b)
-            if k == 0:  # R₀ = I: the first configuration is the same call
-                assert all(a == b for a, b in pairs), (shape, pairs)
-    _, n, v = sp.canonical_receivers("tube", sp.CONFIGS)
-    for (tv, tl, _), nk, vk in zip(sp.CONFIGS, n, v, strict=True):  # the rotation keeps every angle of the scene
-        d0 = sp.light_frame("tube", *sp.CONFIGS[0][1:])[0]
-        assert abs(nk @ d0 - math.cos(math.radians(tl))) < FLOAT64_TOL
-        assert abs(nk @ vk - math.cos(math.radians(tv))) < FLOAT64_TOL
