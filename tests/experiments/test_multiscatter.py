@@ -167,3 +167,25 @@ def test_walk_bsdf_sample_weight_pdf_and_bad_input():
     assert np.allclose(np.asarray(bs.pdf), np.asarray(b.pdf(ctx, si, bs.wo)), rtol=1e-6)
     with pytest.raises(ValidateError, match="microsurface_walk.*alpha"):
         mb.load_bsdf(0.0)
+
+
+def test_furnace_memo_reuses_only_calls_that_read_the_same_parameters():
+    """_furnace's memo: Phong reads no α, so its second α is the first's W (one evaluation); Cook–Torrance reads α,
+    so each α is evaluated; every memoised W equals an unmemoised evaluation exactly."""
+    import importlib
+
+    from validate.backend import init
+
+    c = importlib.import_module("validate.experiments.multiscatter.compute")
+    mus, nodes = (0.3, 0.9), 24
+    for name, evaluations in (("phong", 1), ("cook_torrance", 2)):
+        tech = family("brdf")[name]
+        key = (tech.name, id(tech.fn), mus, nodes, init().variant)
+        c._FURNACE_MEMO.pop(key, None)
+        for a in (0.3, 0.7):
+            got = c._furnace(tech, c._f1(a), mus, nodes)
+            assert np.array_equal(got, c._furnace_eval(tech, c._f1(a), mus, nodes))
+        assert len(c._FURNACE_MEMO[key]) == evaluations
+    rec = c._ReadKeys({"alpha": 0.5, "ks": 1.0})
+    assert rec.get("alpha") == 0.5 and "eta" not in rec and rec.read == {"alpha", "eta"}
+    assert dict(rec) == {"alpha": 0.5, "ks": 1.0} and rec.read == {"alpha", "eta", "ks"}

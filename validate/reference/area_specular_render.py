@@ -221,6 +221,57 @@ def reference(light: Mapping[str, Any], alpha: float, points: np.ndarray, normal
     return full, np.abs(full - half)
 
 
+Job = tuple[Mapping[str, Any], np.ndarray, np.ndarray, np.ndarray]  # (light, point (3,), normal (3,), view (3,))
+
+
+def _local_frame(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(t, b, n) as (1, 3) rows: :func:`validate.reference.brdf_render.eval_bsdf_world`'s tangent frame of one normal
+    (the same operations on one row as there on every row, so the same bits)."""
+    n = np.asarray(normal, dtype=np.float64).reshape(1, 3)
+    a = np.where(np.abs(n[:, 1:2]) > 0.9, np.array([[1.0, 0.0, 0.0]]), np.array([[0.0, 1.0, 0.0]]))
+    t = np.cross(n, a)
+    t /= np.linalg.norm(t, axis=-1, keepdims=True)
+    return t, np.cross(n, t), n
+
+
+def _to_local(d: np.ndarray, frame: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
+    t, b, n = frame
+    return np.stack([np.sum(d * t, -1), np.sum(d * b, -1), np.sum(d * n, -1)], -1)
+
+
+def reference_alphas(jobs: list[Job], alphas: tuple[float, ...], n: int) -> tuple[np.ndarray, np.ndarray]:
+    """(L_o at n nodes, |L(n) − L(n/2)|), each (len(alphas), len(jobs)): :func:`reference` of every job's single
+    receiver at every α — the same numbers, bit for bit (the same directions, frames, float32 BSDF evaluations and
+    per-receiver sums) — with each job's light directions and local frame computed once for all α and one
+    ``BSDF.eval`` call per α over every job (chunks of :data:`CHUNK`)."""
+    levels = []
+    for nodes in (n, max(n // 2, 1)):
+        for light, p, nrm, v in jobs:
+            dirs, w = light_directions(light, np.asarray(p, dtype=np.float64), nodes)
+            frame = _local_frame(nrm)
+            lv = _to_local(np.asarray(v, dtype=np.float64).reshape(1, 3), frame).astype(np.float32)
+            levels.append((_to_local(dirs, frame).astype(np.float32), lv, w, float(light.get("radiance", 1.0))))
+    out = np.empty((len(alphas), len(levels)))
+    for ia, alpha in enumerate(alphas):
+        bsdf = bs.conductor(alpha, "ggx", coloured=False).bsdf
+        start = 0
+        while start < len(levels):
+            stop, size = start, 0
+            while stop < len(levels) and (size < CHUNK or stop == start):
+                size += len(levels[stop][0])
+                stop += 1
+            block = levels[start:stop]
+            q = br.eval_bsdf(bsdf, np.concatenate([x[0] for x in block]),
+                             np.concatenate([np.broadcast_to(x[1], x[0].shape) for x in block]))[:, 1]
+            k = 0
+            for j, (ld, _, w, le) in enumerate(block, start):
+                out[ia, j] = le * float(np.sum(w * q[k:k + len(ld)]))
+                k += len(ld)
+            start = stop
+    full, half = out[:, :len(jobs)], out[:, len(jobs):]
+    return full, np.abs(full - half)
+
+
 # ---------------------------------------------------------------------------------------------
 # Mitsuba render of the same configuration (validates the quadrature reference)
 
@@ -336,5 +387,5 @@ def render(light: Mapping[str, Any], alpha: float, point: np.ndarray, normal: np
     return float(img.mean()), float(img.std(ddof=1) / np.sqrt(img.size))
 
 
-__all__ = ["light_directions", "radiance", "reference", "emitter_dict", "emitter_shapes", "render", "tube_geometry",
-           "write_hemisphere_obj"]
+__all__ = ["light_directions", "radiance", "reference", "reference_alphas", "emitter_dict", "emitter_shapes", "render",
+           "tube_geometry", "write_hemisphere_obj"]

@@ -448,6 +448,12 @@ def pooled_chi2(observed: Any, expected: Any, variance: Any, min_expected: float
     return float(np.sum((c[:, 0] - c[:, 1]) ** 2 / (c[:, 1] + c[:, 2]))), len(c) - 1
 
 
+# chi2_walk's last pdf evaluation: {"key": (α, θ_i, walks, seed, repeats, grid), "vals": (repeats, points)}. The
+# expected counts are a deterministic function of these (``pdf`` seeds from (ω_i, ω_o, seed) alone) and never see
+# ``extra``, so a power check right after its case (the same settings, a perturbed sampler) reuses them.
+_PDF_MEMO: dict[str, Any] = {}
+
+
 def chi2_walk(alpha: float, theta_i: float, samples: int, seed: int, res: int = 31, ires: int = 4, repeats: int = 4,
               walks: int = 8, test_count: int = 1, significance: float = 0.01, **extra: Any) -> dict[str, Any]:
     """χ² goodness of fit of ``sample`` against ``pdf`` for the plug-in at (α, θ_i), F₀ = 1, with Mitsuba's harness.
@@ -459,7 +465,8 @@ def chi2_walk(alpha: float, theta_i: float, samples: int, seed: int, res: int = 
     counts; here they are estimates, whose variance inflates X² (a false rejection when it is comparable to the
     Poisson variance Ê). :func:`pooled_chi2` adds it to the denominator; ``run``'s own p-value (exact-pdf
     assumption) and its sanity checks are reported beside it. ``extra``: plug-in properties (the power checks'
-    perturbations, e.g. ``sample_alpha_scale``)."""
+    perturbations, e.g. ``sample_alpha_scale``), which only the sampler sees: the expected counts of the same
+    (α, θ_i, walks, seed, repeats, grid) as the previous call are that call's (:data:`_PDF_MEMO`)."""
     import mitsuba as mi
     import numpy as np
     from mitsuba import chi2
@@ -472,12 +479,18 @@ def chi2_walk(alpha: float, theta_i: float, samples: int, seed: int, res: int = 
     test.tabulate_histogram()
     nx, ny = int(test.res.x), int(test.res.y)
     d, w, cell = _pdf_grid((nx, ny), ires, samples)
-    dirs = mi.Vector3f(np.ascontiguousarray(d.T, dtype=np.float32))
-    vals = []
-    for r in range(repeats):
-        _, pdf_func = chi2.BSDFAdapter(register(), _bsdf_dict(alpha, 1.0, walks, seed + 1000 * (r + 1)), wi=wi)
-        vals.append(np.asarray(pdf_func(dirs), dtype=np.float64))
-    vals = np.asarray(vals)
+    key = (float(alpha), float(theta_i), int(walks), int(seed), int(repeats), nx, ny, int(ires))
+    if _PDF_MEMO.get("key") == key:  # the pdf side ignores ``extra`` (a power check's sampler perturbation)
+        vals = _PDF_MEMO["vals"]
+    else:
+        dirs = mi.Vector3f(np.ascontiguousarray(d.T, dtype=np.float32))
+        vals = []
+        for r in range(repeats):
+            _, pdf_func = chi2.BSDFAdapter(register(), _bsdf_dict(alpha, 1.0, walks, seed + 1000 * (r + 1)), wi=wi)
+            vals.append(np.asarray(pdf_func(dirs), dtype=np.float64))
+        vals = np.asarray(vals)
+        _PDF_MEMO.clear()
+        _PDF_MEMO.update(key=key, vals=vals)
     mean, var = vals.mean(0), vals.var(0, ddof=1) / repeats
     expected = np.bincount(cell, w * mean, nx * ny)
     variance = np.bincount(cell, w * w * var, nx * ny)

@@ -30,6 +30,7 @@ the lobe in both dimensions) — judged by the same Σ|ΔL|/ΣL.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -96,22 +97,28 @@ def _receiver(theta_v: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return np.zeros((1, 3)), np.array([[0.0, 1.0, 0.0]]), _dir(theta_v, 0.0)[None, :]
 
 
+@lru_cache(maxsize=256)
 def misfit(mu_v: float, alpha: float, lookup_alpha: float | None = None) -> float:
-    """B/L_e = ∫ |E·D_ltc − f cos| dω of the interpolated table at (μ_v, α) (fine mixture quadrature)."""
+    """B/L_e = ∫ |E·D_ltc − f cos| dω of the interpolated table at (μ_v, α) (fine mixture quadrature); cached: it
+    depends on (μ_v, α) alone, which every shape, size and light direction of a view share."""
     m_inv, norm, _ = load_table().lookup(alpha if lookup_alpha is None else lookup_alpha, np.array([mu_v]))
     q = fit_quadrature(mu_v, alpha, 48)
     return float(np.sum(q.weights * np.abs(norm[0] * ltc_density(m_inv[0], q.dirs) - ggx_cos(q.dirs, mu_v, alpha))))
 
 
 def measure_config(shape: str, alpha: float, sigma: float, cfg: tuple[float, float, float], nodes: int,
-                   techs: list[Technique], axis: str = "across") -> dict[str, Any]:
-    """Reference and every supporting technique at one configuration."""
+                   techs: list[Technique], axis: str = "across",
+                   reference: tuple[float, float] | None = None) -> dict[str, Any]:
+    """Reference and every supporting technique at one configuration; ``reference`` = (L_ref, u_ref) when already
+    measured (:func:`references`), else :func:`validate.reference.area_specular_render.reference` here."""
     tv, tl, dphi = cfg
     light = light_for(shape, tl, dphi, sigma, axis)
     p, n, v = _receiver(tv)
-    ref, unc = asr.reference(light, alpha, p, n, v, nodes)
+    if reference is None:
+        ref, unc = asr.reference(light, alpha, p, n, v, nodes)
+        reference = float(ref[0]), float(unc[0])
     brdf = {"alpha": alpha, "f0": 1.0}
-    out: dict[str, Any] = {"theta_v": tv, "theta_l": tl, "dphi": dphi, "ref": float(ref[0]), "unc": float(unc[0]),
+    out: dict[str, Any] = {"theta_v": tv, "theta_l": tl, "dphi": dphi, "ref": reference[0], "unc": reference[1],
                            "techniques": {}}
     for t in techs:
         if shape in tuple(t.meta.get("shapes", SHAPES)):
@@ -127,9 +134,33 @@ def measure_config(shape: str, alpha: float, sigma: float, cfg: tuple[float, flo
     return out
 
 
+RefKey = tuple[str, float, float, tuple[float, float, float], str]  # (shape, α, σ, configuration, axis)
+
+
+def references(s: SpecularSettings, sigmas: tuple[float, ...] | None = None,
+               configs: tuple[tuple[float, float, float], ...] = CONFIGS) -> dict[RefKey, tuple[float, float]]:
+    """(L_ref, u_ref) of every shape × α × σ × configuration (× axis for tubes) by
+    :func:`validate.reference.area_specular_render.reference_alphas`: per (shape, σ) every configuration's light
+    directions once, one ``BSDF.eval`` per α — the numbers :func:`measure_config` computes alone, bit for bit."""
+    out: dict[RefKey, tuple[float, float]] = {}
+    for shape in SHAPES:
+        for sg in s.sigmas_deg if sigmas is None else sigmas:
+            keys = [(cfg, ax) for cfg in configs for ax in (TUBE_AXES if shape == "tube" else ("across",))]
+            jobs = []
+            for cfg, ax in keys:
+                p, n, v = _receiver(cfg[0])
+                jobs.append((light_for(shape, cfg[1], cfg[2], sg, ax), p[0], n[0], v[0]))
+            full, unc = asr.reference_alphas(jobs, tuple(s.alphas), s.nodes)
+            for ia, a in enumerate(s.alphas):
+                for j, (cfg, ax) in enumerate(keys):
+                    out[(shape, a, sg, cfg, ax)] = float(full[ia, j]), float(unc[ia, j])
+    return out
+
+
 def compute(s: SpecularSettings) -> dict[str, Any]:
     """Every configuration × shape × α × σ (JSON-able)."""
     techs = list(family("specular_arealight"))
+    refs = references(s)
     rows = []
     for shape in SHAPES:
         for a in s.alphas:
@@ -137,20 +168,25 @@ def compute(s: SpecularSettings) -> dict[str, Any]:
                 for cfg in CONFIGS:
                     for ax in TUBE_AXES if shape == "tube" else ("across",):
                         rows.append({"shape": shape, "alpha": a, "sigma_deg": sg,
-                                     **measure_config(shape, a, sg, cfg, s.nodes, techs, ax)})
+                                     **measure_config(shape, a, sg, cfg, s.nodes, techs, ax,
+                                                      refs[(shape, a, sg, cfg, ax)])})
     return {"settings": s.to_json(), "rows": rows, "techniques": [t.name for t in techs],
-            "exactness": exactness(s.nodes), "render_check": render_check(s)}
+            "exactness": exactness(s.nodes), "render_check": render_check(s, refs)}
 
 
-def render_check(s: SpecularSettings) -> list[dict[str, Any]]:
+def render_check(s: SpecularSettings, refs: dict[RefKey, tuple[float, float]] | None = None) -> list[dict[str, Any]]:
     """The quadrature reference against Mitsuba's own render (direct integrator, MIS) of the same scene: every shape
-    × α at σ = 15° and the configurations of RENDER_CONFIGS; z = (render − quadrature)/se."""
+    × α at σ = 15° and the configurations of RENDER_CONFIGS; z = (render − quadrature)/se. ``refs``: the references
+    already measured (:func:`references`; the render's configurations are among them when σ = 15° is)."""
+    need = [(sh, a, RENDER_SIGMA, c, "across") for sh in SHAPES for a in s.alphas for c in RENDER_CONFIGS]
+    if refs is None or any(k not in refs for k in need):
+        refs = references(s, (RENDER_SIGMA,), RENDER_CONFIGS)
     out = []
     for i, (shape, a, cfg) in enumerate((sh, a, c) for sh in SHAPES for a in s.alphas for c in RENDER_CONFIGS):
         light = light_for(shape, cfg[1], cfg[2], RENDER_SIGMA)
         p, n, v = _receiver(cfg[0])
         mean, se = asr.render(light, a, p[0], n[0], v[0], s.render_pixels, s.render_spp, seed=i)
-        ref, unc = asr.reference(light, a, p, n, v, s.nodes)
+        ref, unc = (np.array([x]) for x in refs[(shape, a, RENDER_SIGMA, cfg, "across")])
         out.append({"shape": shape, "alpha": a, "config": list(cfg), "render": mean, "se": se,
                     "quadrature": float(ref[0]), "quadrature_unc": float(unc[0])})
     return out

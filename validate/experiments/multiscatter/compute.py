@@ -3,6 +3,7 @@ per α, the walk BSDF's own checks (:func:`bsdf_checks`) and three.js's publishe
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -61,10 +62,61 @@ def chi2_case(alpha: float, theta_i: float, kw: dict[str, Any]) -> tuple[dict[st
     return row | {"walks": kw["walks"], "repeats": kw.get("repeats", 4)}, kw
 
 
+class _ReadKeys(Mapping[str, Any]):
+    """A read-only parameter mapping that records which keys a technique read (``[]``, ``get``, ``in``); iterating it
+    (``dict(p)``, ``**p``, ``keys()``) counts as reading every key."""
+
+    def __init__(self, params: Mapping[str, Any]) -> None:
+        self._p = dict(params)
+        self.read: set[str] = set()
+
+    def __getitem__(self, key: str) -> Any:
+        self.read.add(key)
+        return self._p[key]
+
+    def __contains__(self, key: object) -> bool:
+        self.read.add(str(key))
+        return key in self._p
+
+    def __iter__(self) -> Iterator[str]:
+        self.read.update(self._p)
+        return iter(self._p)
+
+    def __len__(self) -> int:
+        return len(self._p)
+
+
+# _furnace's memo: (technique name, its function's id, μ's, nodes, Mitsuba variant) → [(keys read, their values, W)]
+_MemoEntry = tuple[frozenset[str], tuple[Any, ...], np.ndarray]
+_FURNACE_MEMO: dict[tuple[str, int, tuple[float, ...], int, str], list[_MemoEntry]] = {}
+
+
+def _param_values(params: Mapping[str, Any], keys: frozenset[str]) -> tuple[Any, ...]:
+    return tuple((k, repr(params[k]) if k in params else None) for k in sorted(keys))
+
+
 def _furnace(tech: Technique, params: dict[str, Any], mus: tuple[float, ...], nodes: int) -> np.ndarray:
     """W(μ_v) for each μ in ``mus`` (luminance), q through the registry (contract checked): one call over every μ
     (the quadrature tiled; q is per sample, so each μ's block is what a call of its own returns — the GL listings
-    pay a shader compile per call), each μ's sum over its own block."""
+    pay a shader compile per call), each μ's sum over its own block.
+
+    Memoised: a technique is a deterministic function of the geometry and of the parameters it reads, so a call
+    whose parameters agree with an earlier call's on every key that call read (recorded by :class:`_ReadKeys`; same
+    technique, μ's and nodes) returns that call's W — the same number, not recomputed (e.g. Phong reads no α, so
+    its grid over α is one evaluation)."""
+    memo = _FURNACE_MEMO.setdefault((tech.name, id(tech.fn), tuple(mus), nodes, init().variant), [])
+    for keys, values, out in memo:
+        if _param_values(params, keys) == values:
+            return out.copy()
+    rec = _ReadKeys(params)
+    out = _furnace_eval(tech, rec, mus, nodes)
+    keys = frozenset(rec.read)
+    memo.append((keys, _param_values(params, keys), out))
+    return out.copy()
+
+
+def _furnace_eval(tech: Technique, params: Mapping[str, Any], mus: tuple[float, ...], nodes: int) -> np.ndarray:
+    """:func:`_furnace` without the memo."""
     dirs, w = bs.hemisphere_quadrature(nodes, 2 * nodes)
     k = len(dirs)
     n = np.tile([0.0, 0.0, 1.0], (k * len(mus), 1))
