@@ -347,3 +347,72 @@ def test_missing_figure_and_empty_results(tmp_path):
     assert "No claims were recorded." in empty
     with pytest.raises(ValidateError, match="results.json"):
         write_report(tmp_path, {"experiments": ["not", "a", "mapping"]})
+
+
+def _texts_inside(fig) -> list[str]:
+    """Texts (titles, drawn tick labels, axis labels) of a drawn figure that stick out of it (clipped in
+    the PNG), by the figure's tight bounding box (which counts only what is drawn) and each text."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    tight = fig.get_tightbbox(renderer)  # inches
+    w, h = fig.get_size_inches()
+    if tight.x0 >= -0.005 and tight.y0 >= -0.005 and tight.x1 <= w + 0.005 and tight.y1 <= h + 0.005:
+        return []
+    return [f"tight bbox {tight.bounds} exceeds the figure's {w:.2f} × {h:.2f} in"]
+
+
+@pytest.mark.parametrize("n, columns", [(16, 7), (3, None), (1, 7)])
+def test_image_grid_fixed_layout(tmp_path, n, columns):
+    """Every panel shows its own image (distinct flat colours, each covering ≥ 80 % of its panel's nominal
+    area), titles stay inside the figure, and the PNG is the figure's size at FIG_DPI."""
+    levels = np.linspace(0.05, 1.0, n)
+    images = [np.full((48, 48, 3), lv) * np.array([1.0, 0.6, 0.3]) for lv in levels]
+    titles = [f"technique_{i}_name" for i in range(n)]
+    fig = plots.image_grid_figure(images, titles, exposure=1.0, columns=columns)
+    assert _texts_inside(fig) == []
+    plots.save_image_grid(tmp_path / "g.png", images, titles, exposure=1.0, columns=columns)
+    img = (_png(tmp_path / "g.png")[..., :3] * 255.0).round().astype(int)
+    w_in, h_in = fig.get_size_inches()
+    assert img.shape[:2] == (round(h_in * plots.FIG_DPI), round(w_in * plots.FIG_DPI))
+    cols = n if columns is None else min(n, columns)
+    panel_px = (min(2.6, 12.0 / cols) - 0.1) ** 2 * plots.FIG_DPI ** 2
+    for im in images:
+        colour = plots.tonemap(im[:1, :1], 1.0)[0, 0].astype(int)
+        count = np.all(np.abs(img - colour) <= 1, axis=-1).sum()
+        assert count >= 0.8 * panel_px, (colour, count, panel_px)
+
+
+def test_heatmap_grid_fixed_layout(tmp_path):
+    """One colour scale: the panel holding vmax shows the colour map's top colour, the zero panel its bottom;
+    NaN pixels masked; the colour bar has per-cent tick labels and its label; no text outside the figure."""
+    import matplotlib
+
+    maps = [np.full((48, 48), 0.02 * k) for k in range(15)]
+    maps[3][:24] = np.nan
+    titles = [f"technique_{k}" for k in range(15)]
+    label = "|Y(E′) − Y(E)| / Φ_Y"
+    fig = plots.heatmap_grid_figure(maps, titles, label, percent=True)
+    assert _texts_inside(fig) == []
+    cax = fig.axes[-1]
+    ticks = [t.get_text() for t in cax.get_yticklabels() if t.get_text()]
+    assert ticks and all(t.endswith("%") for t in ticks) and cax.get_ylabel() == label
+    plots.save_heatmap_grid(tmp_path / "h.png", maps, titles, label, percent=True)
+    img = (_png(tmp_path / "h.png")[..., :3] * 255.0).round().astype(int)
+    panel_px = (1.9 - 0.1) ** 2 * plots.FIG_DPI ** 2
+    cmap = matplotlib.colormaps["magma"]
+    for value, share in [(1.0, 1.0), (0.0, 1.0)]:
+        colour = (np.array(cmap(value)[:3]) * 255.0).round().astype(int)
+        count = np.all(np.abs(img - colour) <= 2, axis=-1).sum()
+        assert count >= 0.8 * share * panel_px, (value, count)
+    mask = np.all(np.abs(img - (MASK_RGB * 255.0).round()) <= 2, axis=-1).sum()
+    assert mask >= 0.8 * 0.5 * panel_px
+
+
+@pytest.mark.parametrize("shape, scale", [((32, 64), 0.03), ((40, 40), 4.0), ((96, 24), -0.5)])
+def test_heatmap_fixed_layout_keeps_texts_inside(shape, scale):
+    """The fixed layout leaves room for the title, the colour bar's tick labels and its label, for wide,
+    square and tall maps, per-cent and signed labels."""
+    values = np.random.default_rng(2).random(shape) * scale
+    fig = plots.heatmap_figure(values, "sunsky_30deg: |E_SH9 − E| / Φ (all normals, lat-long)",
+                               "error / total flux", percent=scale < 1.0)
+    assert _texts_inside(fig) == []
