@@ -70,13 +70,17 @@ import numpy as np
 from ...errors import ValidateError
 from ...geometry import cube_texel_directions, face_coords, face_direction
 from ...scenes import latlong
-from ..precision import acos, float_type, to_dr, to_np, uint_type, vec_to_dr
+from ..precision import acos, constants_dr, float_type, to_dr, to_np, uint_type, vec_to_dr
 from .sh import render_irradiance
 
 MIN_FACE, MAX_FACE = 1, 4096
 DEFAULT_BLOCK_DEG = 4.0  # node block size for the cosine kernel: merging error ≈ β²/12 = 0.04 %
 HOT_FRACTION = 1e-3  # blocks above this share of the luminance flux keep their texels as nodes
 CHUNK_PAIRS = 1 << 23  # (directions × nodes) per dense block: 32 MiB of float32
+# (directions × nodes) per slice the kernel is applied to in place: 1 MiB of float32, so its buffers stay in the
+# L2 cache. Elementwise, so the slicing changes no bit; the products keep the CHUNK_PAIRS blocks (BLAS sums a row
+# in an order that depends on the block's shape, so a smaller block changes the last bits)
+KERNEL_PAIRS = 1 << 18
 
 Kernel = Callable[[np.ndarray], np.ndarray]
 
@@ -218,9 +222,12 @@ def convolve_zonal(nodes: EnvironmentNodes, dirs: np.ndarray, kernel: Kernel, ke
     cap_fraction = (1.0 - support_cos) / 2.0
     if support_cos <= -1.0 or cap_fraction > 0.25:
         chunk = max(1, CHUNK_PAIRS // max(1, nodes.count))
+        rows = max(1, KERNEL_PAIRS // max(1, nodes.count))
         for s in range(0, dirs.shape[0], chunk):
             c = dirs[s:s + chunk].astype(np.float32) @ nd.T
-            acc = (kernel(c).astype(np.float32, copy=False) @ fo32).astype(np.float64)
+            for r in range(0, c.shape[0], rows):
+                c[r:r + rows] = kernel(c[r:r + rows])
+            acc = (c @ fo32).astype(np.float64)
             out[s:s + chunk] = kernel_integral * acc[:, :3] / np.maximum(acc[:, 3:], 1e-300)
         return out
     from scipy.spatial import cKDTree
@@ -410,21 +417,25 @@ class CubeMap:
         sc = dr.select(use_x, dr.select(x >= 0, -z, z), dr.select(use_y, x, dr.select(z >= 0, x, -x)))
         tc = dr.select(use_x, -y, dr.select(use_y, dr.select(y >= 0, z, -z), -y))
         ma = dr.maximum(dr.select(use_x, ax, dr.select(use_y, ay, az)), 1e-30)
-        fxc = (sc / ma + 1.0) * (0.5 * n) - 0.5
-        fyc = (tc / ma + 1.0) * (0.5 * n) - 0.5
+        # the face size as opaque values, not literals: one compiled kernel for every face size
+        half_n, top = constants_dr([0.5 * n, p - 2])
+        pu = UInt(p)
+        dr.make_opaque(pu)
+        fxc = (sc / ma + 1.0) * half_n - 0.5
+        fyc = (tc / ma + 1.0) * half_n - 0.5
         x0, y0 = dr.floor(fxc), dr.floor(fyc)
         wx, wy = fxc - x0, fyc - y0
-        ix = UInt(dr.clip(x0 + 1.0, 0.0, float(p - 2)))
-        iy = UInt(dr.clip(y0 + 1.0, 0.0, float(p - 2)))
-        base = (face * p + iy) * p + ix
+        ix = UInt(dr.clip(x0 + 1.0, 0.0, top))
+        iy = UInt(dr.clip(y0 + 1.0, 0.0, top))
+        base = (face * pu + iy) * pu + ix
         pad = self.padded
         out = []
         for c in range(pad.shape[-1]):
             data = to_dr(pad[..., c])
             v00 = dr.gather(Float, data, base)
             v01 = dr.gather(Float, data, base + 1)
-            v10 = dr.gather(Float, data, base + p)
-            v11 = dr.gather(Float, data, base + p + 1)
+            v10 = dr.gather(Float, data, base + pu)
+            v11 = dr.gather(Float, data, base + pu + 1)
             v = dr.lerp(dr.lerp(v00, v01, wx), dr.lerp(v10, v11, wx), wy)
             out.append(to_np(v))
         return np.stack(out, axis=-1)
