@@ -204,6 +204,43 @@ def _spatial_batches(dirs: np.ndarray, cells: int) -> list[np.ndarray]:
     return np.split(order, cuts)
 
 
+@functools.lru_cache(maxsize=1)
+def _openblas() -> tuple[Callable[[], int], Callable[[int], None]] | None:
+    """numpy's OpenBLAS thread-count getter and setter (ctypes), or None where they cannot be found."""
+    import ctypes
+    import glob
+    import os
+
+    libs = glob.glob(os.path.join(os.path.dirname(np.__file__), os.pardir, "numpy.libs", "*openblas*"))
+    for path in libs:
+        try:
+            lib = ctypes.CDLL(path)
+        except OSError:
+            continue
+        for prefix in ("scipy_openblas", "openblas"):
+            for suffix in ("64_", ""):
+                get, put = f"{prefix}_get_num_threads{suffix}", f"{prefix}_set_num_threads{suffix}"
+                if hasattr(lib, get) and hasattr(lib, put):
+                    return getattr(lib, get), getattr(lib, put)
+    return None
+
+
+def _cosines(d: np.ndarray, nd: np.ndarray) -> np.ndarray:
+    """d (B, 3) @ nd (K, 3)ᵀ in float32, on one BLAS thread: a few thousand products per row with three terms each,
+    where waking the threads costs more CPU than the product (×6 in the cap path, measured). One thread gives the
+    same bits (each entry is the same three-term BLAS sum; checked with np.array_equal against the threaded product)."""
+    blas = _openblas()
+    if blas is None:
+        return d @ nd.T
+    get, put = blas
+    threads = int(get())
+    put(1)
+    try:
+        return d @ nd.T
+    finally:
+        put(threads)
+
+
 def convolve_zonal(nodes: EnvironmentNodes, dirs: np.ndarray, kernel: Kernel, kernel_integral: float = 1.0,
                    support_cos: float = -1.0) -> np.ndarray:
     """V(r) = C · Σ_k K(r·ω_k) Φ_k / Σ_k K(r·ω_k) Ω_k at unit directions ``dirs`` (N, 3) → (N, 3).
@@ -224,7 +261,7 @@ def convolve_zonal(nodes: EnvironmentNodes, dirs: np.ndarray, kernel: Kernel, ke
         chunk = max(1, CHUNK_PAIRS // max(1, nodes.count))
         rows = max(1, KERNEL_PAIRS // max(1, nodes.count))
         for s in range(0, dirs.shape[0], chunk):
-            c = dirs[s:s + chunk].astype(np.float32) @ nd.T
+            c = _cosines(dirs[s:s + chunk].astype(np.float32), nd)
             for r in range(0, c.shape[0], rows):
                 c[r:r + rows] = kernel(c[r:r + rows])
             acc = (c @ fo32).astype(np.float64)
@@ -245,7 +282,7 @@ def convolve_zonal(nodes: EnvironmentNodes, dirs: np.ndarray, kernel: Kernel, ke
         cand = np.asarray(tree.query_ball_point(centre, 2.0 * np.sin(ang / 2.0) + 1e-9), dtype=np.int64)
         if cand.size == 0:
             continue
-        c = d.astype(np.float32) @ nd[cand].T
+        c = _cosines(d.astype(np.float32), nd[cand])
         acc = (kernel(c).astype(np.float32, copy=False) @ fo32[cand]).astype(np.float64)
         out[idx] = kernel_integral * acc[:, :3] / np.maximum(acc[:, 3:], 1e-300)
     return out
