@@ -457,3 +457,84 @@ def test_flip_zero_for_identical_and_masked() -> None:
     worse2 = ref.copy()
     worse2[:16] *= 3.0
     assert flip_hdr(ref, worse2, mask, negatives="clamp").mean == pytest.approx(0.0, abs=1e-7)
+
+
+# ---------------------------------------------------------------------------------------------
+# Speed rewrites keep the bits (issue 22 item 5)
+# ---------------------------------------------------------------------------------------------
+
+def _plain_ggx(c: np.ndarray, alpha: float) -> np.ndarray:
+    a2 = alpha * alpha
+    pos = np.maximum(c, 0)
+    return (a2 / np.pi) * pos * 0.25 / np.square((a2 - 1) * ((1 + pos) * 0.5) + 1)
+
+
+def _plain_phong(c: np.ndarray, s: float) -> np.ndarray:
+    return (s + 1.0) / (2.0 * math.pi) * np.power(np.maximum(c, 0), c.dtype.type(s))
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_in_place_kernels_equal_the_plain_formulas_bit_for_bit(dtype: type) -> None:
+    """The GGX and Phong prefilter kernels, evaluated in place, give the plain expressions' values bit for bit
+    (the same IEEE operations in the same order) and leave their input alone. Power check: the GGX formula with
+    the division first, pos / den · (a2/π) · 0.25, is not bit-equal — the check sees an operation order."""
+    c = np.random.default_rng(11).uniform(-1.0, 1.0, 200_000).astype(dtype)
+    c0 = c.copy()
+    for alpha in (0.1, 0.3, 0.6):
+        assert np.array_equal(ss.ggx_prefilter_kernel(alpha)(c), _plain_ggx(c, alpha)), alpha
+    for s in (1.0, 10.0, 100.0, 1000.0):
+        assert np.array_equal(ps.phong_kernel(s)(c), _plain_phong(c, s)), s
+    assert np.array_equal(c, c0)
+    a2 = 0.3 ** 2
+    pos = np.maximum(c, 0)
+    swapped = pos / np.square((a2 - 1) * ((1 + pos) * 0.5) + 1) * (a2 / np.pi) * 0.25
+    assert not np.array_equal(swapped, _plain_ggx(c, 0.3))
+
+
+def test_dense_convolution_does_not_depend_on_the_kernel_slices(monkeypatch: pytest.MonkeyPatch) -> None:
+    """convolve_zonal's dense path applies the kernel to row slices of KERNEL_PAIRS products: slices of one row,
+    of 37 rows and the whole block give the same bits (the kernel is elementwise; the BLAS blocks are unchanged)."""
+    nodes = im.environment_nodes(procedural.disc_on_sky(64).radiance)
+    dirs = geometry.cube_texel_directions(8).reshape(-1, 3)
+    kernel = ss.ggx_prefilter_kernel(0.3)
+    outs = []
+    for pairs in (1, 37 * nodes.count, 1 << 30):
+        monkeypatch.setattr(im, "KERNEL_PAIRS", pairs)
+        outs.append(im.convolve_zonal(nodes, dirs, kernel))
+    assert np.isfinite(outs[0]).all()
+    assert np.array_equal(outs[0], outs[1]) and np.array_equal(outs[0], outs[2])
+
+
+def test_cosines_on_one_blas_thread_equal_the_threaded_product() -> None:
+    """im._cosines (one BLAS thread) gives d @ ndᵀ bit for bit, for the shapes of the cap and dense paths."""
+    rng = np.random.default_rng(4)
+    for b, k in ((1, 500), (52, 3868), (2247, 3733)):
+        d = rng.normal(size=(b, 3)).astype(np.float32)
+        nd = rng.normal(size=(k, 3)).astype(np.float32)
+        assert np.array_equal(im._cosines(d, nd), d @ nd.T), (b, k)
+
+
+def test_cube_lookup_compiles_one_kernel_for_every_face_size() -> None:
+    """CubeMap.lookup takes the face size as opaque values (precision.constants_dr): lookups on faces 8 and 16
+    after one on face 4 find every JIT kernel in drjit's cache (a literal 0.5·N or N + 2 is a new kernel per N)."""
+    import drjit as dr
+
+    from validate.local_models import precision
+
+    d = np.random.default_rng(5).normal(size=(300, 3))
+    maps = [im.CubeMap.build(lambda x: x * 1.0, n) for n in (4, 8, 16)]
+    flag = dr.flag(dr.JitFlag.KernelHistory)
+    dr.set_flag(dr.JitFlag.KernelHistory, True)
+    try:
+        with precision.computing_in(backend="llvm"):
+            maps[0].lookup(d)
+            dr.kernel_history()
+            misses = []
+            for m in maps[1:]:
+                m.lookup(d)
+                jit = [k for k in dr.kernel_history() if str(k["type"]).endswith("JIT")]
+                assert jit
+                misses.append(sum(1 for k in jit if not k["cache_hit"] or k["cache_disk"]))
+    finally:
+        dr.set_flag(dr.JitFlag.KernelHistory, flag)
+    assert misses == [0, 0], misses

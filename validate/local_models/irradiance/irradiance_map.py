@@ -70,13 +70,17 @@ import numpy as np
 from ...errors import ValidateError
 from ...geometry import cube_texel_directions, face_coords, face_direction
 from ...scenes import latlong
-from ..precision import acos, float_type, to_dr, to_np, uint_type, vec_to_dr
+from ..precision import acos, constants_dr, float_type, to_dr, to_np, uint_type, vec_to_dr
 from .sh import render_irradiance
 
 MIN_FACE, MAX_FACE = 1, 4096
 DEFAULT_BLOCK_DEG = 4.0  # node block size for the cosine kernel: merging error ≈ β²/12 = 0.04 %
 HOT_FRACTION = 1e-3  # blocks above this share of the luminance flux keep their texels as nodes
 CHUNK_PAIRS = 1 << 23  # (directions × nodes) per dense block: 32 MiB of float32
+# (directions × nodes) per slice the kernel is applied to in place: 1 MiB of float32, so its buffers stay in the
+# L2 cache. Elementwise, so the slicing changes no bit; the products keep the CHUNK_PAIRS blocks (BLAS sums a row
+# in an order that depends on the block's shape, so a smaller block changes the last bits)
+KERNEL_PAIRS = 1 << 18
 
 Kernel = Callable[[np.ndarray], np.ndarray]
 
@@ -200,6 +204,43 @@ def _spatial_batches(dirs: np.ndarray, cells: int) -> list[np.ndarray]:
     return np.split(order, cuts)
 
 
+@functools.lru_cache(maxsize=1)
+def _openblas() -> tuple[Callable[[], int], Callable[[int], None]] | None:
+    """numpy's OpenBLAS thread-count getter and setter (ctypes), or None where they cannot be found."""
+    import ctypes
+    import glob
+    import os
+
+    libs = glob.glob(os.path.join(os.path.dirname(np.__file__), os.pardir, "numpy.libs", "*openblas*"))
+    for path in libs:
+        try:
+            lib = ctypes.CDLL(path)
+        except OSError:
+            continue
+        for prefix in ("scipy_openblas", "openblas"):
+            for suffix in ("64_", ""):
+                get, put = f"{prefix}_get_num_threads{suffix}", f"{prefix}_set_num_threads{suffix}"
+                if hasattr(lib, get) and hasattr(lib, put):
+                    return getattr(lib, get), getattr(lib, put)
+    return None
+
+
+def _cosines(d: np.ndarray, nd: np.ndarray) -> np.ndarray:
+    """d (B, 3) @ nd (K, 3)ᵀ in float32, on one BLAS thread: a few thousand products per row with three terms each,
+    where waking the threads costs more CPU than the product (×6 in the cap path, measured). One thread gives the
+    same bits (each entry is the same three-term BLAS sum; checked with np.array_equal against the threaded product)."""
+    blas = _openblas()
+    if blas is None:
+        return d @ nd.T
+    get, put = blas
+    threads = int(get())
+    put(1)
+    try:
+        return d @ nd.T
+    finally:
+        put(threads)
+
+
 def convolve_zonal(nodes: EnvironmentNodes, dirs: np.ndarray, kernel: Kernel, kernel_integral: float = 1.0,
                    support_cos: float = -1.0) -> np.ndarray:
     """V(r) = C · Σ_k K(r·ω_k) Φ_k / Σ_k K(r·ω_k) Ω_k at unit directions ``dirs`` (N, 3) → (N, 3).
@@ -218,9 +259,12 @@ def convolve_zonal(nodes: EnvironmentNodes, dirs: np.ndarray, kernel: Kernel, ke
     cap_fraction = (1.0 - support_cos) / 2.0
     if support_cos <= -1.0 or cap_fraction > 0.25:
         chunk = max(1, CHUNK_PAIRS // max(1, nodes.count))
+        rows = max(1, KERNEL_PAIRS // max(1, nodes.count))
         for s in range(0, dirs.shape[0], chunk):
-            c = dirs[s:s + chunk].astype(np.float32) @ nd.T
-            acc = (kernel(c).astype(np.float32, copy=False) @ fo32).astype(np.float64)
+            c = _cosines(dirs[s:s + chunk].astype(np.float32), nd)
+            for r in range(0, c.shape[0], rows):
+                c[r:r + rows] = kernel(c[r:r + rows])
+            acc = (c @ fo32).astype(np.float64)
             out[s:s + chunk] = kernel_integral * acc[:, :3] / np.maximum(acc[:, 3:], 1e-300)
         return out
     from scipy.spatial import cKDTree
@@ -238,7 +282,7 @@ def convolve_zonal(nodes: EnvironmentNodes, dirs: np.ndarray, kernel: Kernel, ke
         cand = np.asarray(tree.query_ball_point(centre, 2.0 * np.sin(ang / 2.0) + 1e-9), dtype=np.int64)
         if cand.size == 0:
             continue
-        c = d.astype(np.float32) @ nd[cand].T
+        c = _cosines(d.astype(np.float32), nd[cand])
         acc = (kernel(c).astype(np.float32, copy=False) @ fo32[cand]).astype(np.float64)
         out[idx] = kernel_integral * acc[:, :3] / np.maximum(acc[:, 3:], 1e-300)
     return out
@@ -410,21 +454,25 @@ class CubeMap:
         sc = dr.select(use_x, dr.select(x >= 0, -z, z), dr.select(use_y, x, dr.select(z >= 0, x, -x)))
         tc = dr.select(use_x, -y, dr.select(use_y, dr.select(y >= 0, z, -z), -y))
         ma = dr.maximum(dr.select(use_x, ax, dr.select(use_y, ay, az)), 1e-30)
-        fxc = (sc / ma + 1.0) * (0.5 * n) - 0.5
-        fyc = (tc / ma + 1.0) * (0.5 * n) - 0.5
+        # the face size as opaque values, not literals: one compiled kernel for every face size
+        half_n, top = constants_dr([0.5 * n, p - 2])
+        pu = UInt(p)
+        dr.make_opaque(pu)
+        fxc = (sc / ma + 1.0) * half_n - 0.5
+        fyc = (tc / ma + 1.0) * half_n - 0.5
         x0, y0 = dr.floor(fxc), dr.floor(fyc)
         wx, wy = fxc - x0, fyc - y0
-        ix = UInt(dr.clip(x0 + 1.0, 0.0, float(p - 2)))
-        iy = UInt(dr.clip(y0 + 1.0, 0.0, float(p - 2)))
-        base = (face * p + iy) * p + ix
+        ix = UInt(dr.clip(x0 + 1.0, 0.0, top))
+        iy = UInt(dr.clip(y0 + 1.0, 0.0, top))
+        base = (face * pu + iy) * pu + ix
         pad = self.padded
         out = []
         for c in range(pad.shape[-1]):
             data = to_dr(pad[..., c])
             v00 = dr.gather(Float, data, base)
             v01 = dr.gather(Float, data, base + 1)
-            v10 = dr.gather(Float, data, base + p)
-            v11 = dr.gather(Float, data, base + p + 1)
+            v10 = dr.gather(Float, data, base + pu)
+            v11 = dr.gather(Float, data, base + pu + 1)
             v = dr.lerp(dr.lerp(v00, v01, wx), dr.lerp(v10, v11, wx), wy)
             out.append(to_np(v))
         return np.stack(out, axis=-1)

@@ -87,7 +87,10 @@ def phong_kernel(s: float) -> Kernel:
 
     def kernel(c: np.ndarray) -> np.ndarray:  # in the input's precision (float32 in the dense path)
         c = np.asarray(c)
-        return norm * np.power(np.maximum(c, 0), c.dtype.type(s))
+        pos = np.maximum(c, 0)
+        np.power(pos, c.dtype.type(s), out=pos)  # in place: the same operations as norm · max(0, c)^s
+        pos *= norm
+        return pos
 
     return kernel
 

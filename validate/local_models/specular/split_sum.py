@@ -268,10 +268,19 @@ def ggx_prefilter_kernel(alpha: float) -> Kernel:
     a2 = alpha * alpha
 
     def kernel(c: np.ndarray) -> np.ndarray:  # in the input's precision (float32 in the dense path)
+        # (a2/π) · pos · 0.25 / ((a2 − 1) · ch2 + 1)², evaluated in place on two buffers: the same IEEE
+        # operations in the same order (so the same bits) as the plain expression, without seven temporaries
         c = np.asarray(c)
         pos = np.maximum(c, 0)
-        ch2 = (1 + pos) * 0.5  # cos²θ_h; where c ≤ 0 the factor max(0, c) zeroes the value anyway
-        return (a2 / np.pi) * pos * 0.25 / np.square((a2 - 1) * ch2 + 1)
+        den = pos + 1
+        den *= 0.5  # cos²θ_h; where c ≤ 0 the factor max(0, c) zeroes the value anyway
+        den *= a2 - 1
+        den += 1
+        np.square(den, out=den)
+        pos *= a2 / np.pi
+        pos *= 0.25
+        pos /= den
+        return pos
 
     return kernel
 
