@@ -110,9 +110,17 @@ def _supersampled(radiance: np.ndarray, n: int, s: int, hot: np.ndarray | None =
     plan = _sampling_plan(h, w, n, s)
     flat = radiance.reshape(-1, 3)
     acc = np.zeros((6 * n * s * n * s, 3))
+    term = np.empty_like(acc)
+    # hot texels as a mask over the map (one byte a texel) instead of a binary search per tap: the same test
+    mask = None
+    if hot is not None and len(hot):
+        mask = np.zeros(h * w, dtype=bool)
+        mask[hot] = True
     for idx, wb in zip(plan[0::2], plan[1::2], strict=True):
-        wk = wb if hot is None or len(hot) == 0 else np.where(_is_hot(idx, hot), 0.0, wb)
-        acc += flat[idx] * wk[:, None]
+        wk = wb if mask is None else np.where(np.take(mask, idx), 0.0, wb)
+        # flat[idx] by np.take (the same rows, faster than fancy indexing); the same float64 products, into one buffer
+        np.multiply(np.take(flat, idx, axis=0), wk[:, None], out=term)
+        acc += term
     return acc.reshape(6, n, s, n, s, 3).sum(axis=(2, 4))
 
 
