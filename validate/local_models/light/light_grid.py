@@ -166,8 +166,8 @@ def _grid_chunk(light_map: Mapping[str, Any], x: np.ndarray, nx: np.ndarray, n: 
         if lit.size:
             i, j = np.divmod(lit, k)
             # rectangle, disc: q is one (K, 3) grid broadcast over the receivers; read it, not the broadcast view
-            qk = q[0][j] if q.strides[0] == 0 else q.reshape(-1, 3)[lit]
-            vis.reshape(-1)[lit] = shadow(visible, x[i], nx[i], qk)
+            qk = np.take(q[0], j, axis=0) if q.strides[0] == 0 else np.take(q.reshape(-1, 3), lit, axis=0)
+            vis.reshape(-1)[lit] = shadow(visible, np.take(x, i, axis=0), np.take(nx, i, axis=0), qk)
         term = term * vis
     return float(light_map["radiance"]) * area[:, 0] * term.sum(axis=1)
 
