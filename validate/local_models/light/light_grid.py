@@ -42,7 +42,7 @@ import numpy as np
 
 from ...errors import ValidateError
 from ..families import light
-from ..precision import packed_to_dr
+from ..precision import float_type, to_dr, uint_type
 from .common import Visible, as_points, require, shadow
 
 AREA_KINDS = ("rectangle", "disk", "sphere")
@@ -107,7 +107,11 @@ def emitter_points(light_map: Mapping[str, Any], x: np.ndarray, n: int, offset: 
     b = np.cross(w, a)
     centre = c + (rad * rad / d) * w
     rho = rad * np.sqrt(1.0 - (rad / d) ** 2)  # (N, 1)
-    q = centre[:, None, :] + rho[:, :, None] * (dx[None, :, None] * a[:, None, :] + dy[None, :, None] * b[:, None, :])
+    # q = centre + ρ (dx a + dy b), the same products and sums formed in place (one (N, K, 3) buffer, not four)
+    q = dx[None, :, None] * a[:, None, :]
+    q += dy[None, :, None] * b[:, None, :]
+    q *= rho[:, :, None]
+    q += centre[:, None, :]
     return q, np.broadcast_to(w[:, None, :], q.shape), np.pi * rho**2 / n**2
 
 
@@ -126,28 +130,44 @@ def grid_irradiance(light_map: Mapping[str, Any], points: Any, normals: Any, vis
     return np.concatenate(parts) if parts else np.zeros(0)
 
 
+def _packed_rows_to_dr(packed: np.ndarray) -> list[Any]:
+    """The columns of a row-major (M, k) float64 array as drjit arrays: exactly precision.packed_to_dr's upload and
+    gathers (entry j of row i at k·i + j), for an array already laid out as its packed input."""
+    import drjit as dr
+
+    m, k = packed.shape
+    data = to_dr(packed)
+    idx = dr.arange(uint_type(), m) * k
+    return [dr.gather(float_type(), data, idx + j) for j in range(k)]
+
+
 def _grid_chunk(light_map: Mapping[str, Any], x: np.ndarray, nx: np.ndarray, n: int, offset: float,
                 visible: Visible | None) -> np.ndarray:
     import drjit as dr
 
     q, nl, area = emitter_points(light_map, x, n, offset)
     k = q.shape[1]
-    v = q - x[:, None, :]  # (N, K, 3) receiver → emitter point
-    # the nine columns as one packed input (precision.packed_to_dr: one input per column misses the kernel cache)
-    vx, vy, vz, rx, ry, rz, lx, ly, lz = packed_to_dr(*(v[..., i] for i in range(3)),
-                                                      *(np.repeat(nx[:, i], k) for i in range(3)),
-                                                      *(nl[..., i] for i in range(3)))
+    # the nine columns (v = q − x receiver → emitter point, the receiver normal, the emitter normal) written side
+    # by side into one (N, K, 9) buffer, the row-major packed input of precision.packed_to_dr (one input per column
+    # misses the kernel cache) built in place instead of from nine strided column copies stacked again
+    packed = np.empty(q.shape[:2] + (9,))
+    np.subtract(q, x[:, None, :], out=packed[..., 0:3])
+    packed[..., 3:6] = nx[:, None, :]
+    packed[..., 6:9] = nl
+    vx, vy, vz, rx, ry, rz, lx, ly, lz = _packed_rows_to_dr(packed.reshape(-1, 9))
     r2 = vx * vx + vy * vy + vz * vz
     inv_r = dr.rsqrt(r2)
     cos_r = (vx * rx + vy * ry + vz * rz) * inv_r
     cos_l = -(vx * lx + vy * ly + vz * lz) * inv_r
     term = np.array(dr.maximum(cos_r, 0.0) * dr.maximum(cos_l, 0.0) / r2, dtype=np.float64).reshape(-1, k)
     if visible is not None:
-        lit = term > 0
+        lit = np.flatnonzero(term > 0)  # flat index i·K + j of the lit terms, in row-major order as np.nonzero
         vis = np.zeros_like(term)
-        rows = np.nonzero(lit)
-        if rows[0].size:
-            vis[rows] = shadow(visible, x[rows[0]], nx[rows[0]], q[rows])
+        if lit.size:
+            i, j = np.divmod(lit, k)
+            # rectangle, disc: q is one (K, 3) grid broadcast over the receivers; read it, not the broadcast view
+            qk = np.take(q[0], j, axis=0) if q.strides[0] == 0 else np.take(q.reshape(-1, 3), lit, axis=0)
+            vis.reshape(-1)[lit] = shadow(visible, np.take(x, i, axis=0), np.take(nx, i, axis=0), qk)
         term = term * vis
     return float(light_map["radiance"]) * area[:, 0] * term.sum(axis=1)
 
