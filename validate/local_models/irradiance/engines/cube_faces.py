@@ -110,34 +110,9 @@ def _supersampled(radiance: np.ndarray, n: int, s: int, hot: np.ndarray | None =
     plan = _sampling_plan(h, w, n, s)
     flat = radiance.reshape(-1, 3)
     acc = np.zeros((6 * n * s * n * s, 3))
-    # hot texels as a mask over the map (one byte a texel) instead of a binary search per tap: the same test
-    mask = None
-    if hot is not None and len(hot):
-        mask = np.zeros(h * w, dtype=bool)
-        mask[hot] = True
-    # a sparse map (the worst-case search's delta maps): only the sub-texel points with a tap on a texel of L₀ ≠ 0
-    # are summed; every other point's sum is 0 + 0·w + … = +0 exactly, so the result is the same bit for bit
-    live = np.any(flat != 0.0, axis=-1)
-    if mask is not None:
-        live &= ~mask
-    if np.count_nonzero(live) * 8 < live.size:
-        touched = np.zeros(acc.shape[0], dtype=bool)
-        for idx in plan[0::2]:
-            touched |= np.take(live, idx)
-        pts = np.flatnonzero(touched)
-        part = np.zeros((len(pts), 3))
-        for idx, wb in zip(plan[0::2], plan[1::2], strict=True):
-            ix, wp = np.take(idx, pts), np.take(wb, pts)
-            wk = wp if mask is None else np.where(np.take(mask, ix), 0.0, wp)
-            part += np.take(flat, ix, axis=0) * wk[:, None]
-        acc[pts] = part
-        return acc.reshape(6, n, s, n, s, 3).sum(axis=(2, 4))
-    term = np.empty_like(acc)
     for idx, wb in zip(plan[0::2], plan[1::2], strict=True):
-        wk = wb if mask is None else np.where(np.take(mask, idx), 0.0, wb)
-        # flat[idx] by np.take (the same rows, faster than fancy indexing); the same float64 products, into one buffer
-        np.multiply(np.take(flat, idx, axis=0), wk[:, None], out=term)
-        acc += term
+        wk = wb if hot is None or len(hot) == 0 else np.where(_is_hot(idx, hot), 0.0, wb)
+        acc += flat[idx] * wk[:, None]
     return acc.reshape(6, n, s, n, s, 3).sum(axis=(2, 4))
 
 
