@@ -505,15 +505,6 @@ def test_dense_convolution_does_not_depend_on_the_kernel_slices(monkeypatch: pyt
     assert np.array_equal(outs[0], outs[1]) and np.array_equal(outs[0], outs[2])
 
 
-def test_cosines_on_one_blas_thread_equal_the_threaded_product() -> None:
-    """im._cosines (one BLAS thread) gives d @ ndᵀ bit for bit, for the shapes of the cap and dense paths."""
-    rng = np.random.default_rng(4)
-    for b, k in ((1, 500), (52, 3868), (2247, 3733)):
-        d = rng.normal(size=(b, 3)).astype(np.float32)
-        nd = rng.normal(size=(k, 3)).astype(np.float32)
-        assert np.array_equal(im._cosines(d, nd), d @ nd.T), (b, k)
-
-
 def test_cube_lookup_compiles_one_kernel_for_every_face_size() -> None:
     """CubeMap.lookup takes the face size as opaque values (precision.constants_dr): lookups on faces 8 and 16
     after one on face 4 find every JIT kernel in drjit's cache (a literal 0.5·N or N + 2 is a new kernel per N)."""

@@ -204,41 +204,11 @@ def _spatial_batches(dirs: np.ndarray, cells: int) -> list[np.ndarray]:
     return np.split(order, cuts)
 
 
-@functools.lru_cache(maxsize=1)
-def _openblas() -> tuple[Callable[[], int], Callable[[int], None]] | None:
-    """numpy's OpenBLAS thread-count getter and setter (ctypes), or None where they cannot be found."""
-    import ctypes
-    import glob
-    import os
-
-    libs = glob.glob(os.path.join(os.path.dirname(np.__file__), os.pardir, "numpy.libs", "*openblas*"))
-    for path in libs:
-        try:
-            lib = ctypes.CDLL(path)
-        except OSError:
-            continue
-        for prefix in ("scipy_openblas", "openblas"):
-            for suffix in ("64_", ""):
-                get, put = f"{prefix}_get_num_threads{suffix}", f"{prefix}_set_num_threads{suffix}"
-                if hasattr(lib, get) and hasattr(lib, put):
-                    return getattr(lib, get), getattr(lib, put)
-    return None
-
-
 def _cosines(d: np.ndarray, nd: np.ndarray) -> np.ndarray:
-    """d (B, 3) @ nd (K, 3)ᵀ in float32, on one BLAS thread: a few thousand products per row with three terms each,
-    where waking the threads costs more CPU than the product (×6 in the cap path, measured). One thread gives the
-    same bits (each entry is the same three-term BLAS sum; checked with np.array_equal against the threaded product)."""
-    blas = _openblas()
-    if blas is None:
-        return d @ nd.T
-    get, put = blas
-    threads = int(get())
-    put(1)
-    try:
-        return d @ nd.T
-    finally:
-        put(threads)
+    """d (B, 3) @ nd (K, 3)ᵀ in float32. (A version that switched OpenBLAS to one thread around this product —
+    ``openblas_set_num_threads``, process-wide — was removed: changing the global thread count while other threads
+    run BLAS, e.g. the ``validate-rows`` pool of :mod:`.sh`, is not safe; one test worker crashed in that state.)"""
+    return d @ nd.T
 
 
 def convolve_zonal(nodes: EnvironmentNodes, dirs: np.ndarray, kernel: Kernel, kernel_integral: float = 1.0,
