@@ -50,6 +50,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..blas import one_blas_thread
 from ..errors import ValidateError
 from ..scenes import latlong
 from ..scenes.environment import Environment
@@ -277,7 +278,7 @@ def irradiance_at(flux: np.ndarray, nodes: np.ndarray, normals: np.ndarray) -> n
     positive = gamma + spread < np.pi / 2 - ANGLE_MARGIN
     negative = gamma - spread > np.pi / 2 + ANGLE_MARGIN
     linear = (positive.astype(np.float64) @ moment).reshape(-1, 3, 3)
-    with _one_blas_thread():
+    with one_blas_thread():
         for k in range(len(bstart)):
             idx = border[bstart[k]:bend[k]]
             n64 = normals[idx]
@@ -296,45 +297,6 @@ def irradiance_at(flux: np.ndarray, nodes: np.ndarray, normals: np.ndarray) -> n
                     e += (cosines @ f[s:s + step])[:, :3]
             out[idx] = e
     return out
-
-
-class _one_blas_thread:
-    """Run this thread's OpenBLAS calls single-threaded (``openblas_set_num_threads_local``, OpenBLAS ≥
-    0.3.27; a no-op where numpy's BLAS is another one). Small sgemm tiles on 2 threads cost ~20× the CPU
-    time of one (measured on the 2-core machine under load: 9 ms vs 0.3 ms for 64 × 4096 cosines): the
-    second thread spins waiting between calls. Results are the same (OpenBLAS splits rows, not sums)."""
-
-    _set = None
-    _looked = False
-
-    def __enter__(self) -> None:
-        self._old = None
-        fn = self._setter()
-        if fn is not None:
-            self._old = fn(1)
-
-    def __exit__(self, *exc: object) -> None:
-        fn = self._setter()
-        if fn is not None and self._old is not None:
-            fn(self._old)
-
-    @classmethod
-    def _setter(cls):  # noqa: ANN206 - a ctypes function or None
-        if not cls._looked:
-            cls._looked = True
-            import ctypes
-            import glob
-            import os
-
-            libs = glob.glob(os.path.join(os.path.dirname(np.__file__) + ".libs", "libscipy_openblas*.so*"))
-            try:
-                fn = ctypes.CDLL(libs[0]).openblas_set_num_threads_local if libs else None
-            except (OSError, AttributeError):
-                fn = None
-            if fn is not None:
-                fn.restype, fn.argtypes = ctypes.c_int, [ctypes.c_int]
-            cls._set = fn
-        return cls._set
 
 
 def uses_texel_path(env: Environment, cells: int) -> bool:
