@@ -46,9 +46,10 @@ def _cli(args: list[str], cache: Path, **extra_env: str) -> subprocess.Popen:
 
 
 def _entries(cache: Path) -> dict[str, tuple[int, int]]:
-    """Cache entry → (inode, mtime): a reused entry keeps both; a recomputed one is a new file."""
+    """Reference entry → (inode, mtime): a reused entry keeps both; a recomputed one is a new file. Only the
+    references (kind ``irradiance``), not the map-only node entries (``irradiance_nodes``) they are built from."""
     return {str(p.relative_to(cache)): (p.stat().st_ino, p.stat().st_mtime_ns)
-            for p in cache.rglob("*.npz") if not p.name.startswith(".")}
+            for p in cache.rglob("*.npz") if not p.name.startswith(".") and p.parent.name == "irradiance"}
 
 
 def _previous_report(out: Path) -> dict[str, bytes]:

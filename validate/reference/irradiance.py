@@ -95,7 +95,8 @@ def gauss_order(env: Environment, cells: int) -> int:
 
 
 def _node_grid(env: Environment, g: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Step 1's product grid: node θ (R,), node φ (C,), directions (R·C, 3) and weights (R·C,), row-major."""
+    """Step 1's product grid: node θ (R,), node φ (C,), directions (R·C, 3) and weights (R·C,), row-major
+    (the directions as a view of three contiguous (R·C,) component planes)."""
     h, w = env.height, env.width
     x, wx = np.polynomial.legendre.leggauss(g)
     x, wx = (x + 1) / 2, wx / 2  # on [0, 1]
@@ -104,14 +105,15 @@ def _node_grid(env: Environment, g: int) -> tuple[np.ndarray, np.ndarray, np.nda
     wth = (dth * wx[None, :] * np.ones((h - 1, 1))).reshape(-1) * np.sin(th)
     ph = (latlong.col_phi(w)[:, None] + dph * x[None, :]).reshape(-1)
     wph = np.full(ph.shape, 0.0) + np.tile(dph * wx, w)
-    # latlong.spherical_to_direction(th[:, None], ph[None, :]) written in place (the same values)
+    # latlong.spherical_to_direction(th[:, None], ph[None, :]) written in place (the same values), one
+    # contiguous plane per component: the (R·C, 3) directions returned are a view of the (3, R·C) planes
     st = np.sin(th)[:, None]
-    d = np.empty((th.size, ph.size, 3))
-    d[..., 0] = np.sin(ph)[None, :] * st
-    d[..., 1] = np.cos(th)[:, None]
-    d[..., 2] = -np.cos(ph)[None, :] * st
+    planes = np.empty((3, th.size, ph.size))
+    planes[0] = np.sin(ph)[None, :] * st
+    planes[1] = np.cos(th)[:, None]
+    planes[2] = -np.cos(ph)[None, :] * st
     weights = (wth[:, None] * wph[None, :]).reshape(-1)
-    return th, ph, d.reshape(-1, 3), weights
+    return th, ph, planes.reshape(3, -1).T, weights
 
 
 def radiance_nodes(env: Environment, g: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -130,42 +132,58 @@ def _node_cells(th: np.ndarray, ph: np.ndarray, d: np.ndarray, hc: int, wc: int)
     """Cell index (R·C,) of every node of the grid: row ⌊θ H_c/π⌋, column ⌊φ W_c/2π⌋ with (θ, φ) as
     :func:`latlong.direction_to_spherical` gives them from the node's direction. Computed once per grid
     row / column; a row or column within 10⁻⁹ of a cell edge (Gauss point ½ on an edge, g odd) is binned
-    node by node from its directions, as rounding decides it there."""
+    node by node from its directions, as rounding decides it there. One (R, C) index array is formed
+    (row·W_c + column, the per-row and per-column indices broadcast), then the edge rows / columns are
+    overwritten node by node."""
     rows, cols = th.size, ph.size
     d3 = d.reshape(rows, cols, 3)
     theta = np.arccos(np.clip(np.cos(th), -1.0, 1.0))
     phi = np.mod(np.arctan2(np.sin(ph), np.cos(ph)), 2.0 * np.pi)
     fr, fc = theta / np.pi * hc, phi / (2 * np.pi) * wc
-    row = np.broadcast_to(np.minimum(fr.astype(np.int64), hc - 1)[:, None], (rows, cols)).copy()
-    col = np.broadcast_to(np.minimum(fc.astype(np.int64), wc - 1)[None, :], (rows, cols)).copy()
+    row = np.minimum(fr.astype(np.int64), hc - 1)
+    col = np.minimum(fc.astype(np.int64), wc - 1)
     edge_r = np.flatnonzero(np.abs(fr - np.round(fr)) < 1e-9)
     edge_c = np.flatnonzero(np.abs(fc - np.round(fc)) < 1e-9)
-    if edge_r.size:
-        t, _ = latlong.direction_to_spherical(d3[edge_r])
-        row[edge_r] = np.minimum((t / np.pi * hc).astype(np.int64), hc - 1)
+    cell = row[:, None] * wc + col[None, :]
+    col_edge = None
     if edge_c.size:
         _, p = latlong.direction_to_spherical(d3[:, edge_c])
-        col[:, edge_c] = np.minimum((p / (2 * np.pi) * wc).astype(np.int64), wc - 1)
-    return (row * wc + col).reshape(-1)
+        col_edge = np.minimum((p / (2 * np.pi) * wc).astype(np.int64), wc - 1)  # (R, edge columns)
+        cell[:, edge_c] = row[:, None] * wc + col_edge
+    if edge_r.size:
+        t, _ = latlong.direction_to_spherical(d3[edge_r])
+        row_edge = np.minimum((t / np.pi * hc).astype(np.int64), hc - 1)  # (edge rows, C)
+        col_at = np.broadcast_to(col[None, :], row_edge.shape).copy()
+        if col_edge is not None:
+            col_at[:, edge_c] = col_edge[edge_r]
+        cell[edge_r] = row_edge * wc + col_at
+    return cell.reshape(-1)
 
 
 def cell_nodes(env: Environment, cells: int, g: int) -> tuple[np.ndarray, np.ndarray]:
-    """(Φ_c (M, 3), ω_c (M, 3)) of the quadrature with H_c = ``cells`` and g Gauss points (steps 1–3)."""
+    """(Φ_c (M, 3), ω_c (M, 3)) of the quadrature with H_c = ``cells`` and g Gauss points (steps 1–3).
+
+    The per-node products are formed channel by channel on contiguous (M,) rows (the same products and
+    the same node-order bin sums as on the (M, 3) columns: the same bits, without strided passes)."""
     th, ph, d, w = _node_grid(env, g)
     rad = _mitsuba_radiance(env, d)
     hc, wc = cells, 2 * cells
     cell = _node_cells(th, ph, d, hc, wc)
     n_cells = hc * wc
-    lw = rad * w[:, None]
-    flux = np.stack([np.bincount(cell, lw[:, c], n_cells) for c in range(3)], axis=-1)
+    lw_c = np.ascontiguousarray(rad.T)  # (3, M): Φ per node and channel, L w
+    lw_c *= w
+    del rad
+    lw = lw_c.T  # (M, 3) view
+    flux = np.stack([np.bincount(cell, lw_c[c], n_cells) for c in range(3)], axis=-1)
     y = latlong.luminance(lw)
-    cen = np.stack([np.bincount(cell, y * d[:, k], n_cells) for k in range(3)], axis=-1)
+    d_c = np.ascontiguousarray(d.T)  # (3, M): _node_grid's planes (no copy)
+    cen = np.stack([np.bincount(cell, y * d_c[k], n_cells) for k in range(3)], axis=-1)
     cell_y = np.bincount(cell, y, n_cells)
     counts = np.bincount(cell, None, n_cells)
     occupied = counts > 0
     weak = (cell_y <= 0) & occupied  # black cells: the geometric centroid (unoccupied ones are dropped)
     if weak.any():
-        geo = np.stack([np.bincount(cell, w * d[:, k], n_cells) for k in range(3)], axis=-1)
+        geo = np.stack([np.bincount(cell, w * d_c[k], n_cells) for k in range(3)], axis=-1)
         cen[weak] = geo[weak]
     norm = np.linalg.norm(cen, axis=-1, keepdims=True)
     cen = np.divide(cen, norm, out=np.zeros_like(cen), where=norm > 0)
@@ -440,6 +458,31 @@ def subpatch_nodes(rad: np.ndarray, rows: np.ndarray, cols: np.ndarray, sub: int
     return np.concatenate([f.reshape(-1, 3) for f in fluxes]), np.concatenate([d.reshape(-1, 3) for d in dirs])
 
 
+def cached_cell_nodes(env: Environment, cells: int, g: int) -> Nodes:
+    """:func:`cell_nodes` through the reference cache, keyed by the map's digest, H_c and g (not by the normals):
+    the nodes depend on the map alone, so every experiment that integrates the same map at the same (H_c, g)
+    (sh9, engines, ibl, the path-traced cross-check's quadrature) reads the float64 arrays the first one stored
+    (the same bits) instead of evaluating Mitsuba's emitter and binning the nodes again."""
+    def compute() -> dict[str, np.ndarray]:
+        flux, dirs = cell_nodes(env, cells, g)
+        return {"flux": flux, "dirs": dirs}
+
+    r = cached("irradiance_nodes", {"env": env.digest, "cells": cells, "g": g, "method": "gauss-cell-nodes"}, compute)
+    return r["flux"], r["dirs"]
+
+
+def cached_texel_cell_nodes(env: Environment, cells: int) -> tuple[Nodes, Nodes]:
+    """:func:`texel_cell_nodes` (after :func:`check_convention`) through the reference cache, keyed by the map's
+    digest and H_c, as :func:`cached_cell_nodes`."""
+    def compute() -> dict[str, np.ndarray]:
+        check_convention(env)
+        (cf, cd), (ff, fd) = texel_cell_nodes(env, cells)
+        return {"coarse_flux": cf, "coarse_dirs": cd, "fine_flux": ff, "fine_dirs": fd}
+
+    r = cached("irradiance_nodes", {"env": env.digest, "cells": cells, "method": "texel-cell-nodes"}, compute)
+    return (r["coarse_flux"], r["coarse_dirs"]), (r["fine_flux"], r["fine_dirs"])
+
+
 def reference_irradiance(env: Environment, normals: np.ndarray, cells: int = DEFAULT_CELLS) -> ReferenceIrradiance:
     """Reference E at ``normals`` (N, 3): the (2·cells, g+1) quadrature, with max_n |E_fine − E_coarse|
     (per channel) as its uncertainty."""
@@ -449,12 +492,11 @@ def reference_irradiance(env: Environment, normals: np.ndarray, cells: int = DEF
 
     def compute() -> dict[str, np.ndarray]:
         if texel_path:
-            check_convention(env)
-            coarse_nodes, fine_nodes = texel_cell_nodes(env, cells)
+            coarse_nodes, fine_nodes = cached_texel_cell_nodes(env, cells)
             return {"fine": irradiance_at(*fine_nodes, normals), "coarse": irradiance_at(*coarse_nodes, normals)}
         g = gauss_order(env, cells)
-        coarse = irradiance_at(*cell_nodes(env, cells, g), normals)
-        fine = irradiance_at(*cell_nodes(env, 2 * cells, g + 1), normals)
+        coarse = irradiance_at(*cached_cell_nodes(env, cells, g), normals)
+        fine = irradiance_at(*cached_cell_nodes(env, 2 * cells, g + 1), normals)
         return {"fine": fine, "coarse": coarse}
 
     method = "texel-cells" if texel_path else "gauss-cells"

@@ -3,10 +3,12 @@ their arrays), and the ``results.json`` payload (summary, data, technique entrie
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from ...atomic import atomic_path
 from ...local_models import irradiance as irradiance_family
 from ...local_models.irradiance import sh as shm
 from ...metrics.irradiance_error import METRIC_NAMES
@@ -20,6 +22,20 @@ from ..techniques import technique_entry
 from .claims import ATTAINS_BOUND, CMGEN, PAPER_MAX, PAPER_MEAN, ZH3_COMPARED, foreign_thresholds
 from .compute import Measurements
 from .settings import NAME
+
+# Fixed margins of the error-vs-order plot (fractions of FIG_SIZE, 5 × 3.5 in): where constrained layout put the axes
+# for these labels (measured: left 0.123, bottom 0.127, right 0.992, top 0.933), with 0.1 in more on the left for
+# longer per-cent tick labels. Constrained layout measured every artist before the real draw: ~40 % of the plot's time.
+ORDER_PLOT_MARGINS = {"left": 0.14, "right": 0.99, "bottom": 0.127, "top": 0.933}
+
+
+def _save_fixed(path: Path, fig: Any) -> None:
+    """Write a :mod:`validate.report.plots` figure as a PNG with :data:`ORDER_PLOT_MARGINS` instead of its
+    constrained layout (the same artists)."""
+    fig.set_layout_engine(None)
+    fig.subplots_adjust(**ORDER_PLOT_MARGINS)
+    with atomic_path(path, suffix=".png") as tmp:
+        fig.savefig(tmp, format="png", dpi=plots.FIG_DPI)
 
 
 def environment_figures(name: str, r: dict[str, Any], ctx: Context) -> list[Figure]:
@@ -37,10 +53,11 @@ def environment_figures(name: str, r: dict[str, Any], ctx: Context) -> list[Figu
                        label="error / total flux", percent=True)
     sweep = r["order_sweep"]
     p_ord, r_ord = ctx.figure_path(NAME, f"{name}_error_vs_order.png")
-    plots.save_line_plot(p_ord, sweep["lmax"], {"mean": np.array(sweep["mean"]), "max": np.array(sweep["max"])},
-                         xlabel="SH order l_max", ylabel="|E′ − E| / Φ (luminance)",
-                         title=f"{name}: error vs SH order", logy=True, percent=True,
-                         hlines={"paper mean 1 %": PAPER_MEAN, "paper max 5 %": PAPER_MAX})
+    fig = plots.line_plot_figure(sweep["lmax"], {"mean": np.array(sweep["mean"]), "max": np.array(sweep["max"])},
+                                 xlabel="SH order l_max", ylabel="|E′ − E| / Φ (luminance)",
+                                 title=f"{name}: error vs SH order", logy=True, percent=True,
+                                 hlines={"paper mean 1 %": PAPER_MEAN, "paper max 5 %": PAPER_MAX})
+    _save_fixed(p_ord, fig)
     return [Figure(r_thumb, f"{name}: environment (tonemapped lat-long)", 256),
             Figure(r_ref, "reference sphere (Mitsuba quadrature), E/π", 160),
             Figure(r_sh, "SH9 sphere, E′/π (same exposure)", 160),
