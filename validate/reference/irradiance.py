@@ -50,6 +50,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..backend import init
 from ..blas import one_blas_thread
 from ..errors import ValidateError
 from ..scenes import latlong
@@ -57,6 +58,7 @@ from ..scenes.environment import Environment
 from ..scenes.mitsuba_eval import eval_emitter
 from .cache import array_digest, cached
 
+EVAL_CHUNK = 1 << 21  # directions per emitter.eval call (as validate.scenes.mitsuba_eval.CHUNK)
 DEFAULT_CELLS = 64  # H_c of the coarse grid (the reference uses 2·H_c): converges to < 2e-4 of peak here
 REFINE_FRACTION = 1e-3
 MAX_REFINED_NODES = 1 << 14  # enough for a sun or a small disc (a few cells); bounds the cost
@@ -128,6 +130,27 @@ def _mitsuba_radiance(env: Environment, d: np.ndarray) -> np.ndarray:
     return eval_emitter(mi.load_dict(env.mitsuba_emitter()), d)
 
 
+def _mitsuba_radiance_planes(env: Environment, d: np.ndarray) -> np.ndarray:
+    """Mitsuba's radiance (3, M) float64 at directions ``d`` (M, 3), one contiguous plane per channel: the
+    ``emitter.eval`` of :func:`validate.scenes.mitsuba_eval.eval_emitter` (the same float32 directions, incident
+    ``si.wi = −d``, the same lanes) fed from and read into channel planes, without the (M, 3) interleaving and its
+    strided passes (eval_emitter itself on a scalar variant)."""
+    import drjit as dr
+    import mitsuba as mi
+
+    emitter = mi.load_dict(env.mitsuba_emitter())
+    if not init().is_vectorized:
+        return np.ascontiguousarray(eval_emitter(emitter, d).T)
+    planes = d.T  # (3, M)
+    out = np.empty((3, planes.shape[1]))
+    for s in range(0, planes.shape[1], EVAL_CHUNK):
+        neg = -planes[:, s:s + EVAL_CHUNK].astype(np.float32)  # = −float32(d), as eval_emitter's −chunk[:, k]
+        si = dr.zeros(mi.SurfaceInteraction3f, neg.shape[1])
+        si.wi = mi.Vector3f(neg[0], neg[1], neg[2])
+        out[:, s:s + EVAL_CHUNK] = np.array(emitter.eval(si)).reshape(3, -1)
+    return out
+
+
 def _node_cells(th: np.ndarray, ph: np.ndarray, d: np.ndarray, hc: int, wc: int) -> np.ndarray:
     """Cell index (R·C,) of every node of the grid: row ⌊θ H_c/π⌋, column ⌊φ W_c/2π⌋ with (θ, φ) as
     :func:`latlong.direction_to_spherical` gives them from the node's direction. Computed once per grid
@@ -166,13 +189,11 @@ def cell_nodes(env: Environment, cells: int, g: int) -> tuple[np.ndarray, np.nda
     The per-node products are formed channel by channel on contiguous (M,) rows (the same products and
     the same node-order bin sums as on the (M, 3) columns: the same bits, without strided passes)."""
     th, ph, d, w = _node_grid(env, g)
-    rad = _mitsuba_radiance(env, d)
+    lw_c = _mitsuba_radiance_planes(env, d)  # (3, M): L per node and channel, then Φ = L w in place
+    lw_c *= w
     hc, wc = cells, 2 * cells
     cell = _node_cells(th, ph, d, hc, wc)
     n_cells = hc * wc
-    lw_c = np.ascontiguousarray(rad.T)  # (3, M): Φ per node and channel, L w
-    lw_c *= w
-    del rad
     lw = lw_c.T  # (M, 3) view
     flux = np.stack([np.bincount(cell, lw_c[c], n_cells) for c in range(3)], axis=-1)
     y = latlong.luminance(lw)
@@ -284,9 +305,11 @@ def irradiance_at(flux: np.ndarray, nodes: np.ndarray, normals: np.ndarray) -> n
     moment = np.add.reduceat(nodes[:, :, None] * flux[:, None, :], cstart, axis=0).reshape(-1, 9)
     nodes32 = nodes.astype(np.float32)
     # Φ padded to 16 columns: OpenBLAS's sgemm is ~7× slower for 3 columns than for 16 (measured,
-    # 10k normals × 65k nodes: 4.9 s vs 0.7 s); the padding columns are zero and dropped.
-    flux32 = np.zeros((len(flux), 16), dtype=np.float32)
-    flux32[:, :3] = flux
+    # 10k normals × 65k nodes: 4.9 s vs 0.7 s); the padding columns are zero and dropped. A block's band nodes
+    # are gathered as 3 columns into one zero-padded buffer (the same tiles as gathering padded rows: 5× less
+    # memory traffic than gathering 64-byte rows)
+    flux3 = flux.astype(np.float32)
+    band_flux = np.zeros((len(flux), 16), dtype=np.float32)
     uunit, ok = _unit(normals)
     border, bstart, baxis, brad = _cones(uunit, NORMAL_BINS)
     bend = np.r_[bstart[1:], len(border)]
@@ -306,7 +329,9 @@ def irradiance_at(flux: np.ndarray, nodes: np.ndarray, normals: np.ndarray) -> n
                 sizes = csize[band]
                 total = int(sizes.sum())
                 at = np.repeat(cstart[band] - np.r_[0, np.cumsum(sizes)[:-1]], sizes) + np.arange(total)
-                w, f = nodes32[at], flux32[at]
+                w = np.take(nodes32, at, axis=0)
+                band_flux[:total, :3] = np.take(flux3, at, axis=0)
+                f = band_flux[:total]
                 n32 = n64.astype(np.float32)
                 step = max(1, TILE_FLOATS // len(idx))
                 for s in range(0, total, step):
