@@ -37,6 +37,10 @@ The radiance function is Mitsuba's: the convention (bilinear in (φ, θ), θ_i =
 φ_j = 2π(j+½)/W) is checked against ``emitter.eval`` on every run (:func:`check_convention`, on a
 subsampled copy of the map, 4096 directions) and a disagreement stops the run.
 
+Steps 1–3 depend on the map alone (not on the normals): their nodes (Φ_c, ω_c) are cached by the map's digest,
+H_c and g (:func:`cached_cell_nodes`, kind ``irradiance_nodes``), so the experiments that integrate the same map
+(sh9, engines, ibl, the path-traced cross-check) share one evaluation of Mitsuba's emitter per grid.
+
 Convergence is *shown*, not assumed: the quadrature runs at (H_c, g) and at (2H_c, g + 1); the
 second is the reference. Its uncertainty is the largest change over all normals, per channel,
 δ_c = max_n |E_fine − E_coarse|, applied to every normal: a per-normal difference can vanish by
