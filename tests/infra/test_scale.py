@@ -363,7 +363,7 @@ def test_map_on_an_existing_scheduler_leaves_the_cluster_running(tmp_path: Path)
     from dask.distributed import Client, LocalCluster
 
     cluster = LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None,
-                           silence_logs=logging.CRITICAL)
+                           silence_logs=logging.CRITICAL, scheduler_kwargs={"dashboard_address": ":0"})
     try:
         ctx = Context(out_dir=tmp_path, scheduler=cluster.scheduler_address, show_progress=False)
         assert ctx.distributed

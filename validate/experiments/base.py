@@ -280,7 +280,10 @@ class Context:
                            if not k.endswith("_NUM_THREADS")}
                 with dask.config.set({"distributed.nanny.pre-spawn-environ": environ}):
                     cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True,
-                                           memory_limit=0, dashboard_address=None, silence_logs=logging.CRITICAL)
+                                           memory_limit=0, dashboard_address=None, silence_logs=logging.CRITICAL,
+                                           # no dashboard, and its HTTP server (health routes) on a free port:
+                                           # distributed's default 8787 warns on stderr when another cluster has it
+                                           scheduler_kwargs={"dashboard_address": ":0"})
                 self._client = Client(cluster)
         return self._client
 
