@@ -40,7 +40,9 @@ def _scene(ratios: dict[tuple[int, str], float]) -> CdfScene:
     mean = np.full((8, 8, 3), 1.0)
     se = np.full((8, 8, 3), 1e-3)
     mask = np.ones((8, 8), bool)
-    sc = CdfScene(None, mean, se, 7, mask, "synthetic")  # type: ignore[arg-type]
+    probe = np.full((8, 16, 3), 0.5)
+    probe[3, 2] = 100.0
+    sc = CdfScene(rcs.cdf_lambert_scene(probe, 8), mean, se, 7, mask, "synthetic")
     for (n, v), k in ratios.items():
         img = k * mean
         r, u = energy_ratio(img, mean, se, mask)
@@ -48,7 +50,7 @@ def _scene(ratios: dict[tuple[int, str], float]) -> CdfScene:
     return sc
 
 
-def test_claims_pass_on_the_pr_s_defect_and_their_power_checks_fail() -> None:
+def test_claims_pass_on_the_pr_s_defect_and_their_power_checks_fail(tmp_path: Path) -> None:
     # the measured pattern (rooitou_park_1k): pre-PR dark at 64, bright at 128; shipped ≈ 20 % dark everywhere
     sc = _scene({(64, "shipped"): 0.76, (64, "pre16247"): 0.31, (128, "shipped"): 0.81, (128, "pre16247"): 1.08,
                  (256, "shipped"): 0.79, (256, "pre16247"): 0.79})
@@ -58,6 +60,17 @@ def test_claims_pass_on_the_pr_s_defect_and_their_power_checks_fail() -> None:
                        "renders.babylon.cdf_irradiance.supersample"}
     for c in cs.values():
         assert c.passed and c.power is not None and c.power.fails, c.id
+    from validate.experiments.renders.cdf_report import cdf_data, cdf_findings, cdf_sections, cdf_table
+
+    assert len(cdf_table(sc).rows) == 6 and len(cdf_findings([sc])) == 2
+    assert cdf_data([sc])["cdf_lambert"]["results"]["64 pre16247"]["ratio"] == pytest.approx(0.31)
+
+    class Ctx:
+        def figure_path(self, experiment: str, filename: str) -> tuple[Path, str]:
+            return tmp_path / filename, filename
+
+    (section,) = cdf_sections([sc], Ctx())
+    assert (tmp_path / section.figures[0].path).is_file()
 
 
 def test_claims_fail_on_an_engine_that_matches_the_truth() -> None:

@@ -33,7 +33,8 @@ class Settings:
     shadow_spp: int = 64
     shadow_engines: tuple[str, ...] = ("three", "babylon")
     # (b) Babylon's CDF irradiance (validate.scenes.render_cdf_scenes, Babylon PR 16247): Babylon's cube sizes, the
-    # image size; Babylon only, so full runs only (quick has no Babylon: its page start alone is ~40 s, measured)
+    # image size; Babylon only, so full runs only (quick has no Babylon: its first call here — page, shaders, first
+    # CDF cube — took 42–45 s on the shared 2 cores, measured)
     cdf_sizes: tuple[int, ...] = (64, 128, 256)
     cdf_resolution: int = 32
 
