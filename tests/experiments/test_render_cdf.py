@@ -107,3 +107,18 @@ def test_babylon_cdf_without_supersampling_is_darker_at_64(probes_dir: Path) -> 
     # measured 0.31 (pre) and 0.76 (shipped); each ratio's σ ≈ 3e-4: the 0.3 gap is > 100 σ
     assert out["pre16247"][0] + 5 * out["pre16247"][1] < 0.5
     assert out["shipped"][0] - out["pre16247"][0] > 0.3
+
+
+def test_the_experiment_hooks_carry_the_cdf_scene() -> None:
+    from validate.experiments.renders import claims, findings, report
+    from validate.experiments.renders.compute import Measurements
+    from validate.experiments.renders.settings import FULL, QUICK
+
+    sc = _scene({(64, "shipped"): 0.76, (64, "pre16247"): 0.31, (256, "shipped"): 0.79, (256, "pre16247"): 0.79})
+    m = Measurements(FULL, [], cdf=[sc])
+    assert "cdf_lambert" in report.data(m)["cdf_irradiance"]
+    assert report.settings_json(m)["cdf_sizes"] == [64, 128, 256]
+    assert {c.id for c in claims(m)} >= {"renders.babylon.cdf_irradiance.pre16247.regression"}
+    assert any("PR 16247" in f for f in findings(m))
+    # quick renders no Babylon: no CDF work, and its settings block is unchanged
+    assert QUICK.cdf_sizes == () and "cdf_sizes" not in report.settings_json(Measurements(QUICK, []))
