@@ -106,6 +106,7 @@ class Measurements:
     probe_note: str = ""  # which probe (b) rendered, or why none
     bsdf_checks: dict[str, Any] = field(default_factory=dict)  # (b) materials: the glTF BSDF's χ² and closed forms
     shadows: list[Any] = field(default_factory=list)  # (e) shadow_compute.ShadowSceneResult per scene
+    cdf: list[Any] = field(default_factory=list)  # (b) cdf_compute.CdfScene: Babylon's CDF irradiance (PR 16247)
 
 
 def scene_list(s: Settings, probe: np.ndarray | None = None) -> list[tuple[rs.RenderScene, str]]:
@@ -229,11 +230,13 @@ def compute(ctx: Any, s: Settings) -> Measurements:
     from ...gl import runtime
 
     probe, probe_note = load_probe(ctx)
+    from .cdf_compute import compute_cdf
     from .shadow_compute import compute_shadows
 
     out = [measure_scene(sc, kind, s) for sc, kind in ctx.progress(scene_list(s, probe), "renders: scenes")]
     return Measurements(s, out, startup={"webgl2_s": runtime.startup_seconds("webgl2"), **time_info(out)},
-                        probe_note=probe_note, bsdf_checks=gltf_bsdf_checks(s), shadows=compute_shadows(ctx, s))
+                        probe_note=probe_note, bsdf_checks=gltf_bsdf_checks(s), shadows=compute_shadows(ctx, s),
+                        cdf=compute_cdf(ctx, s))
 
 
 def time_info(scenes: list[SceneResult]) -> dict[str, Any]:

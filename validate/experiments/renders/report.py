@@ -114,6 +114,9 @@ def findings(m: Measurements) -> list[str]:
     from .shadow_report import shadow_findings  # (e)
 
     out += shadow_findings(m.shadows)
+    from .cdf_report import cdf_findings  # (b) Babylon's CDF irradiance
+
+    out += cdf_findings(m.cdf)
     metal = [s for s in m.scenes if "model" in s.reference_energy]
     if metal:
         loss = ", ".join(f"r {s.scene.material.roughness:g}: {s.reference_energy['model'][0]:.4f} ± "
@@ -328,6 +331,9 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
     from .shadow_report import shadow_sections  # (e)
 
     out += shadow_sections(m.shadows, ctx)
+    from .cdf_report import cdf_sections  # (b) Babylon's CDF irradiance
+
+    out += cdf_sections(m.cdf, ctx)
     out.append(Section("Filament: what it renders", [FILAMENT_NOTE]))
     return out
 
@@ -338,7 +344,13 @@ def data(m: Measurements) -> dict:
         e: {"frame_ms": r.frame_ms, "wall_s": r.wall_s, "version": r.version, "energy": r.energy, "info": r.info,
             "judgements": {k: j.to_json() for k, j in r.judgements.items()}} for e, r in s.engines.items()},
         "reference_energy": s.reference_energy} for s in m.scenes}, "startup": m.startup,
-        "bsdf_checks": m.bsdf_checks, "shadows": _shadow_data(m)}
+        "bsdf_checks": m.bsdf_checks, "shadows": _shadow_data(m), **_cdf_data(m)}
+
+
+def _cdf_data(m: Measurements) -> dict:
+    from .cdf_report import cdf_data  # (b) Babylon's CDF irradiance
+
+    return {"cdf_irradiance": cdf_data(m.cdf)} if m.cdf else {}
 
 
 def _shadow_data(m: Measurements) -> dict:
@@ -364,7 +376,8 @@ def settings_json(m: Measurements) -> dict[str, Any]:
             "probe_spp": s.probe_spp, "probe": m.probe_note, "material_metallic": list(s.material_metallic),
             "material_roughness": list(s.material_roughness), "bsdf_check_samples": s.bsdf_check_samples,
             "shadow_resolution": s.shadow_resolution, "shadow_spp": s.shadow_spp,
-            "shadow_engines": list(s.shadow_engines)}
+            "shadow_engines": list(s.shadow_engines), **({"cdf_sizes": list(s.cdf_sizes),
+                                                           "cdf_resolution": s.cdf_resolution} if s.cdf_sizes else {})}
 
 
 # ---------------------------------------------------------------- (b) glTF materials: (i) and (ii) kept apart

@@ -19,14 +19,17 @@ function getEngine() {
   return engine;
 }
 
-async function environment(scene, env, cubeSize) {
-  if (envCache.has(env.key)) return envCache.get(env.key);
+async function environment(scene, env, cubeSize, opts = {}) {
+  const cdf = opts.irradiance === 'cdf';  // (b) CDF irradiance scenes (babylon_cdf.mjs)
+  const key = cdf ? cdfKey(env, opts, cubeSize) : env.key;
+  if (envCache.has(key)) return envCache.get(key);
   const t0 = performance.now();
-  const tex = new BABYLON.HDRCubeTexture(env.url, scene, cubeSize, false, true, false, true);
+  const tex = cdf ? cdfCubeTexture(BABYLON, env.url, scene, cubeSize, opts.supersample)
+    : new BABYLON.HDRCubeTexture(env.url, scene, cubeSize, false, true, false, true);
   await new Promise((res, rej) => { const check = () => tex.isReady() ? res() : setTimeout(check, 20); check(); });
   await scene.whenReadyAsync();
   const entry = {tex, ms: performance.now() - t0};
-  envCache.set(env.key, entry);
+  envCache.set(key, entry);
   return entry;
 }
 
@@ -87,7 +90,7 @@ export async function renderBabylon(d) {
   scene.clearColor = new BABYLON.Color4(0, 0, 0, 0);
   let prefilter_ms = 0;
   if (d.environment) {
-    const e = await environment(scene, d.environment, opts.cubeSize || 128);
+    const e = await environment(scene, d.environment, opts.cubeSize || 128, opts);
     // the texture belongs to the first scene that loaded it; later scenes share it
     scene.environmentTexture = e.tex; prefilter_ms = e.ms; e.ms = 0;
   }
@@ -116,9 +119,11 @@ export async function renderBabylon(d) {
   const frame_ms = performance.now() - t0;
   const out = new Float32Array(px.buffer, px.byteOffset, width * height * 4).slice();
   const shadowInfo = shadows ? shadows.finish() : {};
+  if (opts.irradiance === 'cdf') shadowInfo.cdf = cdfInfo(scene.environmentTexture);
   rt.dispose(); sphere.material.dispose(); sphere.dispose();
   if (scene.environmentTexture) scene.environmentTexture = null;  // keep the cached texture alive
   return {data: f32ToB64(out), frame_ms, prefilter_ms, version, info: shadowInfo};
 }
 import {f32ToB64} from './common.mjs';
 import {addShadows} from './babylon_shadows.mjs';  // (e) shadows
+import {cdfCubeTexture, cdfInfo, cdfKey} from './babylon_cdf.mjs';  // (b) CDF irradiance
