@@ -321,22 +321,34 @@ def _tessellated_gbuffer(level: int, size: int) -> tuple[np.ndarray, ...]:
     return out
 
 
+@lru_cache(maxsize=8)
+def _shading_normals(level: int, size: int) -> tuple[np.ndarray, np.ndarray]:
+    """(interpolated renormalised normals, flat face normals) at the hit pixels of :func:`_tessellated_gbuffer`:
+    they depend on the tessellation only, so are formed once for every technique and exponent (read-only)."""
+    verts, _, _, tri, w = _tessellated_gbuffer(level, size)
+    interp_n = np.sum(w[..., None] * verts[tri], axis=1)
+    face_n = np.cross(verts[tri[:, 1]] - verts[tri[:, 0]], verts[tri[:, 2]] - verts[tri[:, 0]])
+    face_n *= np.sign(np.sum(face_n * verts[tri[:, 0]], axis=-1, keepdims=True))
+    out = (interp_n / np.linalg.norm(interp_n, axis=-1, keepdims=True),
+           face_n / np.linalg.norm(face_n, axis=-1, keepdims=True))
+    for a in out:
+        a.setflags(write=False)
+    return out
+
+
 def _shade(fn: Any, light: np.ndarray, level: int, size: int) -> dict[str, np.ndarray]:
     """Per-pixel exact (smooth sphere), Gouraud and per-fragment values (luminance) of ``fn(normals, l, v)``
     over the pixels where the tessellated sphere is hit."""
     verts, faces, exact_n, tri, w = _tessellated_gbuffer(level, size)
+    fragment_n, flat_n = _shading_normals(level, size)
     view = np.array([0.0, 0.0, 1.0])
 
     def run(n: np.ndarray) -> np.ndarray:
         return luminance(fn(n, np.tile(light, (len(n), 1)), np.tile(view, (len(n), 1))))
 
     vert_c = run(verts)
-    interp_n = np.sum(w[..., None] * verts[tri], axis=1)
-    face_n = np.cross(verts[tri[:, 1]] - verts[tri[:, 0]], verts[tri[:, 2]] - verts[tri[:, 0]])
-    face_n *= np.sign(np.sum(face_n * verts[tri[:, 0]], axis=-1, keepdims=True))
-    return {"exact": run(exact_n), "gouraud": np.sum(w * vert_c[tri], axis=1),
-            "fragment": run(interp_n / np.linalg.norm(interp_n, axis=-1, keepdims=True)),
-            "flat": run(face_n / np.linalg.norm(face_n, axis=-1, keepdims=True)), "exact_n": exact_n}
+    return {"exact": run(exact_n), "gouraud": np.sum(w * vert_c[tri], axis=1), "fragment": run(fragment_n),
+            "flat": run(flat_n), "exact_n": exact_n}
 
 
 def _err(img: np.ndarray, ref: np.ndarray) -> float:
@@ -415,13 +427,16 @@ def env_radiance_many(fns: dict[str, Any], radiance: np.ndarray, normals: np.nda
     per = max(1, ENV_CHUNK // len(local))
     for s0 in range(0, len(normals), per):
         sl = slice(s0, s0 + per)
-        d = (local[None, :, :1] * t[sl, None] + local[None, :, 1:2] * b[sl, None]
-             + local[None, :, 2:3] * normals[sl, None]).reshape(-1, 3)
-        k = len(d) // len(local)
+        d_full = (local[None, :, :1] * t[sl, None] + local[None, :, 1:2] * b[sl, None]
+                  + local[None, :, 2:3] * normals[sl, None])
         nrep, vrep = np.repeat(normals[sl], len(local), 0), np.repeat(views[sl], len(local), 0)
-        lrad = latlong.bilinear_lookup(radiance, d)
-        for a in (nrep, d, vrep):  # shared by the techniques: none may write into them
+        # shared by the techniques: none may write into them (frozen with their base, so that the brdf techniques'
+        # GeometryDr converts them to drjit once per chunk: common._packed_directions)
+        for a in (nrep, d_full, vrep):
             a.setflags(write=False)
+        d = d_full.reshape(-1, 3)
+        k = len(d) // len(local)
+        lrad = latlong.bilinear_lookup(radiance, d)
         for name, fn in fns.items():
             q = fn(nrep, d, vrep)
             out[name][sl] = np.sum((w[None, :, None] * (q * lrad).reshape(k, len(local), 3)), axis=1)
