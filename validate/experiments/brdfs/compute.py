@@ -90,8 +90,13 @@ class Measurements:
     plane: dict[str, Any] = field(default_factory=dict)
 
 
+@lru_cache(maxsize=16)
 def _normals(n: int) -> np.ndarray:
-    return np.tile(np.array([0.0, 0.0, 1.0]), (n, 1))
+    """(n, 3) copies of the local frame's normal +z, read-only (memoised by n: every grid, furnace and V-groove call
+    of a size shares one)."""
+    out = np.tile(np.array([0.0, 0.0, 1.0]), (n, 1))
+    out.setflags(write=False)
+    return out
 
 
 def call(tech: Technique | str, params: dict[str, Any], lights: np.ndarray, views: np.ndarray) -> np.ndarray:
@@ -436,10 +441,15 @@ def env_radiance_many(fns: dict[str, Any], radiance: np.ndarray, normals: np.nda
             a.setflags(write=False)
         d = d_full.reshape(-1, 3)
         k = len(d) // len(local)
-        lrad = latlong.bilinear_lookup(radiance, d)
+        lrad = latlong.bilinear_lookup(radiance, d).reshape(k, len(local), 3)
+        # w·(q·L) summed over the directions (numpy's sum over axis 1 adds them in order): the products formed into
+        # one scratch array per chunk, reused by every technique (no fresh (k, m, 3) temporaries per call)
+        scratch = np.empty((k, len(local), 3))
         for name, fn in fns.items():
             q = fn(nrep, d, vrep)
-            out[name][sl] = np.sum((w[None, :, None] * (q * lrad).reshape(k, len(local), 3)), axis=1)
+            np.multiply(q.reshape(k, len(local), 3), lrad, out=scratch)
+            np.multiply(w[None, :, None], scratch, out=scratch)
+            out[name][sl] = np.sum(scratch, axis=1)
     return out
 
 
