@@ -222,47 +222,77 @@ def _cosine_about_soa(n: Vec, u1: np.ndarray, u2: np.ndarray) -> Vec:
     return tuple(lx * t[k] + ly * b[k] + lz * n[k] for k in range(3))  # type: ignore[return-value]
 
 
+VGROOVE_BLOCK = 1 << 18  # paths per block of the tracer's work (a multiple of RAY_PACKET)
+
+
 def trace_vgrooves(scene: Any, mesh_index: np.ndarray, lights: np.ndarray, views: np.ndarray, albedo: float,
                    paths: int, depth: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
     """Macroscopic f_r·cos θ_l of V-groove sets (grooves along y; pair m on mesh ``mesh_index[m]`` of
     :func:`_mesh_scene`) for each (l, v) pair: (mean (M,), standard error (M,)) over ``paths`` paths per pair
     (see the module docstring).
 
-    The paths' vectors are kept by components (three contiguous (N,) float64 arrays, the rays' float32 components
-    formed from them directly): the same float64 operations, random numbers and rays as the (N, 3) form, without
-    its strided temporaries."""
+    The paths' vectors are kept by components in buffers allocated once ((3, N) float64, the live paths compacted
+    to the front after each bounce), and each bounce is worked through in blocks of :data:`VGROOVE_BLOCK` paths
+    (small temporaries that the allocator reuses, instead of fresh (N,)-sized ones per operation). Every bounce is
+    still one wavefront: its uniform numbers are drawn for all live paths at once, in the same order, so the same
+    float64 operations, random numbers and rays as the (N, 3) form (every ray's hit is its own: full ray packets)."""
     rng = np.random.default_rng(seed)
     m = len(views)
+    total = m * paths
     k = np.repeat(np.arange(m), paths)
     half = 0.5 * bs.VGROOVE_FOOTPRINT
-    px = rng.uniform(-half, half, len(k)) + SLOPE_SPACING * mesh_index[k]
-    py = rng.uniform(-half, half, len(k))
+    px = rng.uniform(-half, half, total) + SLOPE_SPACING * mesh_index[k]
+    py = rng.uniform(-half, half, total)
     vz = np.maximum(views[:, 2], 1e-3)[k]
     lgt = tuple(np.ascontiguousarray(lights[:, c])[k] for c in range(3))
-    # The live paths' rays are kept compact (row j = path alive[j]); every live path has had the same number
-    # of facet hits, so its throughput ρ^b is one number (the same float64 products as per path).
     vk = tuple(np.ascontiguousarray(views[:, c])[k] for c in range(3))
-    origin: Vec = (px + 2.0 * vk[0] / vz, py + 2.0 * vk[1] / vz, np.zeros(len(k)) + 2.0 * vk[2] / vz)
-    direction: Vec = (-vk[0], -vk[1], -vk[2])
-    del vk, px, py, vz
+    org, dirn, nrm = np.empty((3, total)), np.empty((3, total)), np.empty((3, total))
+    org[0], org[1], org[2] = px + 2.0 * vk[0] / vz, py + 2.0 * vk[1] / vz, np.zeros(total) + 2.0 * vk[2] / vz
+    for c in range(3):
+        dirn[c] = -vk[c]
+    del vk, px, py, vz, k
+    u1, u2 = np.empty(total), np.empty(total)
+    # The live paths are kept compact (entry j = path alive[j]); every live path has had the same number of facet
+    # hits, so its throughput ρ^b is one number (the same float64 products as per path).
     throughput = 1.0
-    value = np.zeros(len(k))
-    alive = np.arange(len(k))
+    value = np.zeros(total)
+    alive = np.arange(total)
+    count = total
     for _ in range(depth):
-        hit, p, n = _intersect_hits(scene, origin, direction)
-        alive = alive[hit]
-        if alive.size == 0:
+        kept = 0
+        for s in range(0, count, VGROOVE_BLOCK):
+            e = min(s + VGROOVE_BLOCK, count)
+            hit, p, n = _intersect_hits(scene, (org[0, s:e], org[1, s:e], org[2, s:e]),
+                                        (dirn[0, s:e], dirn[1, s:e], dirn[2, s:e]))
+            idx = alive[s:e][hit]
+            nh = len(idx)
+            if nh == 0:
+                continue
+            la = tuple(c[idx] for c in lgt)
+            cos_l = n[0] * la[0] + n[1] * la[1] + n[2] * la[2]
+            lit = cos_l > 0.0
+            origin = (p[0] + RAY_EPS * n[0], p[1] + RAY_EPS * n[1], p[2] + RAY_EPS * n[2])
+            occ = np.zeros(nh, dtype=bool)
+            if lit.any():
+                occ[lit] = _occluded_soa(scene, tuple(c[lit] for c in origin), tuple(c[lit] for c in la))
+            value[idx] += np.where(lit & ~occ, throughput * albedo / np.pi * cos_l, 0.0)
+            # compaction in place: kept + nh ≤ e, and this block's entries were read above
+            alive[kept:kept + nh] = idx
+            for c in range(3):
+                org[c, kept:kept + nh] = origin[c]
+                nrm[c, kept:kept + nh] = n[c]
+            kept += nh
+        count = kept
+        if count == 0:
             break
-        la = tuple(c[alive] for c in lgt)
-        cos_l = n[0] * la[0] + n[1] * la[1] + n[2] * la[2]
-        lit = cos_l > 0.0
-        origin = (p[0] + RAY_EPS * n[0], p[1] + RAY_EPS * n[1], p[2] + RAY_EPS * n[2])
-        occ = np.zeros(alive.size, dtype=bool)
-        if lit.any():
-            occ[lit] = _occluded_soa(scene, tuple(c[lit] for c in origin), tuple(c[lit] for c in la))
-        value[alive] += np.where(lit & ~occ, throughput * albedo / np.pi * cos_l, 0.0)
         throughput *= albedo
-        direction = _cosine_about_soa(n, rng.random(alive.size), rng.random(alive.size))
+        rng.random(out=u1[:count])
+        rng.random(out=u2[:count])
+        for s in range(0, count, VGROOVE_BLOCK):
+            e = min(s + VGROOVE_BLOCK, count)
+            d = _cosine_about_soa((nrm[0, s:e], nrm[1, s:e], nrm[2, s:e]), u1[s:e], u2[s:e])
+            for c in range(3):
+                dirn[c, s:e] = d[c]
     per = value.reshape(m, paths)
     return per.mean(axis=1), per.std(axis=1, ddof=1) / np.sqrt(paths)
 
