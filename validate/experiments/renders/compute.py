@@ -25,6 +25,7 @@ Lambertian plane and sphere (``env_spp``; three.js only — ``KIND_SKIP``).
 
 from __future__ import annotations
 
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -197,19 +198,36 @@ def engine_names(kind: str, s: Settings) -> list[str]:
     return [n for e in s.engines for n in (e, *extra.get(e, ()))]
 
 
-def measure_scene(scene: rs.RenderScene, kind: str, s: Settings) -> SceneResult:
+Prepared = tuple[dict[str, "RenderReference | None"], np.ndarray, dict[str, tuple[np.ndarray, np.ndarray]]]
+
+
+def prepare_references(scene: rs.RenderScene, kind: str, s: Settings) -> Prepared:
+    """The scene's references, hit mask and power references (Mitsuba only: no browser, safe on the reference
+    thread of :func:`compute`)."""
     refs, hit = references(scene, kind, s)
-    truths = {k: truth(r, hit, s.passes) for k, r in refs.items()}
-    res = SceneResult(scene, kind, {k: t[0] for k, t in truths.items()}, {}, hit, {k: t[1] for k, t in truths.items()},
-                      power_refs=power_references(scene, kind, s), dof=max(s.passes - 1, 1))
+    return refs, hit, power_references(scene, kind, s)
+
+
+def measure_scene(scene: rs.RenderScene, kind: str, s: Settings, prepared: Future | None = None) -> SceneResult:
+    """Every engine's render of ``scene`` judged against its references; ``prepared``: a future of
+    :func:`prepare_references` (computed meanwhile on another thread), else they are computed here. The engines
+    render first, so the browser works while the references are traced."""
+    rendered: dict[str, engines.EngineRender | str] = {}  # engine → its render, or why it was skipped
     for name in engine_names(kind, s):
         if name in KIND_SKIP.get(kind, {}):
-            res.skipped[name] = KIND_SKIP[kind][name]
+            rendered[name] = KIND_SKIP[kind][name]
             continue
         try:
-            er = engines.render(name, scene)
+            rendered[name] = engines.render(name, scene)
         except Exception as exc:  # an engine that cannot start is skipped with its reason, never a crash
-            res.skipped[name] = " ".join(f"{type(exc).__name__}: {exc}".split())[:300]
+            rendered[name] = " ".join(f"{type(exc).__name__}: {exc}".split())[:300]
+    refs, hit, power = prepared.result() if prepared is not None else prepare_references(scene, kind, s)
+    truths = {k: truth(r, hit, s.passes) for k, r in refs.items()}
+    res = SceneResult(scene, kind, {k: t[0] for k, t in truths.items()}, {}, hit, {k: t[1] for k, t in truths.items()},
+                      power_refs=power, dof=max(s.passes - 1, 1))
+    for name, er in rendered.items():
+        if isinstance(er, str):
+            res.skipped[name] = er
             continue
         out = EngineResult(er.image[..., :3].astype(np.float64), er.image[..., 3], er.frame_ms, er.wall_s, er.version,
                            info=er.info, stderr=er.stderr)
@@ -227,16 +245,34 @@ def measure_scene(scene: rs.RenderScene, kind: str, s: Settings) -> SceneResult:
 
 
 def compute(ctx: Any, s: Settings) -> Measurements:
-    from ...gl import runtime
+    """Mitsuba's references on one thread, the engines' pages in this one (the playwright sync API is bound to the
+    thread that started the browser): the two overlap, the numbers are those of the serial order (each reference is
+    seeded and computed alone on its thread; each engine render is the same page call)."""
+    from ...gl import browser_page, runtime
 
     probe, probe_note = load_probe(ctx)
     from .cdf_compute import compute_cdf
-    from .shadow_compute import compute_shadows
+    from .shadow_compute import compute_shadows, shadow_scene_list
 
-    out = [measure_scene(sc, kind, s) for sc, kind in ctx.progress(scene_list(s, probe), "renders: scenes")]
+    scenes = scene_list(s, probe)
+    shadow_scenes = shadow_scene_list(s)
+    pool = ThreadPoolExecutor(1, thread_name_prefix="renders-references")
+    try:
+        prepared = [pool.submit(prepare_references, sc, kind, s) for sc, kind in scenes]
+        shadow_refs = [pool.submit(render_reference, sc, s.shadow_spp, s.passes, s.seed) for sc in shadow_scenes]
+        bsdf = pool.submit(gltf_bsdf_checks, s)
+        browser_page.preload([engines.ENGINES[n][0] for kind in dict.fromkeys(k for _, k in scenes)
+                              for n in engine_names(kind, s) if n not in KIND_SKIP.get(kind, {})])
+        out = [measure_scene(sc, kind, s, f)
+               for (sc, kind), f in ctx.progress(list(zip(scenes, prepared, strict=True)), "renders: scenes")]
+        shadows = compute_shadows(ctx, s, shadow_refs)
+        checks = bsdf.result()
+    except BaseException:  # an error or an interrupt: drop the references not yet started, do not wait for them
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown()
     return Measurements(s, out, startup={"webgl2_s": runtime.startup_seconds("webgl2"), **time_info(out)},
-                        probe_note=probe_note, bsdf_checks=gltf_bsdf_checks(s), shadows=compute_shadows(ctx, s),
-                        cdf=compute_cdf(ctx, s))
+                        probe_note=probe_note, bsdf_checks=checks, shadows=shadows, cdf=compute_cdf(ctx, s))
 
 
 def time_info(scenes: list[SceneResult]) -> dict[str, Any]:

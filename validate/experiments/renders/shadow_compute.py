@@ -18,6 +18,7 @@ regions`). Per engine × shadow type:
 
 from __future__ import annotations
 
+from concurrent.futures import Future
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -113,11 +114,13 @@ def measure_engine(sr: ShadowSceneResult, engine: str, shadow_type: str) -> Shad
     return out
 
 
-def measure_shadow_scene(scene: rss.ShadowScene, s: Settings) -> ShadowSceneResult:
+def measure_shadow_scene(scene: rss.ShadowScene, s: Settings, prepared: Future | None = None) -> ShadowSceneResult:
+    """The scene's reference (``prepared``: its future, traced on another thread; else here) and every engine's
+    shadow types against it."""
     import time
 
     t0 = time.perf_counter()
-    ref = render_reference(scene, s.shadow_spp, s.passes, s.seed)
+    ref = prepared.result() if prepared is not None else render_reference(scene, s.shadow_spp, s.passes, s.seed)
     t_ref = time.perf_counter() - t0
     mask = interior_mask(ref.hit, np.ones(ref.hit.shape))
     regions = {"all": mask, **{k: m & mask for k, m in rss.regions(scene).items()}}
@@ -133,9 +136,14 @@ def measure_shadow_scene(scene: rss.ShadowScene, s: Settings) -> ShadowSceneResu
     return sr
 
 
-def compute_shadows(ctx: Any, s: Settings) -> list[ShadowSceneResult]:
-    """(e) every shadow scene at ``shadow_resolution`` (none without ``shadow_engines``)."""
-    if not s.shadow_engines:
-        return []
-    scenes = rss.shadow_scenes(s.shadow_resolution)
-    return [measure_shadow_scene(sc, s) for sc in ctx.progress(scenes, "renders: shadows")]
+def shadow_scene_list(s: Settings) -> list[rss.ShadowScene]:
+    """(e) the shadow scenes at ``shadow_resolution`` (none without ``shadow_engines``)."""
+    return rss.shadow_scenes(s.shadow_resolution) if s.shadow_engines else []
+
+
+def compute_shadows(ctx: Any, s: Settings, prepared: list[Future] | None = None) -> list[ShadowSceneResult]:
+    """(e) every shadow scene of :func:`shadow_scene_list`; ``prepared``: their references' futures, in order."""
+    scenes = shadow_scene_list(s)
+    futures: list[Future | None] = list(prepared) if prepared is not None else [None] * len(scenes)
+    return [measure_shadow_scene(sc, s, f)
+            for sc, f in ctx.progress(list(zip(scenes, futures, strict=True)), "renders: shadows")]

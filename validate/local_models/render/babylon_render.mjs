@@ -71,8 +71,18 @@ function geometry(scene, g) {
     // lighting (the normal flipped towards the viewer) it faces the camera at +z in either handedness.
     return BABYLON.MeshBuilder.CreatePlane('plane', {size: g.size, sideOrientation: BABYLON.Mesh.DOUBLESIDE}, scene);
   }
-  return BABYLON.MeshBuilder.CreateSphere('s', {diameter: 2 * g.radius, segments: g.segments[1] - 2}, scene);
+  // MeshBuilder.CreateSphere's own steps (sphereBuilder.pure.js: new Mesh, the default side orientation, the vertex
+  // data applied), with the vertex data built once per description: a 254-segment sphere is the same data every scene
+  const options = {diameter: 2 * g.radius, segments: g.segments[1] - 2,
+                   sideOrientation: BABYLON.Mesh._GetDefaultSideOrientation(undefined)};
+  const key = JSON.stringify(options);
+  if (!sphereData.has(key)) sphereData.set(key, BABYLON.CreateSphereVertexData(options));
+  const sphere = new BABYLON.Mesh('s', scene);
+  sphere._originalBuilderSideOrientation = options.sideOrientation;
+  sphereData.get(key).applyToMesh(sphere, undefined);
+  return sphere;
 }
+const sphereData = new Map();  // sphere options -> VertexData (CreateSphereVertexData, built once per page)
 
 export async function renderBabylon(d) {
   const eng = getEngine();
