@@ -20,7 +20,8 @@ Probe materials (b): white spheres over metalness × roughness, references (i) g
 ``gltf_metallic_roughness`` plug-in) and (ii) the multiscatter microsurface, kept apart (block at the end); the glTF
 BSDF's own checks (χ², albedo quadrature, roughconductor) in ``Measurements.bsdf_checks``.
 Rectangular area light (d): Mitsuba's ``rectangle`` with an ``area`` emitter of radiance = the light's nits, over the
-Lambertian plane and sphere (``env_spp``; three.js only — ``KIND_SKIP``).
+Lambertian plane and sphere (``env_spp``): three.js, and Babylon as ``KIND_NOTE`` states (its shader, Heitz's
+tables); Filament has no area lights (``KIND_SKIP``).
 """
 
 from __future__ import annotations
@@ -55,13 +56,21 @@ KIND_ENGINES = {"hemisphere": {"three": ("three_probe",)}}
 FILAMENT_NO_IBL = ("Filament 1.53.4's npm package has no IBL prefilter (cmgen/libibl are not in the WebAssembly "
                    "build): IndirectLight.Builder takes only precomputed irradianceSh and a prefiltered reflections "
                    "cubemap, so an environment cannot go through Filament's own pipeline")
-KIND_SKIP = {"rect": {"babylon": "Babylon 9.35's RectAreaLight loads its LTC tables from assets.babylonjs.com "
-                                 "(Lights/LTC/ltcTextureTool.js: Tools.LoadFileAsync of areaLightsLTC.bin); the "
-                                 "render machine has no network",
-                      "filament": "Filament has no area lights (LightManager types: SUN, DIRECTIONAL, POINT, "
+KIND_SKIP = {"rect": {"filament": "Filament has no area lights (LightManager types: SUN, DIRECTIONAL, POINT, "
                                   "FOCUSED_SPOT, SPOT)"},
              "furnace": {"filament": FILAMENT_NO_IBL}, "hemisphere": {"filament": FILAMENT_NO_IBL},
              "probe": {"filament": FILAMENT_NO_IBL}, "probe_lambert": {"filament": FILAMENT_NO_IBL}}
+# engines rendered with a stated substitution, by kind: the label travels with the engine's info, the report row and
+# the claims. Babylon 9.35's RectAreaLight loads its LTC tables from assets.babylonjs.com
+# (Lights/LTC/ltcTextureTool.js: Tools.LoadFileAsync of areaLightsLTC.bin) and the render machine has no network;
+# babylon_render.mjs puts Heitz et al. 2016's GGX tables (three.js's RectAreaLightTexturesLib LTC_MAT_1 / LTC_MAT_2)
+# where AreaLight looks for them (scene._ltcTextures, @internal: 9.35 has no public LTC provider) in the channel
+# layout its ltcHelperFunctions reads. The Lambertian scenes' diffuse term is LTCEvaluate with the identity matrix
+# (the rectangle's form factor) and their specular term is 0 (R0 = 0), so their pixels do not depend on the table
+# (measured: bit-identical with a constant table; a dielectric with F0 = 0.04 at roughness 0.5 is not).
+RECT_LTC_LABEL = ("Babylon's RectAreaLight shader with Heitz's tables (Babylon's own areaLightsLTC.bin is not "
+                  "obtainable offline)")
+KIND_NOTE = {"rect": {"babylon": RECT_LTC_LABEL}}
 # (b) probe on metal spheres: the furnace budget per unit radiance (2 half-float lookups + SwiftShader trig), relative
 PROBE_BUDGET_REL = FURNACE_BUDGET
 
@@ -231,6 +240,8 @@ def measure_scene(scene: rs.RenderScene, kind: str, s: Settings, prepared: Futur
             continue
         out = EngineResult(er.image[..., :3].astype(np.float64), er.image[..., 3], er.frame_ms, er.wall_s, er.version,
                            info=er.info, stderr=er.stderr)
+        if name in KIND_NOTE.get(kind, {}):
+            out.info["note"] = KIND_NOTE[kind][name]
         mask = interior_mask(hit, out.coverage)
         res.mask = mask
         for k, (m, se, dof) in truths.items():

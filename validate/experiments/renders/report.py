@@ -11,7 +11,7 @@ from ...format import pm as fpm
 from ...metrics.pixel_z import PixelJudgement, judge
 from ..base import Figure, Section, Table
 from ..formatting import pct, pm
-from .compute import Measurements, SceneResult, budget
+from .compute import RECT_LTC_LABEL, Measurements, SceneResult, budget
 
 FILAMENT_NOTE = ("Filament (npm 1.53.4) renders the punctual lights (c) only: a glTF binary of the geometry through "
                  "gltfio's ubershader and its LightManager lights (Φ = 4π·cd point, π·cd spot), post-processing off, "
@@ -293,9 +293,13 @@ def probe_findings(m: Measurements) -> list[str]:
 RECT_NOTE = ("A square 0.6 × 0.6 m area light of 10 nits beside the view (no camera ray meets it), tilted onto the "
              "Lambertian plane and facing the Lambertian sphere, against Mitsuba's rectangle with an area emitter of "
              "that radiance (next-event estimation; per-pixel standard error from 8 passes). three.js's "
-             "RectAreaLight with RectAreaLightUniformsLib.init()'s LTC tables; Babylon is skipped (its LTC tables "
-             "come from assets.babylonjs.com). Pixels are judged apart where the whole rectangle is above the "
-             "surface's horizon (Lambert's polygon formula exact, no clipping) and where it is clipped.")
+             "RectAreaLight with RectAreaLightUniformsLib.init()'s LTC tables; Babylon's row is " + RECT_LTC_LABEL +
+             ": its RectAreaLight loads areaLightsLTC.bin from assets.babylonjs.com, so Heitz et al. 2016's GGX "
+             "tables (three's LTC_MAT_1 / LTC_MAT_2) are put where Babylon 9.35 looks for them (scene._ltcTextures; "
+             "it has no public LTC provider) in the layout its shader reads. The Lambertian pixels do not depend on "
+             "the table (diffuse = the LTC with the identity matrix, specular 0; measured bit-identical with a "
+             "constant table). Pixels are judged apart where the whole rectangle is above the surface's horizon "
+             "(Lambert's polygon formula exact, no clipping) and where it is clipped.")
 
 
 def rect_table(m: Measurements) -> Table | None:
@@ -313,7 +317,8 @@ def rect_table(m: Measurements) -> Table | None:
                 if not mk.any():
                     continue
                 j = judge(er.image, ref, se, sr.dof, mk, b, text)
-                rows.append([sr.scene.name, name, part, j.n_pixels, f"{100 * j.fraction_accepted:.2f}",
+                rows.append([sr.scene.name, f"{name} ({er.info['note']})" if er.info.get("note") else name, part,
+                             j.n_pixels, f"{100 * j.fraction_accepted:.2f}",
                              fpm(j.mean_rel, j.mean_rel_unc, scale=100), fpm(j.max_rel, j.max_rel_unc, scale=100),
                              fpm(j.mean_signed_rel, j.mean_rel_unc, scale=100),
                              "" if power is None else f"{power:.4g}"])
@@ -327,8 +332,18 @@ def rect_table(m: Measurements) -> Table | None:
 
 
 def rect_findings(m: Measurements) -> list[str]:
-    """three issue 19214: RectAreaLight.intensity is luminance (nits); its .power is π·A·intensity lm."""
+    """three issue 19214: RectAreaLight.intensity is luminance (nits); its .power is π·A·intensity lm. Babylon:
+    the same unit (photometric scale 1 for area lights), shown by its units claim; its row's table substitution."""
     out = []
+    for sr in (s for s in m.scenes if s.kind == "rect"):
+        for name, er in sr.engines.items():
+            if er.info.get("note"):
+                j = er.judgements["mitsuba"]
+                out.append(f"{sr.scene.name}, {name} — {er.info['note']}: {pct(j.fraction_accepted)} of "
+                           f"{j.n_pixels} px accepted, mean |rel| {fpm(j.mean_rel, j.mean_rel_unc, '%')}, max "
+                           f"{fpm(j.max_rel, j.max_rel_unc, '%')}, bias {100 * j.mean_signed_rel:+.3f} %; "
+                           "RectAreaLight.intensity is radiance (nits): light.js _getPhotometricScale is 1 for "
+                           "area lights in every intensity mode.")
     for sr in (s for s in m.scenes if s.kind == "rect" and s.scene.geometry == "sphere"):
         li = sr.scene.lights[0]
         for er in sr.engines.values():
