@@ -3,7 +3,8 @@
 Default run (≈ 10 s on 2 cores, Mitsuba at 16² only): the scene's checks, the geometric visibility against Mitsuba's
 path-traced shadow factor, the closed-form unshadowed radiance against Mitsuba's sphere lights, the penumbra-width
 metric and its power, the bench tables' units; and Filament's PCF on both scenes at 32² (its page, shaders and two
-frames: measured ≈ 10 s on the shared 2 cores; skipped without Chromium). three.js and Babylon.js are ``slow``.
+frames: measured 11.8 s wall with the browser already up from test_renders, 15.6 s alone, on the shared 2 cores;
+skipped without Chromium). three.js and Babylon.js are ``slow``.
 """
 
 from __future__ import annotations
