@@ -20,8 +20,10 @@
 //   receives (self-shadowing held off by Filament's default biases: measured, the lit plane stays lit), the box
 //   (a second gltfio asset, grey Lambertian) only casts.
 // * the spot light casts no shadow from a caster outside the camera's view (measured: the scene's box at x = 1.4
-//   casts nothing; the same box moved to x = 0.6, in view, casts) — a difference from the directional light, whose
-//   out-of-view caster does cast; the experiment keeps it as a regression claim (shadow_claims.LEAK_REGRESSIONS).
+//   casts nothing; the same box moved to (0.6, 0, 0.5), in view, casts, and so does the scene's own box when the
+//   orthographic view is widened to ±2 m, which takes it in) — so Filament culls a spot light's shadow casters by the
+//   camera's frustum, where its directional light keeps the out-of-view caster; the experiment keeps it as a
+//   regression claim (shadow_claims.LEAK_REGRESSIONS).
 
 // the shadow-casting light's ShadowOptions ({mapSize: map_size}); returns 'applied' or why not (this build: unbound)
 export function applyShadowOptions(eng, ent, sh) {
