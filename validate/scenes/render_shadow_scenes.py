@@ -34,7 +34,10 @@ light), near/far ``SHADOW_NEAR``/``SHADOW_FAR`` m. Shadow types (``SHADOW_TYPES`
 PCFSoft (removed in r180: WebGLShadowMap warns and uses PCF) and VSM (radius 1, blurSamples 8, its defaults);
 Babylon 9.35 PCF (usePercentageCloserFiltering, QUALITY_HIGH), PCSS (useContactHardeningShadow — Babylon's
 contact-hardening shadows *are* its PCSS; contactHardeningLightSizeUVRatio 0.1, its default), ESM
-(useExponentialShadowMap, depthScale 50) and blurred ESM (useBlurExponentialShadowMap).
+(useExponentialShadowMap, depthScale 50) and blurred ESM (useBlurExponentialShadowMap); Filament 1.53.4
+(``filament_shadows.mjs``) PCF only — its JS View binds View$ShadowType but no setShadowType, and its ShadowOptions
+(map size, biases, PCSS light size) are not bound, so Filament's defaults hold (1024² map, constantBias 1 mm,
+normalBias 1) and its own light frustum; its plane casts as well as receives (measured: otherwise no shadow at all).
 
 References
 ----------
@@ -67,7 +70,8 @@ MAP_SIZE = 512
 LIGHT_DISTANCE = 5.0
 ORTHO_HALF = 2.5
 SHADOW_NEAR, SHADOW_FAR = 0.5, 10.0
-SHADOW_TYPES = {"three": ("basic", "pcf", "pcfsoft", "vsm"), "babylon": ("pcf", "pcss", "esm", "blur_esm")}
+SHADOW_TYPES = {"three": ("basic", "pcf", "pcfsoft", "vsm"), "babylon": ("pcf", "pcss", "esm", "blur_esm"),
+                "filament": ("pcf",)}
 VISIBILITY_SAMPLES = 16  # per axis of the light disc (16² cos-weighted samples per pixel)
 
 
