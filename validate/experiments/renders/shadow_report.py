@@ -89,7 +89,8 @@ def leak_finding(shadows: list[ShadowSceneResult]) -> list[str]:
         return []
     return ["three issue 23551 (shadow light leaks that no bias fixes), umbra pixels brighter than the budget (light "
             "leak; receiver not casting, three's bias 0, Babylon's 5e-5): " + "; ".join(parts) + ". A leak here is "
-            "the filter's, not a bias's: the receiver casts nothing."]
+            "the filter's, not a bias's: the receiver casts nothing (three's VSM excepted: it draws receivers into "
+            "its map, which darkens the lit plane, not the umbra)."]
 
 
 def shadow_findings(shadows: list[ShadowSceneResult]) -> list[str]:
