@@ -15,6 +15,14 @@ the probes' convention, d = (sin φ sin θ, cos θ, −cos φ sin θ); 180° fac
 hemisphere. Mitsuba gets the same texels (``envmap`` on :func:`~validate.scenes.render_scenes.mitsuba_envmap_nodes`);
 Babylon gets them as the RGBE file of :func:`~validate.scenes.render_scenes.engine_environment` — exact, since the
 probe is itself an RGBE file (every texel is m·2^(E−136) with integer mantissas, which re-encode unchanged).
+
+What the scene measures under this sun (diagnosed; docs/experiments/renders.md, "Babylon PR 16247"): the sun is 6
+texels (2 rows × 3 columns, 0.70° × 1.05°) holding 63 % of the probe's luminous energy ∫lum dω, and Babylon's
+panorama-to-cube conversion point-samples it on a fixed lattice (W/4 = 256 points per face edge at every size as
+shipped), so the cube keeps 0.840 / 0.837 / 0.836 of that energy at 64 / 128 / 256 at this azimuth — an alias, not a
+bias: the sun moved by whole panorama columns (0.35° each, −3 … +4) gives a cube 0.83–1.32 of it, and by −2 / +1
+columns a sphere 1.10–1.38 × Mitsuba.
+``SUN_AZIMUTH_DEG`` therefore fixes the sign of the engine's error as well as its size.
 """
 
 from __future__ import annotations

@@ -9,11 +9,18 @@ its uncertainty" means a Šidák-corrected z-test at α = 0.01.
   Mitsuba beyond its uncertainty: r + z*σ < 1 (the PR: "varies considerably (and usually gets darker)" below 256).
   Power: the corrected behaviour, the truth's own image as the engine (r = 1).
 * ``shipped.regression`` — as shipped (supersampling forced by PR 16247) the irradiance is darker than Mitsuba at
-  every size, 256 included: max_N r + z*σ < 1. Power: the truth's own image as the engine (r = 1).
+  every size, 256 included: max_N r + z*σ < 1. Power: the truth's own image as the engine (r = 1). Cause
+  (diagnosed, docs/experiments/renders.md): the panorama-to-cube conversion point-samples the sun (6 texels, 63 % of
+  the luminous energy) on a lattice of W/4 points per face edge at every size, so the cube holds 0.84 of the energy
+  at this sun position, and the CDF's equirect grid aliases it again (0.79–0.83 of it); the sign is the alias's:
+  with the sun 0.35°–0.70° away the same path is 10–38 % *brighter* than Mitsuba. Not a range clamp (the probe / 16
+  gives every digit), not the 4096 importance samples (16384 give every digit).
 * ``supersample`` — PR 16247's fix does what it says: as shipped, the largest departure below 256 from the 256 result,
   max_{N<256} |r(N) − r(256)|, is smaller than before the PR (the threshold is the pre-PR departure measured in the
   same run; at 256 the two paths are identical: W/4/256 = 1 sample per texel for W = 1024). Power: the pre-PR path
-  itself (its departure is the threshold: not below it).
+  itself (its departure is the threshold: not below it). What the fix does is make the sample lattice the same at
+  every size (round(W/4/N) corner-aligned sub-samples per texel: the points k/256 of each face for N = 64, 128, 256),
+  so r(N) ≈ r(256) because the same panorama points are read — not because the conversion converges.
 """
 
 from __future__ import annotations
@@ -52,7 +59,9 @@ def cdf_claims(scenes: list[CdfScene]) -> list[Claim]:
             worst = max(shipped, key=lambda r: r.ratio + zc * r.ratio_unc)
             c = Claim("renders.babylon.cdf_irradiance.shipped.regression",
                       f"Babylon's CDF irradiance as shipped (supersampled, PR 16247) is darker than Mitsuba at every "
-                      f"cube size {', '.join(map(str, sizes))} on {sc.note} (the brightest is size {worst.size})",
+                      f"cube size {', '.join(map(str, sizes))} on {sc.note} (the brightest is size {worst.size}): its "
+                      "panorama-to-cube conversion point-samples the sun on a fixed lattice (W/4 points per face "
+                      "edge) and the CDF grid re-samples the cube — an alias whose sign is this sun position's",
                       "largest energy ratio engine/Mitsuba over the sizes", 1.0, worst.ratio, zc * worst.ratio_unc,
                       "<", "", SOURCE_Z + "; 1 = Mitsuba's irradiance")
             out.append(c.with_power("corrected behaviour: the path tracer's own image as the engine (r = 1)", 1.0))

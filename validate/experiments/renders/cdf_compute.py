@@ -7,8 +7,9 @@ Per size × variant: the per-pixel judgement (:func:`validate.metrics.pixel_z.ju
 channels (engine e, Mitsuba mean m). Its uncertainty is the reference's: σ_r = r·√(Σ s²)/Σ m (s the per-pixel
 standard error over the passes; the passes are independent, the pixels too). Babylon's own estimate is deterministic
 (4096 Hammersley points per irradiance texel, no random seed), so it adds no variance; its sampling error is part of
-what is measured. Babylon only (full runs): its first call (page, shaders, first CDF cube) took 42–45 s on the
-shared 2 cores (measured); the whole group (reference + 6 renders) 172 s wall from a cold page.
+what is measured (and negligible here: 16384 points give the same r to 4 digits, 64 points move it by 0.009 —
+scripts/diagnose_renders/cdf_patch.py). Babylon only (full runs): its first call (page, shaders, first CDF cube)
+took 42–45 s on the shared 2 cores (measured); the whole group (reference + 6 renders) 172 s wall from a cold page.
 """
 
 from __future__ import annotations

@@ -42,9 +42,19 @@ LEAK_REGRESSIONS: dict[tuple[str, ...], str] = {
 # (engine, shadow type) → lit-region defects kept as regressions, claimed once over the scenes (the worst). Measured
 # (FULL, 64², SwiftShader): three 0.187's VSM darkens whole columns of the fully lit plane far from any shadow
 # (directional: 3 columns, s ≥ 0.956, 95.7 % of the lit pixels accepted; spot: 2 columns, s ≥ 0.892, 96.9 %; QUICK,
-# 32²: the spot only); every other type (Filament PCF included) accepts 100 % of the lit pixels.
+# 32²: directional 0 columns, 100 %; spot 2 columns, 93.9 %); every other type (Filament PCF included) accepts
+# 100 % of the lit pixels.
+# Deterministic (the same pixels in the same page, after the other types, and in a fresh browser); the runs differ by
+# resolution only. Cause (docs/experiments/renders.md, "three.js VSM columns"): three's VSM renders every receiving
+# mesh into its shadow map (WebGLShadowMap.renderObject: castShadow || (receiveShadow && VSM)), so the plane
+# self-shadows at bias 0 against its own moments, stored as RG16F: where the half-float mean rounds below the
+# fragment's depth, Chebyshev's bound with the light-bleeding remap (p − 0.3)/0.65 darkens it. Switched off one at a
+# time, each removes every dark pixel of both scenes (64² and 32²): the receiver kept out of the map, RG32F moments,
+# or bias −2e-4 (< one half-float ulp at depth ½).
 LIT_REGRESSIONS: dict[tuple[str, str], str] = {
-    ("three", "vsm"): "VSM darkens full-height columns of the fully lit plane far from any shadow (s down to 0.89)"}
+    ("three", "vsm"): "VSM darkens full-height columns of the fully lit plane far from any shadow (s down to 0.89): "
+                      "it renders the receiver into its map (receiveShadow under VSM) and the plane, at bias 0, "
+                      "self-shadows where its half-float mean depth rounds below the fragment's"}
 # (engine, shadow type) whose penumbra is wider than the path tracer's (measured: Babylon PCSS 3.3× directional,
 # 1.4× spot); every other type's is narrower (three/Babylon PCF 0.14–0.40×, Filament PCF 0.19× directional; Basic,
 # ESM, blurred ESM 0: hard; Filament's spot 0: no shadow at all)

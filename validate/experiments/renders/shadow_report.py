@@ -93,8 +93,9 @@ def leak_finding(shadows: list[ShadowSceneResult]) -> list[str]:
         return []
     return ["three issue 23551 (shadow light leaks that no bias fixes), umbra pixels brighter than the budget (light "
             "leak; three/Babylon receiver not casting, three's bias 0, Babylon's 5e-5; Filament's plane casts, its "
-            "default biases): " + "; ".join(parts) + ". A leak here is "
-            "the filter's (or, Filament's spot, a shadow never drawn), not a bias's."]
+            "default biases): " + "; ".join(parts) + ". A leak here is the filter's (or, Filament's spot, a shadow "
+            "never drawn), not a bias's (three's VSM draws receivers into its map, which darkens the lit plane, not "
+            "the umbra)."]
 
 
 def shadow_findings(shadows: list[ShadowSceneResult]) -> list[str]:

@@ -12,6 +12,13 @@
 // false by default), restored by resetting the field right after construction: the field is read only in the load
 // callback (envCubeTexture.pure.js _loadTexture → _getCubeMapTextureDataAsync(buffer, size, this._supersample)),
 // which runs after the panorama has been fetched, i.e. after this function returns.
+//
+// Where the energy goes under a compact sun (measured; docs/experiments/renders.md, "Babylon PR 16247";
+// scripts/diagnose_renders/): before any CDF. PanoramaToCubeMapTools.CreateCubemapTexture point-samples the panorama
+// (nearest texel by Math.round) on a lattice of round(W/4/size) corner-aligned sub-samples per texel axis — W/4 = 256
+// points per face edge at every size 64–256 (the same points), about one per panorama texel — so a sun of a few
+// texels aliases against it; IblCdfGenerator then point-samples the cube (bilinear) on a 4·size × 2·size equirect
+// grid, a second alias. Neither is a clamp (the ratios are scale-invariant), nor the 4096 importance samples.
 export function cdfCubeTexture(BABYLON, url, scene, size, supersample) {
   // a query string per variant: Babylon's texture cache matches cube textures by url (not size), and the static
   // server ignores the query
