@@ -21,8 +21,15 @@ if [ ! -x .venv/bin/python ]; then
         "$PY" -m venv .venv
     fi
 fi
-.venv/bin/python -m pip install --quiet --upgrade pip
-.venv/bin/python -m pip install --quiet -e '.[test]'
+# The Python packages: installed once per pyproject.toml (a stamp holds its hash), so a second `make report` or
+# `make test` does not spend half a minute re-resolving them; a changed pyproject.toml or a new .venv reinstalls.
+py_stamp=.venv/.validate-setup
+py_want=$(sha256sum pyproject.toml | cut -d' ' -f1)
+if [ "$(cat "$py_stamp" 2>/dev/null)" != "$py_want" ] || ! .venv/bin/python -c "import validate" 2>/dev/null; then
+    .venv/bin/python -m pip install --quiet --upgrade pip
+    .venv/bin/python -m pip install --quiet -e '.[test]'
+    echo "$py_want" > "$py_stamp"
+fi
 
 probe_llvm() {
     .venv/bin/python - <<'PY' >/dev/null 2>&1
@@ -64,8 +71,14 @@ if ! command -v node >/dev/null 2>&1 && command -v apt-get >/dev/null 2>&1; then
         || echo "setup: WARNING: nodejs/npm unavailable; the engines experiment will be skipped" >&2
 fi
 if [ -f package.json ] && command -v node >/dev/null 2>&1 && node --version >/dev/null 2>&1; then
-    if command -v npm >/dev/null 2>&1; then
+    # once per package-lock.json (a stamp inside node_modules holds its hash): `npm ci` deletes and rewrites
+    # node_modules on every call
+    npm_want=$(cat package.json package-lock.json 2>/dev/null | sha256sum | cut -d' ' -f1)
+    if [ -d node_modules ] && [ "$(cat node_modules/.validate-setup 2>/dev/null)" = "$npm_want" ]; then
+        echo "setup: npm packages installed (three, @babylonjs/core)"
+    elif command -v npm >/dev/null 2>&1; then
         npm ci --silent --no-audit --no-fund >/dev/null 2>&1 \
+            && echo "$npm_want" > node_modules/.validate-setup \
             && echo "setup: npm packages installed (three, @babylonjs/core)" \
             || echo "setup: WARNING: npm ci failed; the engines experiment will be skipped" >&2
     else

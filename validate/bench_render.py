@@ -8,14 +8,15 @@ One fresh child process (nothing warm: no browser, no page, no compiled program)
   node_modules over the loopback server until the page sets ``window.ready`` (ms);
 * per engine and scene, the first frame (shader compilation, shadow-map allocation, geometry upload) and then
   ``LATER_FRAMES`` later frames of the same scene, the engines taking turns frame by frame so that load on the machine
-  touches both alike; each frame is timed twice: the wall time of :func:`validate.local_models.render.render` (the
-  page call, scene build, draw, float32 read-back and transfer) and the page's own ``frame_ms`` (draw + read-back,
-  ``performance.now()`` in the page). The figures are the first frame, the median of the later frames, and their
-  ratio first / later (×).
+  touches all alike; each frame is timed twice: the wall time of :func:`validate.local_models.render.render` (the
+  page call, scene build, draw, read-back — float32 for three/Babylon, the 8-bit canvas for Filament, which draws
+  2–4 frames per call for its auto exposure (:mod:`validate.local_models.render`) — and transfer) and the page's own
+  ``frame_ms`` (draw + read-back, ``performance.now()`` in the page). The figures are the first frame, the median
+  of the later frames, and their ratio first / later (×).
 
 Scenes: ``lambert_directional`` (the 64² Lambertian sphere under a directional light, scene (c)) and
-``shadow_directional`` with PCF shadows (scene (e), a 512² shadow map). Without Chromium or node_modules the section
-holds the reason.
+``shadow_directional`` with PCF shadows (scene (e), a 512² shadow map; Filament's 1024², its default). Without
+Chromium or node_modules the section holds the reason.
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ from typing import Any
 import numpy as np
 
 LATER_FRAMES = 5
-ENGINES = ("three", "babylon")
+ENGINES = ("three", "babylon", "filament")
 RESOLUTION = 64
 
 

@@ -2,7 +2,9 @@
 
 Default run (≈ 10 s on 2 cores, Mitsuba at 16² only): the scene's checks, the geometric visibility against Mitsuba's
 path-traced shadow factor, the closed-form unshadowed radiance against Mitsuba's sphere lights, the penumbra-width
-metric and its power, the bench tables' units. The engines (three.js, Babylon.js) are ``slow``.
+metric and its power, the bench tables' units; and Filament's PCF on both scenes at 32² (its page, shaders and two
+frames: measured 11.8 s wall with the browser already up from test_renders, 15.6 s alone, on the shared 2 cores;
+skipped without Chromium). three.js and Babylon.js are ``slow``.
 """
 
 from __future__ import annotations
@@ -116,7 +118,8 @@ def _engine_or_skip(engine: str, scene):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize(("engine", "shadow_type"), [("three", "pcf"), ("babylon", "pcf"), ("babylon", "pcss")])
+@pytest.mark.parametrize(("engine", "shadow_type"), [("three", "pcf"), ("babylon", "pcf"), ("babylon", "pcss"),
+                                                     ("filament", "pcf")])
 def test_engine_shadow_lit_umbra_and_penumbra(engine: str, shadow_type: str) -> None:
     """Each engine's shadow map at 32²: the lit plane equals Mitsuba, the PCF umbra is dark (Babylon's PCSS leaks:
     issue 23551's kind), the PCF penumbra is narrower than the path tracer's and PCSS's wider."""
@@ -173,3 +176,62 @@ def test_shadow_claims_accept_the_truth_and_catch_a_hard_or_leaking_shadow() -> 
     leaky = hard + 0.05 * un * sr.regions["umbra"][..., None]  # 5 % of the light inside the umbra
     sr, r = _synthetic(scene, ref, leaky)
     assert not scl.umbra_claim(sr, r).passed and r.leak[0] == 1.0
+
+
+def test_readback_uncertainty_is_a_known_term_of_the_budget() -> None:
+    """judged_budget folds σ_q into b so that judge's σ² = s² + (b/z*)² + σ_q² (∞ dof), and leaves b alone at 0."""
+    from validate.experiments.renders import shadow_compute as sc
+    from validate.metrics.pixel_z import ALPHA, sidak_critical
+
+    sr = sc.ShadowSceneResult(rss.sun_shadow_scene(SMALL), np.ones((4, 4, 3)), np.zeros((4, 4, 3)), 7,
+                              np.ones((4, 4)), {}, 0.01, (0.0, 0.0))
+    mask = np.ones((4, 4), bool)
+    assert sc.judged_budget(sr, mask) == 0.01
+    zc = sidak_critical(48, ALPHA)
+    assert (sc.judged_budget(sr, mask, 0.003) / zc) ** 2 == pytest.approx((0.01 / zc) ** 2 + 0.003**2, rel=1e-12)
+
+
+def test_regressions_keyed_by_scene_apply_to_that_scene_only() -> None:
+    from validate.experiments.renders import shadow_claims as scl
+    from validate.experiments.renders.shadow_compute import ShadowEngineResult, ShadowSceneResult
+
+    r = ShadowEngineResult("filament", "pcf", "pcf", np.zeros((1, 1, 3)), 0.0, 0.0)
+    srs = {sc.name: ShadowSceneResult(sc, *(np.zeros(1),) * 2, 7, np.zeros(1), {}, 0.0, (0.0, 0.0))
+           for sc in rss.shadow_scenes(SMALL)}
+    assert scl._keyed(scl.LEAK_REGRESSIONS, srs["shadow_spot"], r) is not None
+    assert scl._keyed(scl.LEAK_REGRESSIONS, srs["shadow_directional"], r) is None
+
+
+@pytest.mark.parametrize("which", ["directional", "spot"])
+def test_filament_pcf_shadows_against_the_path_tracer(which: str) -> None:
+    """Filament 1.53's PCF at 32², through the experiment's own judgement and claims: the lit plane equals Mitsuba
+    (its power: × 1.02 fails); directional — the umbra is dark (power: a 2 % leak fails) and the penumbra is narrower
+    than the path tracer's; spot — the known regression, no shadow from the out-of-view box (the umbra lit)."""
+    from validate.experiments.renders import shadow_claims as scl
+    from validate.experiments.renders import shadow_compute as sc
+    from validate.metrics.pixel_z import interior_mask
+    from validate.reference.render_reference import render_reference
+
+    scene = rss.sun_shadow_scene(32) if which == "directional" else rss.spot_shadow_scene(32)
+    er = _engine_or_skip("filament", scene.with_shadow_type("pcf"))
+    assert er.info["shadow_type_used"] == "pcf" and er.stderr > 0  # the 8-bit canvas carries its quantisation
+    ref = render_reference(scene, SPP, PASSES, 0)
+    mask = interior_mask(ref.hit, np.ones(ref.hit.shape))
+    sr = sc.ShadowSceneResult(scene, ref.mean, ref.stderr, ref.dof, rss.unshadowed_radiance(scene),
+                              {"all": mask, **{k: m & mask for k, m in rss.regions(scene).items()}},
+                              sc.SHADOW_BUDGET_OF_PEAK * float(np.nanmax(ref.mean)), (0.0, 0.0))
+    sr.truth_width = sc.truth_width(sr, 0)
+    img = er.image[..., :3].astype(np.float64)
+    r = sc.ShadowEngineResult("filament", "pcf", "pcf", img, er.frame_ms, er.wall_s, readback_stderr=er.stderr)
+    r.judgements = sc.judge_regions(img, sr, er.stderr)
+    r.width_px = sc.transition_px(sc.shadow_factor(img, sr.unshadowed), mask)
+    r.leak, r.umbra_mean = sc.leak(img, sr)
+    lit = scl.lit_claim(sr, r)
+    assert lit.passed and lit.power.fails
+    umbra, pen = scl.umbra_claim(sr, r), scl.penumbra_claim(sr, r)
+    assert umbra.passed and umbra.power.fails and pen.passed
+    if which == "directional":
+        assert r.leak[0] == 0.0 and r.width_px < sr.truth_width[0]
+        assert umbra.id.endswith(".umbra")
+    else:
+        assert r.leak[0] == 1.0 and r.umbra_mean[0] > 0.99 and umbra.id.endswith(".umbra.regression")

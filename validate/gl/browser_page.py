@@ -31,6 +31,7 @@ PAGES = ROOT / "validate" / "local_models" / "render"
 
 _server: dict[str, Any] = {}
 _pages: dict[str, Any] = {}
+_pending: dict[str, tuple[Any, list[str]]] = {}  # name → (page still loading, its errors)
 _lock = threading.RLock()
 
 
@@ -89,6 +90,34 @@ def base_url() -> str:
         return str(_server["url"])
 
 
+def _navigate(name: str, timeout_s: float) -> tuple[Any, list[str]]:
+    """A new tab of the run's browser navigated to the page (returns once the navigation commits: the page's
+    modules then load in the browser while Python goes on) and the list its page errors are appended to."""
+    rt = runtime.get("webgl2")
+    browser = getattr(rt, "_browser", None)  # TODO(merge): a public WebGL2.new_page() on branch gl
+    if browser is None:
+        raise GLUnavailable("webgl2 runtime has no browser")
+    page = browser.new_page()
+    errors: list[str] = []
+    page.on("pageerror", lambda exc: errors.append(str(exc)))
+    page.goto(f"{base_url()}/validate/local_models/render/{name}", wait_until="commit", timeout=timeout_s * 1000)
+    return page, errors
+
+
+def preload(names: list[str], timeout_s: float = 300.0) -> None:
+    """Start loading the pages ``names`` (each once per process) without waiting for them: the browser loads their
+    modules side by side, and :func:`open_page` later waits for each. Nothing is raised here — a page or runtime
+    that cannot start is reported by :func:`open_page`, as without a preload."""
+    with _lock:
+        for name in dict.fromkeys(names):
+            if name in _pages or name in _pending:
+                continue
+            try:
+                _pending[name] = _navigate(name, timeout_s)
+            except Exception:  # open_page tries again and raises the reason
+                return
+
+
 def open_page(name: str, timeout_s: float = 300.0) -> Any:
     """The playwright page for ``validate/local_models/render/<name>`` (opened once per process).
 
@@ -98,14 +127,7 @@ def open_page(name: str, timeout_s: float = 300.0) -> Any:
     with _lock:
         if name in _pages:
             return _pages[name]
-        rt = runtime.get("webgl2")
-        browser = getattr(rt, "_browser", None)  # TODO(merge): a public WebGL2.new_page() on branch gl
-        if browser is None:
-            raise GLUnavailable("webgl2 runtime has no browser")
-        page = browser.new_page()
-        errors: list[str] = []
-        page.on("pageerror", lambda exc: errors.append(str(exc)))
-        page.goto(f"{base_url()}/validate/local_models/render/{name}", wait_until="commit", timeout=timeout_s * 1000)
+        page, errors = _pending.pop(name, None) or _navigate(name, timeout_s)
         try:
             page.wait_for_function("window.ready !== undefined", timeout=timeout_s * 1000)
         except Exception as exc:
@@ -137,5 +159,5 @@ def encode_f32(a: np.ndarray) -> str:
     return base64.b64encode(np.ascontiguousarray(a, dtype=np.float32).tobytes()).decode("ascii")
 
 
-__all__ = ["base_url", "publish", "served_root", "open_page", "call", "decode_f32", "encode_f32", "PAGES",
+__all__ = ["base_url", "publish", "served_root", "preload", "open_page", "call", "decode_f32", "encode_f32", "PAGES",
            "NODE_MODULES"]

@@ -160,40 +160,139 @@ def _cosine_about(n: np.ndarray, u1: np.ndarray, u2: np.ndarray) -> np.ndarray:
     return np.stack([lx * t[k] + ly * b[k] + lz * nc[k] for k in range(3)], -1)
 
 
+Vec = tuple[np.ndarray, np.ndarray, np.ndarray]
+
+
+def _padded_block(comps: Vec, count: int) -> np.ndarray:
+    """Three ray components (M,) as one C-contiguous (3, count) float32 block, count ≥ M, each row's last entry
+    repeated (0 when M = 0): the rows :func:`_rays` imports (the transposed :func:`validate.backend.pad_rows` of the
+    (M, 3) rows, the same buffer layout), without the (count, 3) temporaries."""
+    out = np.empty((3, count), dtype=np.float32)
+    m = len(comps[0])
+    for row, c in zip(out, comps, strict=True):
+        row[:m] = c
+        row[m:] = c[m - 1] if m else 0.0
+    return out
+
+
+def _rays_soa(origins: Vec, dirs: Vec) -> tuple[Any, int]:
+    """:func:`_rays` of origins and directions given by components (three (M,) arrays each): the same float32 rays,
+    padded the same way to :func:`validate.backend.padded_count` rows; (rays, M)."""
+    import mitsuba as mi
+
+    m = len(origins[0])
+    count = padded_count(m)
+    o, d = _padded_block(origins, count), _padded_block(dirs, count)
+    return mi.Ray3f(mi.Point3f(o[0], o[1], o[2]), mi.Vector3f(d[0], d[1], d[2])), m
+
+
+def _intersect_hits(scene: Any, origins: Vec, dirs: Vec) -> tuple[np.ndarray, Vec, Vec]:
+    """:func:`_intersect` with ``hits_only`` by components: (hit mask (M,), hit points, geometric normals oriented to
+    +z), the points and normals of the hits only (ray order) as three float64 (H,) arrays each. The float32 results
+    are selected and the normals flipped (exact) before widening (exact), the same numbers as :func:`_intersect`."""
+    import drjit as dr
+
+    ray, m = _rays_soa(origins, dirs)
+    si = scene.ray_intersect(ray)
+    valid, pos, nrm = si.is_valid(), si.p, si.n
+    dr.eval(valid, pos, nrm)
+    hit = np.array(valid, dtype=bool)[:m]
+    # component by component: numpy's import of a whole Point3f takes a slow generic path (≈ 20× the three Floats)
+    p = tuple(np.array(c)[:m][hit].astype(np.float64) for c in (pos.x, pos.y, pos.z))
+    nh = [np.array(c)[:m][hit] for c in (nrm.x, nrm.y, nrm.z)]
+    flip = nh[2] < 0.0
+    n = tuple(np.where(flip, -c, c).astype(np.float64) for c in nh)
+    return hit, p, n  # type: ignore[return-value]
+
+
+def _occluded_soa(scene: Any, origins: Vec, dirs: Vec) -> np.ndarray:
+    ray, m = _rays_soa(origins, dirs)
+    return np.array(scene.ray_test(ray), dtype=bool)[:m]
+
+
+def _cosine_about_soa(n: Vec, u1: np.ndarray, u2: np.ndarray) -> Vec:
+    """:func:`_cosine_about` by components (the same float64 operations), three (N,) arrays."""
+    r, phi = np.sqrt(u1), 2.0 * np.pi * u2
+    lx, ly, lz = r * np.cos(phi), r * np.sin(phi), np.sqrt(np.maximum(1.0 - u1, 0.0))
+    ya = np.abs(n[0]) > 0.9
+    t = _cross(n, (np.where(ya, 0.0, 1.0), np.where(ya, 1.0, 0.0), np.zeros(len(n[0]))))
+    norm = np.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
+    t = (t[0] / norm, t[1] / norm, t[2] / norm)
+    b = _cross(n, t)
+    return tuple(lx * t[k] + ly * b[k] + lz * n[k] for k in range(3))  # type: ignore[return-value]
+
+
+VGROOVE_BLOCK = 1 << 18  # paths per block of the tracer's work (a multiple of RAY_PACKET)
+
+
 def trace_vgrooves(scene: Any, mesh_index: np.ndarray, lights: np.ndarray, views: np.ndarray, albedo: float,
                    paths: int, depth: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
     """Macroscopic f_r·cos θ_l of V-groove sets (grooves along y; pair m on mesh ``mesh_index[m]`` of
     :func:`_mesh_scene`) for each (l, v) pair: (mean (M,), standard error (M,)) over ``paths`` paths per pair
-    (see the module docstring)."""
+    (see the module docstring).
+
+    The paths' vectors are kept by components in buffers allocated once ((3, N) float64, the live paths compacted
+    to the front after each bounce), and each bounce is worked through in blocks of :data:`VGROOVE_BLOCK` paths
+    (small temporaries that the allocator reuses, instead of fresh (N,)-sized ones per operation). Every bounce is
+    still one wavefront: its uniform numbers are drawn for all live paths at once, in the same order, so the same
+    float64 operations, random numbers and rays as the (N, 3) form (every ray's hit is its own: full ray packets)."""
     rng = np.random.default_rng(seed)
     m = len(views)
+    total = m * paths
     k = np.repeat(np.arange(m), paths)
-    v, lgt = views[k], lights[k]
     half = 0.5 * bs.VGROOVE_FOOTPRINT
-    p0 = np.stack([rng.uniform(-half, half, len(k)) + SLOPE_SPACING * mesh_index[k],
-                   rng.uniform(-half, half, len(k)), np.zeros(len(k))], -1)
-    # The live paths' rays are kept compact (row j = path alive[j]); every live path has had the same number
-    # of facet hits, so its throughput ρ^b is one number (the same float64 products as per path).
-    origin = p0 + 2.0 * v / np.maximum(v[:, 2:3], 1e-3)
-    direction = -v
+    px = rng.uniform(-half, half, total) + SLOPE_SPACING * mesh_index[k]
+    py = rng.uniform(-half, half, total)
+    vz = np.maximum(views[:, 2], 1e-3)[k]
+    lgt = tuple(np.ascontiguousarray(lights[:, c])[k] for c in range(3))
+    vk = tuple(np.ascontiguousarray(views[:, c])[k] for c in range(3))
+    org, dirn, nrm = np.empty((3, total)), np.empty((3, total)), np.empty((3, total))
+    org[0], org[1], org[2] = px + 2.0 * vk[0] / vz, py + 2.0 * vk[1] / vz, np.zeros(total) + 2.0 * vk[2] / vz
+    for c in range(3):
+        dirn[c] = -vk[c]
+    del vk, px, py, vz, k
+    u1, u2 = np.empty(total), np.empty(total)
+    # The live paths are kept compact (entry j = path alive[j]); every live path has had the same number of facet
+    # hits, so its throughput ρ^b is one number (the same float64 products as per path).
     throughput = 1.0
-    value = np.zeros(len(k))
-    alive = np.arange(len(k))
+    value = np.zeros(total)
+    alive = np.arange(total)
+    count = total
     for _ in range(depth):
-        hit, p, n = _intersect(scene, origin, direction, hits_only=True)
-        alive = alive[hit]
-        if alive.size == 0:
+        kept = 0
+        for s in range(0, count, VGROOVE_BLOCK):
+            e = min(s + VGROOVE_BLOCK, count)
+            hit, p, n = _intersect_hits(scene, (org[0, s:e], org[1, s:e], org[2, s:e]),
+                                        (dirn[0, s:e], dirn[1, s:e], dirn[2, s:e]))
+            idx = alive[s:e][hit]
+            nh = len(idx)
+            if nh == 0:
+                continue
+            la = tuple(c[idx] for c in lgt)
+            cos_l = n[0] * la[0] + n[1] * la[1] + n[2] * la[2]
+            lit = cos_l > 0.0
+            origin = (p[0] + RAY_EPS * n[0], p[1] + RAY_EPS * n[1], p[2] + RAY_EPS * n[2])
+            occ = np.zeros(nh, dtype=bool)
+            if lit.any():
+                occ[lit] = _occluded_soa(scene, tuple(c[lit] for c in origin), tuple(c[lit] for c in la))
+            value[idx] += np.where(lit & ~occ, throughput * albedo / np.pi * cos_l, 0.0)
+            # compaction in place: kept + nh ≤ e, and this block's entries were read above
+            alive[kept:kept + nh] = idx
+            for c in range(3):
+                org[c, kept:kept + nh] = origin[c]
+                nrm[c, kept:kept + nh] = n[c]
+            kept += nh
+        count = kept
+        if count == 0:
             break
-        la = lgt[alive]
-        cos_l = np.sum(n * la, axis=-1)
-        lit = cos_l > 0.0
-        origin = p + RAY_EPS * n
-        occ = np.zeros(alive.size, dtype=bool)
-        if lit.any():
-            occ[lit] = _occluded(scene, origin[lit], la[lit])
-        value[alive] += np.where(lit & ~occ, throughput * albedo / np.pi * cos_l, 0.0)
         throughput *= albedo
-        direction = _cosine_about(n, rng.random(alive.size), rng.random(alive.size))
+        rng.random(out=u1[:count])
+        rng.random(out=u2[:count])
+        for s in range(0, count, VGROOVE_BLOCK):
+            e = min(s + VGROOVE_BLOCK, count)
+            d = _cosine_about_soa((nrm[0, s:e], nrm[1, s:e], nrm[2, s:e]), u1[s:e], u2[s:e])
+            for c in range(3):
+                dirn[c, s:e] = d[c]
     per = value.reshape(m, paths)
     return per.mean(axis=1), per.std(axis=1, ddof=1) / np.sqrt(paths)
 

@@ -22,6 +22,7 @@ References
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -59,18 +60,34 @@ def centre_rays(scene: RenderScene) -> tuple[np.ndarray, np.ndarray]:
     return o, hit
 
 
-def trace_pass(scene_dict: dict, origins: np.ndarray, spp: int, seed: int) -> np.ndarray:
-    """One pass: (N, 3) mean over ``spp`` samples of the radiance along each ray (direction −z)."""
+def load_traced(scene_dict: dict) -> Any:
+    """The Mitsuba scene of ``scene_dict`` with :data:`INTEGRATOR` (loaded once per reference, shared by its passes:
+    a pass reads the scene and never changes it)."""
+    import mitsuba as mi
+
+    return mi.load_dict(dict(scene_dict, integrator=dict(INTEGRATOR)))
+
+
+def centre_ray(origins: np.ndarray, spp: int, differential: bool = True) -> Any:
+    """The pass's rays, ``spp`` per origin (pixel-major), direction −z (the same for every pass)."""
+    import mitsuba as mi
+
+    o = np.repeat(origins, spp, axis=0)
+    p = mi.Point3f(*(mi.Float(o[:, k]) for k in range(3)))
+    return (mi.RayDifferential3f if differential else mi.Ray3f)(p, mi.Vector3f(0.0, 0.0, -1.0))
+
+
+def trace_pass(scene_dict: dict, origins: np.ndarray, spp: int, seed: int,
+               prepared: tuple[Any, Any] | None = None) -> np.ndarray:
+    """One pass: (N, 3) mean over ``spp`` samples of the radiance along each ray (direction −z); ``prepared``:
+    (:func:`load_traced`, :func:`centre_ray`) of these arguments, else built here."""
     import drjit as dr
     import mitsuba as mi
 
-    scene = mi.load_dict(dict(scene_dict, integrator=dict(INTEGRATOR)))
+    scene, ray = prepared if prepared is not None else (load_traced(scene_dict), centre_ray(origins, spp))
     n = origins.shape[0]
     sampler = mi.load_dict({"type": "independent"})
     sampler.seed(seed, n * spp)
-    o = np.repeat(origins, spp, axis=0)
-    ray = mi.RayDifferential3f(mi.Point3f(*(mi.Float(o[:, k]) for k in range(3))),
-                               mi.Vector3f(0.0, 0.0, -1.0))
     spec, _, _ = scene.integrator().sample(scene, sampler, ray, None, True)
     dr.eval(spec)
     rgb = np.stack([np.array(spec[k]) for k in range(3)], axis=-1).astype(np.float64)
@@ -94,7 +111,8 @@ def register_models(scene: RenderScene) -> None:
         register_walk()
 
 
-def trace_pass_bsdf_sampled(scene_dict: dict, origins: np.ndarray, spp: int, seed: int) -> np.ndarray:
+def trace_pass_bsdf_sampled(scene_dict: dict, origins: np.ndarray, spp: int, seed: int,
+                            prepared: tuple[Any, Any] | None = None) -> np.ndarray:
     """One pass of :data:`BSDF_SAMPLED` for a lone convex shape under an environment: at the hit, one ``bsdf.sample``
     (weight = f cos/pdf, for the random walk its energy Π F = 1 at F₀ = 1 [Heitz et al. 2016 Algorithm 1]) and the
     environment's radiance along ω_o (the reflected ray leaves the convex sphere). Unbiased without ``eval``/``pdf``
@@ -102,12 +120,10 @@ def trace_pass_bsdf_sampled(scene_dict: dict, origins: np.ndarray, spp: int, see
     import drjit as dr
     import mitsuba as mi
 
-    scene = mi.load_dict(dict(scene_dict, integrator=dict(INTEGRATOR)))
+    scene, ray = prepared if prepared is not None else (load_traced(scene_dict), centre_ray(origins, spp, False))
     n = origins.shape[0]
     sampler = mi.load_dict({"type": "independent"})
     sampler.seed(seed, n * spp)
-    o = np.repeat(origins, spp, axis=0)
-    ray = mi.Ray3f(mi.Point3f(*(mi.Float(o[:, k]) for k in range(3))), mi.Vector3f(0.0, 0.0, -1.0))
     si = scene.ray_intersect(ray)
     bs, weight = si.bsdf().sample(mi.BSDFContext(), si, sampler.next_1d(), sampler.next_2d(), si.is_valid())
     out = scene.ray_intersect(si.spawn_ray(si.to_world(bs.wo)))
@@ -132,7 +148,8 @@ def render_reference(scene: RenderScene, spp: int = 64, passes: int = 8, seed: i
         init()
         register_models(scene)
         d = scene.mitsuba_dict()
-        return {"passes": np.stack([trace(d, origins, spp, seed * MAX_PASSES + i) for i in range(passes)])}
+        prepared = (load_traced(d), centre_ray(origins, spp, differential=not walk))
+        return {"passes": np.stack([trace(d, origins, spp, seed * MAX_PASSES + i, prepared) for i in range(passes)])}
 
     walk = scene.material.model == "multiscatter"
     trace = trace_pass_bsdf_sampled if walk else trace_pass

@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from ..backend import init, pad_rows, padded_count
+from ..backend import init, padded_count
 from ..errors import ValidateError
 from ..scenes.shadow_scenes import ShadowScene
 from ..stats import mean_and_stderr
@@ -168,26 +168,37 @@ def disc_irradiance_quadrature(light: Any, position: np.ndarray, normal: np.ndar
     return out
 
 
-def _to_mi(a: np.ndarray, kind: Any) -> Any:
+def _padded_f32(values: np.ndarray, count: int) -> Any:
+    """``values`` (M,) float64 → mi.Float of ``count`` ≥ M lanes: rounded to float32 (as ``astype``), the last value
+    repeated past M (0 when M = 0) — :func:`~validate.backend.pad_rows` for one column."""
     import mitsuba as mi
 
-    a = np.ascontiguousarray(a, dtype=np.float32)
-    return kind(mi.Float(a[:, 0]), mi.Float(a[:, 1]), mi.Float(a[:, 2]))
+    buf = np.empty(count, dtype=np.float32)
+    m = values.shape[0]
+    buf[:m] = values
+    buf[m:] = buf[m - 1] if m else 0.0
+    return mi.Float(buf)
 
 
 def segment_visible(geometry: Any, origins: np.ndarray, normals: np.ndarray, targets: np.ndarray) -> np.ndarray:
-    """Whether the segment from each origin (lifted by RAY_OFFSET along its normal) to its target is free."""
+    """Whether the segment from each origin (lifted by RAY_OFFSET along its normal) to its target is free.
+
+    Per component, in float64: o = x + RAY_OFFSET·n, d = t − o, |d| = √(d_x² + d_y² + d_z²) (the sum in that order,
+    as ``np.linalg.norm(d, axis=1)`` forms it), ω = d / max(|d|, 10⁻³⁰); each rounded once to float32 into the ray
+    arrays, padded to :func:`~validate.backend.padded_count` lanes (the last ray repeated)."""
     import mitsuba as mi
 
     out = np.empty(origins.shape[0], dtype=bool)
     for s in range(0, origins.shape[0], CHUNK_RAYS):
-        o = origins[s:s + CHUNK_RAYS] + RAY_OFFSET * normals[s:s + CHUNK_RAYS]
-        d = targets[s:s + CHUNK_RAYS] - o
-        dist = np.linalg.norm(d, axis=1)
-        d = d / np.maximum(dist, 1e-30)[:, None]
-        m, count = o.shape[0], padded_count(o.shape[0])  # padded: Mitsuba's query reads past a ragged end
-        ray = mi.Ray3f(_to_mi(pad_rows(o, count), mi.Point3f), _to_mi(pad_rows(d, count), mi.Vector3f))
-        ray.maxt = mi.Float(pad_rows(dist, count))
+        x, n, t = origins[s:s + CHUNK_RAYS], normals[s:s + CHUNK_RAYS], targets[s:s + CHUNK_RAYS]
+        m, count = x.shape[0], padded_count(x.shape[0])  # padded: Mitsuba's query reads past a ragged end
+        o = [x[:, k] + RAY_OFFSET * n[:, k] for k in range(3)]
+        d = [t[:, k] - o[k] for k in range(3)]
+        dist = np.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+        safe = np.maximum(dist, 1e-30)
+        ray = mi.Ray3f(mi.Point3f(*(_padded_f32(c, count) for c in o)),
+                       mi.Vector3f(*(_padded_f32(c / safe, count) for c in d)))
+        ray.maxt = _padded_f32(dist, count)
         out[s:s + CHUNK_RAYS] = ~np.array(geometry.ray_test(ray))[:m]
     return out
 

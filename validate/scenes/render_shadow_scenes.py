@@ -27,14 +27,19 @@ computes it geometrically (cos-weighted disc samples against the box slabs) to c
 penumbra and umbra, independently of Mitsuba.
 
 Engines (the scene JSON's ``shadow`` entry, read by ``three_shadows.mjs`` / ``babylon_shadows.mjs``): the plane
-receives, only the occluder casts (no receiver self-shadowing, so no bias is needed: three's bias 0, Babylon's
-default 5e-5), shadow map ``MAP_SIZE``² (three's default mapSize), the same light frustum in both engines
+receives, only the occluder casts (castShadow false on the plane: no receiver self-shadowing, so no bias is needed:
+three's bias 0, Babylon's default 5e-5; three's VSM alone draws the receiver into its map all the same — its
+``receiveShadow`` meshes are rendered under VSM — and self-shadows the lit plane, ``shadow_claims.LIT_REGRESSIONS``),
+shadow map ``MAP_SIZE``² (three's default mapSize), the same light frustum in both engines
 (directional: orthographic ±``ORTHO_HALF`` m from ``LIGHT_DISTANCE`` m along −direction; spot: perspective at the
 light), near/far ``SHADOW_NEAR``/``SHADOW_FAR`` m. Shadow types (``SHADOW_TYPES``): three 0.187 Basic, PCF,
 PCFSoft (removed in r180: WebGLShadowMap warns and uses PCF) and VSM (radius 1, blurSamples 8, its defaults);
 Babylon 9.35 PCF (usePercentageCloserFiltering, QUALITY_HIGH), PCSS (useContactHardeningShadow — Babylon's
 contact-hardening shadows *are* its PCSS; contactHardeningLightSizeUVRatio 0.1, its default), ESM
-(useExponentialShadowMap, depthScale 50) and blurred ESM (useBlurExponentialShadowMap).
+(useExponentialShadowMap, depthScale 50) and blurred ESM (useBlurExponentialShadowMap); Filament 1.53.4
+(``filament_shadows.mjs``) PCF only — its JS View binds View$ShadowType but no setShadowType, and its ShadowOptions
+(map size, biases, PCSS light size) are not bound, so Filament's defaults hold (1024² map, constantBias 1 mm,
+normalBias 1) and its own light frustum; its plane casts as well as receives (measured: otherwise no shadow at all).
 
 References
 ----------
@@ -67,7 +72,8 @@ MAP_SIZE = 512
 LIGHT_DISTANCE = 5.0
 ORTHO_HALF = 2.5
 SHADOW_NEAR, SHADOW_FAR = 0.5, 10.0
-SHADOW_TYPES = {"three": ("basic", "pcf", "pcfsoft", "vsm"), "babylon": ("pcf", "pcss", "esm", "blur_esm")}
+SHADOW_TYPES = {"three": ("basic", "pcf", "pcfsoft", "vsm"), "babylon": ("pcf", "pcss", "esm", "blur_esm"),
+                "filament": ("pcf",)}
 VISIBILITY_SAMPLES = 16  # per axis of the light disc (16² cos-weighted samples per pixel)
 
 

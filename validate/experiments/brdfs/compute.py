@@ -90,8 +90,13 @@ class Measurements:
     plane: dict[str, Any] = field(default_factory=dict)
 
 
+@lru_cache(maxsize=16)
 def _normals(n: int) -> np.ndarray:
-    return np.tile(np.array([0.0, 0.0, 1.0]), (n, 1))
+    """(n, 3) copies of the local frame's normal +z, read-only (memoised by n: every grid, furnace and V-groove call
+    of a size shares one)."""
+    out = np.tile(np.array([0.0, 0.0, 1.0]), (n, 1))
+    out.setflags(write=False)
+    return out
 
 
 def call(tech: Technique | str, params: dict[str, Any], lights: np.ndarray, views: np.ndarray) -> np.ndarray:
@@ -321,22 +326,34 @@ def _tessellated_gbuffer(level: int, size: int) -> tuple[np.ndarray, ...]:
     return out
 
 
+@lru_cache(maxsize=8)
+def _shading_normals(level: int, size: int) -> tuple[np.ndarray, np.ndarray]:
+    """(interpolated renormalised normals, flat face normals) at the hit pixels of :func:`_tessellated_gbuffer`:
+    they depend on the tessellation only, so are formed once for every technique and exponent (read-only)."""
+    verts, _, _, tri, w = _tessellated_gbuffer(level, size)
+    interp_n = np.sum(w[..., None] * verts[tri], axis=1)
+    face_n = np.cross(verts[tri[:, 1]] - verts[tri[:, 0]], verts[tri[:, 2]] - verts[tri[:, 0]])
+    face_n *= np.sign(np.sum(face_n * verts[tri[:, 0]], axis=-1, keepdims=True))
+    out = (interp_n / np.linalg.norm(interp_n, axis=-1, keepdims=True),
+           face_n / np.linalg.norm(face_n, axis=-1, keepdims=True))
+    for a in out:
+        a.setflags(write=False)
+    return out
+
+
 def _shade(fn: Any, light: np.ndarray, level: int, size: int) -> dict[str, np.ndarray]:
     """Per-pixel exact (smooth sphere), Gouraud and per-fragment values (luminance) of ``fn(normals, l, v)``
     over the pixels where the tessellated sphere is hit."""
     verts, faces, exact_n, tri, w = _tessellated_gbuffer(level, size)
+    fragment_n, flat_n = _shading_normals(level, size)
     view = np.array([0.0, 0.0, 1.0])
 
     def run(n: np.ndarray) -> np.ndarray:
         return luminance(fn(n, np.tile(light, (len(n), 1)), np.tile(view, (len(n), 1))))
 
     vert_c = run(verts)
-    interp_n = np.sum(w[..., None] * verts[tri], axis=1)
-    face_n = np.cross(verts[tri[:, 1]] - verts[tri[:, 0]], verts[tri[:, 2]] - verts[tri[:, 0]])
-    face_n *= np.sign(np.sum(face_n * verts[tri[:, 0]], axis=-1, keepdims=True))
-    return {"exact": run(exact_n), "gouraud": np.sum(w * vert_c[tri], axis=1),
-            "fragment": run(interp_n / np.linalg.norm(interp_n, axis=-1, keepdims=True)),
-            "flat": run(face_n / np.linalg.norm(face_n, axis=-1, keepdims=True)), "exact_n": exact_n}
+    return {"exact": run(exact_n), "gouraud": np.sum(w * vert_c[tri], axis=1), "fragment": run(fragment_n),
+            "flat": run(flat_n), "exact_n": exact_n}
 
 
 def _err(img: np.ndarray, ref: np.ndarray) -> float:
@@ -415,16 +432,24 @@ def env_radiance_many(fns: dict[str, Any], radiance: np.ndarray, normals: np.nda
     per = max(1, ENV_CHUNK // len(local))
     for s0 in range(0, len(normals), per):
         sl = slice(s0, s0 + per)
-        d = (local[None, :, :1] * t[sl, None] + local[None, :, 1:2] * b[sl, None]
-             + local[None, :, 2:3] * normals[sl, None]).reshape(-1, 3)
-        k = len(d) // len(local)
+        d_full = (local[None, :, :1] * t[sl, None] + local[None, :, 1:2] * b[sl, None]
+                  + local[None, :, 2:3] * normals[sl, None])
         nrep, vrep = np.repeat(normals[sl], len(local), 0), np.repeat(views[sl], len(local), 0)
-        lrad = latlong.bilinear_lookup(radiance, d)
-        for a in (nrep, d, vrep):  # shared by the techniques: none may write into them
+        # shared by the techniques: none may write into them (frozen with their base, so that the brdf techniques'
+        # GeometryDr converts them to drjit once per chunk: common._packed_directions)
+        for a in (nrep, d_full, vrep):
             a.setflags(write=False)
+        d = d_full.reshape(-1, 3)
+        k = len(d) // len(local)
+        lrad = latlong.bilinear_lookup(radiance, d).reshape(k, len(local), 3)
+        # w·(q·L) summed over the directions (numpy's sum over axis 1 adds them in order): the products formed into
+        # one scratch array per chunk, reused by every technique (no fresh (k, m, 3) temporaries per call)
+        scratch = np.empty((k, len(local), 3))
         for name, fn in fns.items():
             q = fn(nrep, d, vrep)
-            out[name][sl] = np.sum((w[None, :, None] * (q * lrad).reshape(k, len(local), 3)), axis=1)
+            np.multiply(q.reshape(k, len(local), 3), lrad, out=scratch)
+            np.multiply(w[None, :, None], scratch, out=scratch)
+            out[name][sl] = np.sum(scratch, axis=1)
     return out
 
 

@@ -84,10 +84,19 @@ class Frame:
         return out
 
 
+def render_cost(scene: ls.LightScene, spp: int, passes: int) -> int:
+    """A render's relative cost for scheduling: samples traced, pixels × spp × passes."""
+    return scene.camera.width * scene.camera.height * spp * passes
+
+
 def render_frames(ctx: Context, s: Settings) -> dict[str, Frame]:
-    items = list(scenes(s).items())
+    """Every reference render (``ctx.map``: in this process or on the Dask workers), the costliest first so that
+    two workers do not wait on one long render at the end; each render is seeded alone, so the order changes no
+    number."""
+    items = sorted(scenes(s).items(), key=lambda it: -render_cost(*it[1]))
     refs = ctx.map(lambda it: lr.render_lights(it[1][0], it[1][1], it[1][2], s.seed), items, "lights: renders")
-    return {name: Frame(sc[0], ref) for (name, sc), ref in zip(items, refs, strict=True)}
+    done = {name: ref for (name, _), ref in zip(items, refs, strict=True)}
+    return {name: Frame(sc[0], done[name]) for name, sc in scenes(s).items()}
 
 
 # -- techniques ----------------------------------------------------------------------------------------------

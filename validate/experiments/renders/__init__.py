@@ -4,9 +4,9 @@ Scenes (:mod:`validate.scenes.render_scenes`: (a) furnace, (b) the shared probe 
 ``--probes`` on white metal spheres over roughness and a Lambertian sphere, and white glTF spheres over metalness ×
 roughness against (i) glTF 2.0 as specified (:mod:`validate.reference.gltf_bsdf`) and (ii) the multiscatter
 microsurface (:mod:`validate.reference.microsurface_bsdf`), kept apart, (c) directional, point and spot lights,
-(d) a rectangular area light on the plane and the sphere (three.js), (f) hemisphere light) are rendered by Mitsuba
-at pixel centres
-(:mod:`validate.reference.render_reference`) and by each engine through its own pipeline in headless
+(d) a rectangular area light on the plane and the sphere (three.js; Babylon.js through its own shader with Heitz's
+tables — its own areaLightsLTC.bin is not obtainable offline), (f) hemisphere light) are rendered by Mitsuba
+at pixel centres (:mod:`validate.reference.render_reference`) and by each engine through its own pipeline in headless
 Chromium (:mod:`validate.local_models.render`), then judged per pixel (:mod:`validate.metrics.pixel_z`).
 Without Chromium or node_modules every engine is skipped with the reason. Filament renders only the punctual
 lights (c) (``compute.KIND_SKIP``: no IBL prefilter, no area lights in its npm package); its 8-bit canvas readback

@@ -34,11 +34,12 @@ image, within the bound). White metal at roughness 0.25 and 0.5 (three issues
 17911/26796, PR 32311): the contrast ratio std_px(engine)/std_px(truth) is stated as the regression each engine has
 (below 1: blurrier than glTF's GGX path-traced); power: the path tracer's own image as the engine (c = 1).
 
-(d) Rectangular area light, three.js: two regressions (``RECT_REGRESSIONS``; power: the corrected behaviour, the truth
-on the plane, the image × exact/clipped-sphere form factor on the sphere) and the units claim of three issue 19214 —
-with its form factor approximation divided out, the sphere where the rectangle is wholly above the horizon equals
-Mitsuba's area emitter of radiance = intensity (≥ 99.75 %); power: × 1.02, else the intensity read as lumens
-(image × 1/(πA)).
+(d) Rectangular area light, three.js and Babylon.js (Babylon's shader with Heitz's tables, ``compute.KIND_NOTE``):
+per scene the regression each keeps (``RECT_REGRESSIONS``; power: the corrected behaviour — the truth on three's
+plane, which it leaves dark, else the image × exact/clipped-sphere form factor) and, where the image is not dark, the
+units claim (three issue 19214; Babylon's photometric scale 1 for area lights) — with its form factor approximation
+divided out, the pixels where the rectangle is wholly above the horizon equal Mitsuba's area emitter of radiance =
+intensity (≥ 99.75 %); power: × 1.02, else the intensity read as lumens (image × 1/(πA)).
 """
 
 from __future__ import annotations
@@ -47,7 +48,7 @@ import numpy as np
 
 from ...metrics.pixel_z import MIN_ACCEPTED, judge
 from ..base import Claim
-from .compute import Measurements, SceneResult, budget, with_readback
+from .compute import EngineResult, Measurements, SceneResult, budget
 
 FURNACE_ENERGY_TOL = 2e-3
 
@@ -68,9 +69,9 @@ def directional_claims(m: Measurements) -> list[Claim]:
                       f"per pixel (budget {text})", "fraction of pixels accepted (Šidák α = 0.01)", MIN_ACCEPTED,
                       j.fraction_accepted, 0.0, ">", "%",
                       "Mitsuba 3 render tests: ≥ 99.75 % of pixels pass the Šidák-corrected z-test at α = 0.01")
-            se, dof = with_readback(_stderr(sr), er), m.settings.passes - 1
-            p102 = judge(er.image * 1.02, ref_m, se, dof, sr.mask, b, text).fraction_accepted
-            ppi = judge(er.image * np.pi, ref_m, se, dof, sr.mask, b, text).fraction_accepted
+            se, dof = _stderr(sr), m.settings.passes - 1
+            p102 = judge(er.image * 1.02, ref_m, se, dof, sr.mask, b, text, known_sd=er.stderr).fraction_accepted
+            ppi = judge(er.image * np.pi, ref_m, se, dof, sr.mask, b, text, known_sd=er.stderr).fraction_accepted
             c.with_power("light intensity × 1.02 (engine image × 1.02)", p102)
             if c.power is not None and not c.power.fails:
                 c.with_power("E taken for E/π (engine image × π)", ppi)
@@ -136,9 +137,10 @@ def _accepted(sr: SceneResult, name: str, kind: str, what: str) -> Claim:
                  METRIC, MIN_ACCEPTED, j.fraction_accepted, 0.0, ">", "%", RULE)
 
 
-def _fraction(sr: SceneResult, image: np.ndarray, mean: np.ndarray, se: np.ndarray) -> float:
+def _fraction(sr: SceneResult, image: np.ndarray, mean: np.ndarray, se: np.ndarray, er: EngineResult) -> float:
+    """The fraction accepted, the engine's readback uncertainty (``er.stderr``) a known term of the judgement."""
     b, text = budget(sr.kind, mean)
-    return judge(image, mean, se, sr.dof, sr.mask, b, text).fraction_accepted
+    return judge(image, mean, se, sr.dof, sr.mask, b, text, known_sd=er.stderr).fraction_accepted
 
 
 def point_claims(m: Measurements) -> list[Claim]:
@@ -147,13 +149,13 @@ def point_claims(m: Measurements) -> list[Claim]:
         ref, s_ref = sr.references["mitsuba"], sr.stderrs["mitsuba"]
         li = sr.scene.lights[0]
         for name, er in sr.engines.items():
-            se = with_readback(s_ref, er)
+            se = s_ref
             c = _accepted(sr, name, "mitsuba", f"Lambertian {sr.scene.geometry} under a {li.intensity:g} cd point "
                                                   "light (KHR_lights_punctual, inverse square, no range)")
             c.with_power("intensity in lumens taken for candela (engine image × 4π)",
-                         _fraction(sr, er.image * 4 * np.pi, ref, se))
+                         _fraction(sr, er.image * 4 * np.pi, ref, se, er))
             if c.power is not None and not c.power.fails:
-                c.with_power("E/π units slip (engine image × 1/π)", _fraction(sr, er.image / np.pi, ref, se))
+                c.with_power("E/π units slip (engine image × 1/π)", _fraction(sr, er.image / np.pi, ref, se, er))
             out.append(c)
     return out
 
@@ -170,7 +172,7 @@ def spot_claims(m: Measurements) -> list[Claim]:
             label = next(k for k in sr.power_refs if k.startswith(profile))
             p_mean, p_se = sr.power_refs[label]
             c.with_power(f"cone falloff off by a degree: Mitsuba {label}",
-                         _fraction(sr, er.image, p_mean, with_readback(p_se, er)))
+                         _fraction(sr, er.image, p_mean, p_se, er))
             out.append(c)
             if name in SPOT_REGRESSIONS:
                 out.append(_spot_regression(sr, name))
@@ -179,7 +181,7 @@ def spot_claims(m: Measurements) -> list[Claim]:
 
 def _spot_regression(sr: SceneResult, name: str) -> Claim:
     er, ref = sr.engines[name], sr.references["mitsuba"]
-    se = with_readback(sr.stderrs["mitsuba"], er)
+    se = sr.stderrs["mitsuba"]
     c = Claim(f"renders.{name}.{sr.scene.name}.khr_falloff.regression", f"{name} keeps a known difference: "
               f"{SPOT_REGRESSIONS[name]}", METRIC + " against the KHR reference falloff", MIN_ACCEPTED,
               er.judgements["mitsuba"].fraction_accepted, 0.0, "<", "%",
@@ -188,7 +190,7 @@ def _spot_regression(sr: SceneResult, name: str) -> Claim:
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.where(smooth > 0, ref / np.where(smooth > 0, smooth, 1.0), 0.0)
     return c.with_power("corrected engine behaviour: the engine's image × f_KHR/f_smoothstep per pixel",
-                        _fraction(sr, er.image * ratio, ref, se))
+                        _fraction(sr, er.image * ratio, ref, se, er))
 
 
 def hemisphere_claims(m: Measurements) -> list[Claim]:
@@ -198,7 +200,7 @@ def hemisphere_claims(m: Measurements) -> list[Claim]:
         for name, er in sr.engines.items():
             c = _accepted(sr, name, "mitsuba", "Lambertian sphere under a hemisphere light (sky / ground radiance)")
             out.append(c.with_power("colour read as irradiance where it is radiance (engine image × 1/π)",
-                                    _fraction(sr, er.image / np.pi, ref, se)))
+                                    _fraction(sr, er.image / np.pi, ref, se, er)))
     return out
 
 
@@ -283,16 +285,29 @@ def sharpness_claims(m: Measurements) -> list[Claim]:
     return out
 
 
-# (d) three.js r187's RectAreaLight (lights_physical_pars_fragment.glsl), two known differences from the exact
+# (d) three.js r187's RectAreaLight (lights_physical_pars_fragment.glsl) and Babylon 9.35's (ltcHelperFunctions,
+# the same LTC code; rendered with Heitz's tables, compute.KIND_NOTE), the known differences from the exact
 # Lambertian integral, each stated as the regression it has (power: the corrected behaviour):
-# plane: seen along its normal (V = N: the orthographic camera over the plane) LTC_Evaluate's frame
+# three, plane: seen along its normal (V = N: the orthographic camera over the plane) LTC_Evaluate's frame
 #   T1 = normalize(V − N(V·N)) = normalize(0) and the light contributes 0 (measured: every pixel 0);
-# sphere: LTC_ClippedSphereFormFactor returns (|F|² + F·n)/(|F| + 1) even where the rectangle is wholly above the
-#   horizon and the exact form factor is F·n (Lambert's polygon formula) — measured three/(L·that) = 0.9999.
-RECT_REGRESSIONS = {"rect_plane": "a surface seen along its normal (V = N) receives nothing from a RectAreaLight "
-                                  "(LTC frame T1 = normalize(V − N(V·N)) = normalize(0))",
-                    "rect_sphere": "its clipped-sphere form factor (|F|² + F·n)/(|F| + 1) over-estimates a tilted "
-                                   "rectangle wholly above the horizon, where the exact form factor is F·n"}
+# both, sphere, and Babylon's plane: the clipped-sphere form factor (|F|² + F·n)/(|F| + 1) (three
+#   LTC_ClippedSphereFormFactor, Babylon LTCClippedSphereFormFactor) even where the rectangle is wholly above the
+#   horizon and the exact form factor is F·n (Lambert's polygon formula) — measured engine/(L·that) = 0.9999 for
+#   both engines. Babylon's plane is lit: its V is normalize(eye position − P) even under an orthographic camera
+#   (vEyePosition), so the frame is defined and the plane gets the clipped-sphere value (measured 0.9999 ± 4e-4).
+RECT_CLIPPED = ("its clipped-sphere form factor (|F|² + F·n)/(|F| + 1) over-estimates a tilted rectangle wholly above "
+                "the horizon, where the exact form factor is F·n")
+RECT_REGRESSIONS = {"three": {"rect_plane": "a surface seen along its normal (V = N) receives nothing from a "
+                                            "RectAreaLight (LTC frame T1 = normalize(V − N(V·N)) = normalize(0))",
+                              "rect_sphere": RECT_CLIPPED},
+                    "babylon": {"rect_plane": RECT_CLIPPED + " (Babylon's V points at the camera's position even "
+                                              "under an orthographic camera, so the plane is lit)",
+                                "rect_sphere": RECT_CLIPPED}}
+RECT_DARK = {("three", "rect_plane")}  # regressions whose corrected behaviour is the truth itself (the image is 0)
+# where the light's unit comes from: three issue 19214 (RectAreaLight.intensity is luminance; .power = π·A·intensity);
+# Babylon 9.35 light.js _getPhotometricScale: 1 for LIGHTTYPEID_RECT_AREALIGHT in every intensity mode, the diffuse
+# term areaLightDiffuse · diffuse · intensity with areaLightDiffuse the form factor (babylon_render.mjs rectLight)
+RECT_UNITS_SOURCE = {"three": "three issue 19214", "babylon": "Babylon light.js _getPhotometricScale"}
 
 
 def _rect_fraction(sr: SceneResult, image: np.ndarray, mask: np.ndarray) -> float:
@@ -301,8 +316,15 @@ def _rect_fraction(sr: SceneResult, image: np.ndarray, mask: np.ndarray) -> floa
     return judge(image, ref, se, sr.dof, mask, b, text).fraction_accepted
 
 
+def _rect_engine(name: str, er: EngineResult) -> str:
+    """The engine's name with the substitution it was rendered with (compute.KIND_NOTE), if any."""
+    note = er.info.get("note")
+    return f"{name} ({note})" if note else name
+
+
 def rect_claims(m: Measurements) -> list[Claim]:
-    """(d) per scene: the regression three keeps; on the sphere, its units (three issue 19214: nits, not lumens)."""
+    """(d) per scene and engine: the regression it keeps; where its image is not 0, its units (three issue 19214,
+    Babylon's photometric scale: nits, not lumens)."""
     from ...scenes.render_scenes import rect_above_horizon, rect_form_factors
 
     out = []
@@ -310,23 +332,27 @@ def rect_claims(m: Measurements) -> list[Claim]:
         li = sr.scene.lights[0]
         mask = sr.mask & rect_above_horizon(sr.scene)
         for name, er in sr.engines.items():
-            c = Claim(f"renders.{name}.{sr.scene.name}.regression", f"{name} keeps a known difference: "
-                      f"{RECT_REGRESSIONS[sr.scene.name]}", METRIC + " (rectangle wholly above the horizon)",
+            who = _rect_engine(name, er)
+            what = RECT_REGRESSIONS.get(name, RECT_REGRESSIONS["babylon"])[sr.scene.name]
+            c = Claim(f"renders.{name}.{sr.scene.name}.regression", f"{who} keeps a known difference: {what}",
+                      METRIC + " (rectangle wholly above the horizon)",
                       MIN_ACCEPTED, _rect_fraction(sr, er.image, mask), 0.0, "<", "%",
                       RULE + "; below it the engine is not the exact Lambertian integral of the rectangle")
             exact, sphere = rect_form_factors(sr.scene)
             with np.errstate(divide="ignore", invalid="ignore"):
                 fixed = er.image * np.where(sphere > 0, exact / np.where(sphere > 0, sphere, 1.0), 1.0)[..., None]
-            if sr.scene.geometry == "plane":
+            if (name, sr.scene.name) in RECT_DARK:
                 out.append(c.with_power("corrected engine behaviour: the truth itself (the exact integral)", 1.0))
                 continue
             out.append(c.with_power("corrected engine behaviour: the engine's image × F·n / clipped-sphere form factor",
                                     _rect_fraction(sr, fixed, mask)))
-            u = Claim(f"renders.{name}.{sr.scene.name}.units", f"{name}: RectAreaLight.intensity = {li.intensity:g} is "
-                      f"luminance (nits): with its form factor approximation divided out, the Lambertian sphere under "
-                      f"the {li.width:g} × {li.height:g} m light equals Mitsuba's area emitter of radiance "
+            shape = "sphere" if sr.scene.geometry == "sphere" else "plane"
+            u = Claim(f"renders.{name}.{sr.scene.name}.units", f"{who}: RectAreaLight.intensity = {li.intensity:g} is "
+                      f"luminance (nits): with its form factor approximation divided out, the Lambertian {shape} "
+                      f"under the {li.width:g} × {li.height:g} m light equals Mitsuba's area emitter of radiance "
                       f"{li.intensity:g} per pixel (rectangle wholly above the horizon)", METRIC, MIN_ACCEPTED,
-                      _rect_fraction(sr, fixed, mask), 0.0, ">", "%", RULE)
+                      _rect_fraction(sr, fixed, mask), 0.0, ">", "%",
+                      f"{RULE}; the unit: {RECT_UNITS_SOURCE.get(name, 'the engine source')}")
             u.with_power("intensity × 1.02", _rect_fraction(sr, fixed * 1.02, mask))
             if u.power is not None and not u.power.fails:
                 u.with_power(f"intensity read as luminous power (three 19214): L = Φ/(πA), image × 1/(π·{li.area():g})",
@@ -495,8 +521,9 @@ def material_claims(m: Measurements) -> list[Claim]:
 
 
 def claims(m: Measurements) -> list[Claim]:
+    from .cdf_claims import cdf_claims  # (b) Babylon's CDF irradiance
     from .shadow_claims import shadow_claims  # (e)
 
     return (furnace_claims(m) + directional_claims(m) + point_claims(m) + spot_claims(m) + hemisphere_claims(m)
             + probe_lambert_claims(m) + sharpness_claims(m) + rect_claims(m) + material_claims(m)
-            + shadow_claims(m.shadows))
+            + shadow_claims(m.shadows) + cdf_claims(m.cdf))

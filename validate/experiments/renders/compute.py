@@ -20,11 +20,13 @@ Probe materials (b): white spheres over metalness × roughness, references (i) g
 ``gltf_metallic_roughness`` plug-in) and (ii) the multiscatter microsurface, kept apart (block at the end); the glTF
 BSDF's own checks (χ², albedo quadrature, roughconductor) in ``Measurements.bsdf_checks``.
 Rectangular area light (d): Mitsuba's ``rectangle`` with an ``area`` emitter of radiance = the light's nits, over the
-Lambertian plane and sphere (``env_spp``; three.js only — ``KIND_SKIP``).
+Lambertian plane and sphere (``env_spp``): three.js, and Babylon as ``KIND_NOTE`` states (its shader, Heitz's
+tables); Filament has no area lights (``KIND_SKIP``).
 """
 
 from __future__ import annotations
 
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -54,13 +56,21 @@ KIND_ENGINES = {"hemisphere": {"three": ("three_probe",)}}
 FILAMENT_NO_IBL = ("Filament 1.53.4's npm package has no IBL prefilter (cmgen/libibl are not in the WebAssembly "
                    "build): IndirectLight.Builder takes only precomputed irradianceSh and a prefiltered reflections "
                    "cubemap, so an environment cannot go through Filament's own pipeline")
-KIND_SKIP = {"rect": {"babylon": "Babylon 9.35's RectAreaLight loads its LTC tables from assets.babylonjs.com "
-                                 "(Lights/LTC/ltcTextureTool.js: Tools.LoadFileAsync of areaLightsLTC.bin); the "
-                                 "render machine has no network",
-                      "filament": "Filament has no area lights (LightManager types: SUN, DIRECTIONAL, POINT, "
+KIND_SKIP = {"rect": {"filament": "Filament has no area lights (LightManager types: SUN, DIRECTIONAL, POINT, "
                                   "FOCUSED_SPOT, SPOT)"},
              "furnace": {"filament": FILAMENT_NO_IBL}, "hemisphere": {"filament": FILAMENT_NO_IBL},
              "probe": {"filament": FILAMENT_NO_IBL}, "probe_lambert": {"filament": FILAMENT_NO_IBL}}
+# engines rendered with a stated substitution, by kind: the label travels with the engine's info, the report row and
+# the claims. Babylon 9.35's RectAreaLight loads its LTC tables from assets.babylonjs.com
+# (Lights/LTC/ltcTextureTool.js: Tools.LoadFileAsync of areaLightsLTC.bin) and the render machine has no network;
+# babylon_render.mjs puts Heitz et al. 2016's GGX tables (three.js's RectAreaLightTexturesLib LTC_MAT_1 / LTC_MAT_2)
+# where AreaLight looks for them (scene._ltcTextures, @internal: 9.35 has no public LTC provider) in the channel
+# layout its ltcHelperFunctions reads. The Lambertian scenes' diffuse term is LTCEvaluate with the identity matrix
+# (the rectangle's form factor) and their specular term is 0 (R0 = 0), so their pixels do not depend on the table
+# (measured: bit-identical with a constant table; a dielectric with F0 = 0.04 at roughness 0.5 is not).
+RECT_LTC_LABEL = ("Babylon's RectAreaLight shader with Heitz's tables (Babylon's own areaLightsLTC.bin is not "
+                  "obtainable offline)")
+KIND_NOTE = {"rect": {"babylon": RECT_LTC_LABEL}}
 # (b) probe on metal spheres: the furnace budget per unit radiance (2 half-float lookups + SwiftShader trig), relative
 PROBE_BUDGET_REL = FURNACE_BUDGET
 
@@ -78,9 +88,6 @@ class EngineResult:
     stderr: float = 0.0  # the readback's standard uncertainty per value (Filament's 8-bit canvas), radiance
 
 
-def with_readback(stderr: np.ndarray, er: EngineResult) -> np.ndarray:
-    """The reference's standard error and the engine readback's (quantisation) in quadrature, √(s² + σ_q²)."""
-    return np.sqrt(stderr**2 + er.stderr**2)
 
 
 @dataclass
@@ -106,6 +113,7 @@ class Measurements:
     probe_note: str = ""  # which probe (b) rendered, or why none
     bsdf_checks: dict[str, Any] = field(default_factory=dict)  # (b) materials: the glTF BSDF's χ² and closed forms
     shadows: list[Any] = field(default_factory=list)  # (e) shadow_compute.ShadowSceneResult per scene
+    cdf: list[Any] = field(default_factory=list)  # (b) cdf_compute.CdfScene: Babylon's CDF irradiance (PR 16247)
 
 
 def scene_list(s: Settings, probe: np.ndarray | None = None) -> list[tuple[rs.RenderScene, str]]:
@@ -196,27 +204,46 @@ def engine_names(kind: str, s: Settings) -> list[str]:
     return [n for e in s.engines for n in (e, *extra.get(e, ()))]
 
 
-def measure_scene(scene: rs.RenderScene, kind: str, s: Settings) -> SceneResult:
+Prepared = tuple[dict[str, "RenderReference | None"], np.ndarray, dict[str, tuple[np.ndarray, np.ndarray]]]
+
+
+def prepare_references(scene: rs.RenderScene, kind: str, s: Settings) -> Prepared:
+    """The scene's references, hit mask and power references (Mitsuba only: no browser, safe on the reference
+    thread of :func:`compute`)."""
     refs, hit = references(scene, kind, s)
-    truths = {k: truth(r, hit, s.passes) for k, r in refs.items()}
-    res = SceneResult(scene, kind, {k: t[0] for k, t in truths.items()}, {}, hit, {k: t[1] for k, t in truths.items()},
-                      power_refs=power_references(scene, kind, s), dof=max(s.passes - 1, 1))
+    return refs, hit, power_references(scene, kind, s)
+
+
+def measure_scene(scene: rs.RenderScene, kind: str, s: Settings, prepared: Future | None = None) -> SceneResult:
+    """Every engine's render of ``scene`` judged against its references; ``prepared``: a future of
+    :func:`prepare_references` (computed meanwhile on another thread), else they are computed here. The engines
+    render first, so the browser works while the references are traced."""
+    rendered: dict[str, engines.EngineRender | str] = {}  # engine → its render, or why it was skipped
     for name in engine_names(kind, s):
         if name in KIND_SKIP.get(kind, {}):
-            res.skipped[name] = KIND_SKIP[kind][name]
+            rendered[name] = KIND_SKIP[kind][name]
             continue
         try:
-            er = engines.render(name, scene)
+            rendered[name] = engines.render(name, scene)
         except Exception as exc:  # an engine that cannot start is skipped with its reason, never a crash
-            res.skipped[name] = " ".join(f"{type(exc).__name__}: {exc}".split())[:300]
+            rendered[name] = " ".join(f"{type(exc).__name__}: {exc}".split())[:300]
+    refs, hit, power = prepared.result() if prepared is not None else prepare_references(scene, kind, s)
+    truths = {k: truth(r, hit, s.passes) for k, r in refs.items()}
+    res = SceneResult(scene, kind, {k: t[0] for k, t in truths.items()}, {}, hit, {k: t[1] for k, t in truths.items()},
+                      power_refs=power, dof=max(s.passes - 1, 1))
+    for name, er in rendered.items():
+        if isinstance(er, str):
+            res.skipped[name] = er
             continue
         out = EngineResult(er.image[..., :3].astype(np.float64), er.image[..., 3], er.frame_ms, er.wall_s, er.version,
                            info=er.info, stderr=er.stderr)
+        if name in KIND_NOTE.get(kind, {}):
+            out.info["note"] = KIND_NOTE[kind][name]
         mask = interior_mask(hit, out.coverage)
         res.mask = mask
         for k, (m, se, dof) in truths.items():
             b, text = budget(kind, m)
-            out.judgements[k] = judge(out.image, m, with_readback(se, out), dof, mask, b, text)
+            out.judgements[k] = judge(out.image, m, se, dof, mask, b, text, known_sd=out.stderr)
         out.energy = float(out.image[mask].mean())
         res.engines[name] = out
     for k, (m, se, _) in truths.items():
@@ -226,14 +253,34 @@ def measure_scene(scene: rs.RenderScene, kind: str, s: Settings) -> SceneResult:
 
 
 def compute(ctx: Any, s: Settings) -> Measurements:
-    from ...gl import runtime
+    """Mitsuba's references on one thread, the engines' pages in this one (the playwright sync API is bound to the
+    thread that started the browser): the two overlap, the numbers are those of the serial order (each reference is
+    seeded and computed alone on its thread; each engine render is the same page call)."""
+    from ...gl import browser_page, runtime
 
     probe, probe_note = load_probe(ctx)
-    from .shadow_compute import compute_shadows
+    from .cdf_compute import compute_cdf
+    from .shadow_compute import compute_shadows, shadow_scene_list
 
-    out = [measure_scene(sc, kind, s) for sc, kind in ctx.progress(scene_list(s, probe), "renders: scenes")]
+    scenes = scene_list(s, probe)
+    shadow_scenes = shadow_scene_list(s)
+    pool = ThreadPoolExecutor(1, thread_name_prefix="renders-references")
+    try:
+        prepared = [pool.submit(prepare_references, sc, kind, s) for sc, kind in scenes]
+        shadow_refs = [pool.submit(render_reference, sc, s.shadow_spp, s.passes, s.seed) for sc in shadow_scenes]
+        bsdf = pool.submit(gltf_bsdf_checks, s)
+        browser_page.preload([engines.ENGINES[n][0] for kind in dict.fromkeys(k for _, k in scenes)
+                              for n in engine_names(kind, s) if n not in KIND_SKIP.get(kind, {})])
+        out = [measure_scene(sc, kind, s, f)
+               for (sc, kind), f in ctx.progress(list(zip(scenes, prepared, strict=True)), "renders: scenes")]
+        shadows = compute_shadows(ctx, s, shadow_refs)
+        checks = bsdf.result()
+    except BaseException:  # an error or an interrupt: drop the references not yet started, do not wait for them
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown()
     return Measurements(s, out, startup={"webgl2_s": runtime.startup_seconds("webgl2"), **time_info(out)},
-                        probe_note=probe_note, bsdf_checks=gltf_bsdf_checks(s), shadows=compute_shadows(ctx, s))
+                        probe_note=probe_note, bsdf_checks=checks, shadows=shadows, cdf=compute_cdf(ctx, s))
 
 
 def time_info(scenes: list[SceneResult]) -> dict[str, Any]:

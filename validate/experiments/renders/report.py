@@ -11,7 +11,7 @@ from ...format import pm as fpm
 from ...metrics.pixel_z import PixelJudgement, judge
 from ..base import Figure, Section, Table
 from ..formatting import pct, pm
-from .compute import Measurements, SceneResult, budget
+from .compute import RECT_LTC_LABEL, Measurements, SceneResult, budget
 
 FILAMENT_NOTE = ("Filament (npm 1.53.4) renders the punctual lights (c) only: a glTF binary of the geometry through "
                  "gltfio's ubershader and its LightManager lights (Φ = 4π·cd point, π·cd spot), post-processing off, "
@@ -63,12 +63,53 @@ FLIP_NOTE = ("FLIP: HDR-FLIP (flip_evaluator, ACES tone mapper, exposures from t
              "degree) of the engine against the reference mean over the judged pixels; display only, no claim")
 
 
+def _flip_openmp() -> Any:
+    """flip_evaluator's bundled libgomp (``flip_evaluator.libs/libgomp-*.so``, already loaded by the import), or None.
+
+    ctypes opens the loaded library by its path, so ``omp_set_num_threads`` sets the calling thread's
+    nthreads-var of the very runtime FLIP's parallel loops use (OpenMP 5.2 §3.2.1: it governs the parallel regions
+    this thread starts)."""
+    import ctypes
+    import glob
+    import os
+
+    import flip_evaluator
+
+    libs = glob.glob(os.path.join(os.path.dirname(os.path.dirname(flip_evaluator.__file__)), "flip_evaluator.libs",
+                                  "libgomp*.so*"))
+    try:
+        return ctypes.CDLL(libs[0]) if libs else None
+    except OSError:
+        return None
+
+
+_FLIP_OMP: list[Any] = []
+
+
+def _flip_one_thread(fn: Any, *args: Any, **kw: Any) -> Any:
+    """``fn(*args, **kw)`` with FLIP's OpenMP team at one thread, then the previous count again. A 64² image is
+    a few milliseconds of work: on 2 shared cores libgomp's spinning team costs ~8× the CPU and ~5× the wall
+    (measured, 20 HDR-FLIP calls: 2.80 s CPU / 13.7 s wall with 2 threads, 0.36 s / 2.9 s with 1), and the map
+    and mean are bit-identical (per-pixel work; the same exposures)."""
+    if not _FLIP_OMP:
+        _FLIP_OMP.append(_flip_openmp())
+    lib = _FLIP_OMP[0]
+    if lib is None:
+        return fn(*args, **kw)
+    before = int(lib.omp_get_max_threads())
+    lib.omp_set_num_threads(1)
+    try:
+        return fn(*args, **kw)
+    finally:
+        lib.omp_set_num_threads(before)
+
+
 def flip_result(sr: SceneResult, image: np.ndarray, reference: np.ndarray) -> Any:
     """HDR-FLIP (:func:`validate.metrics.flip.flip_hdr`) of ``image`` against ``reference`` on the judged pixels
-    (negative values, none in these images, clamped)."""
+    (negative values, none in these images, clamped); one OpenMP thread (:func:`_flip_one_thread`)."""
     from ...metrics.flip import flip_hdr
 
-    return flip_hdr(np.nan_to_num(reference), image, sr.mask, negatives="clamp")
+    return _flip_one_thread(flip_hdr, np.nan_to_num(reference), image, sr.mask, negatives="clamp")
 
 
 def flip_mean(sr: SceneResult, image: np.ndarray, reference: np.ndarray) -> float:
@@ -114,6 +155,9 @@ def findings(m: Measurements) -> list[str]:
     from .shadow_report import shadow_findings  # (e)
 
     out += shadow_findings(m.shadows)
+    from .cdf_report import cdf_findings  # (b) Babylon's CDF irradiance
+
+    out += cdf_findings(m.cdf)
     metal = [s for s in m.scenes if "model" in s.reference_energy]
     if metal:
         loss = ", ".join(f"r {s.scene.material.roughness:g}: {s.reference_energy['model'][0]:.4f} ± "
@@ -148,8 +192,8 @@ def spot_findings(sr: SceneResult) -> list[str]:
     ref, se = sr.references["mitsuba"], sr.stderrs["mitsuba"]
     b, text = budget(sr.kind, ref)
     for name, er in sr.engines.items():
-        jp = judge(er.image, ref, se, sr.dof, sr.mask & pen, b, text)
-        jo = judge(er.image, ref, se, sr.dof, sr.mask & ~pen, b, text)
+        jp = judge(er.image, ref, se, sr.dof, sr.mask & pen, b, text, known_sd=er.stderr)
+        jo = judge(er.image, ref, se, sr.dof, sr.mask & ~pen, b, text, known_sd=er.stderr)
         out.append(f"{sr.scene.name}, {name} vs KHR's reference falloff: penumbra ({li.inner_deg:g}°–"
                    f"{li.outer_deg:g}°, {jp.n_pixels} px) {pct(jp.fraction_accepted)} accepted, mean rel. err. "
                    f"{fpm(jp.mean_rel, jp.mean_rel_unc, '%')}, max {fpm(jp.max_rel, jp.max_rel_unc, '%')}, bias "
@@ -249,9 +293,13 @@ def probe_findings(m: Measurements) -> list[str]:
 RECT_NOTE = ("A square 0.6 × 0.6 m area light of 10 nits beside the view (no camera ray meets it), tilted onto the "
              "Lambertian plane and facing the Lambertian sphere, against Mitsuba's rectangle with an area emitter of "
              "that radiance (next-event estimation; per-pixel standard error from 8 passes). three.js's "
-             "RectAreaLight with RectAreaLightUniformsLib.init()'s LTC tables; Babylon is skipped (its LTC tables "
-             "come from assets.babylonjs.com). Pixels are judged apart where the whole rectangle is above the "
-             "surface's horizon (Lambert's polygon formula exact, no clipping) and where it is clipped.")
+             "RectAreaLight with RectAreaLightUniformsLib.init()'s LTC tables; Babylon's row is " + RECT_LTC_LABEL +
+             ": its RectAreaLight loads areaLightsLTC.bin from assets.babylonjs.com, so Heitz et al. 2016's GGX "
+             "tables (three's LTC_MAT_1 / LTC_MAT_2) are put where Babylon 9.35 looks for them (scene._ltcTextures; "
+             "it has no public LTC provider) in the layout its shader reads. The Lambertian pixels do not depend on "
+             "the table (diffuse = the LTC with the identity matrix, specular 0; measured bit-identical with a "
+             "constant table). Pixels are judged apart where the whole rectangle is above the surface's horizon "
+             "(Lambert's polygon formula exact, no clipping) and where it is clipped.")
 
 
 def rect_table(m: Measurements) -> Table | None:
@@ -268,8 +316,9 @@ def rect_table(m: Measurements) -> Table | None:
             for part, mk in (("all", sr.mask), ("above horizon", sr.mask & above), ("clipped", sr.mask & ~above)):
                 if not mk.any():
                     continue
-                j = judge(er.image, ref, se, sr.dof, mk, b, text)
-                rows.append([sr.scene.name, name, part, j.n_pixels, f"{100 * j.fraction_accepted:.2f}",
+                j = judge(er.image, ref, se, sr.dof, mk, b, text, known_sd=er.stderr)
+                rows.append([sr.scene.name, f"{name} ({er.info['note']})" if er.info.get("note") else name, part,
+                             j.n_pixels, f"{100 * j.fraction_accepted:.2f}",
                              fpm(j.mean_rel, j.mean_rel_unc, scale=100), fpm(j.max_rel, j.max_rel_unc, scale=100),
                              fpm(j.mean_signed_rel, j.mean_rel_unc, scale=100),
                              "" if power is None else f"{power:.4g}"])
@@ -283,8 +332,18 @@ def rect_table(m: Measurements) -> Table | None:
 
 
 def rect_findings(m: Measurements) -> list[str]:
-    """three issue 19214: RectAreaLight.intensity is luminance (nits); its .power is π·A·intensity lm."""
+    """three issue 19214: RectAreaLight.intensity is luminance (nits); its .power is π·A·intensity lm. Babylon:
+    the same unit (photometric scale 1 for area lights), shown by its units claim; its row's table substitution."""
     out = []
+    for sr in (s for s in m.scenes if s.kind == "rect"):
+        for name, er in sr.engines.items():
+            if er.info.get("note"):
+                j = er.judgements["mitsuba"]
+                out.append(f"{sr.scene.name}, {name} — {er.info['note']}: {pct(j.fraction_accepted)} of "
+                           f"{j.n_pixels} px accepted, mean |rel| {fpm(j.mean_rel, j.mean_rel_unc, '%')}, max "
+                           f"{fpm(j.max_rel, j.max_rel_unc, '%')}, bias {100 * j.mean_signed_rel:+.3f} %; "
+                           "RectAreaLight.intensity is radiance (nits): light.js _getPhotometricScale is 1 for "
+                           "area lights in every intensity mode.")
     for sr in (s for s in m.scenes if s.kind == "rect" and s.scene.geometry == "sphere"):
         li = sr.scene.lights[0]
         for er in sr.engines.values():
@@ -328,6 +387,9 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
     from .shadow_report import shadow_sections  # (e)
 
     out += shadow_sections(m.shadows, ctx)
+    from .cdf_report import cdf_sections  # (b) Babylon's CDF irradiance
+
+    out += cdf_sections(m.cdf, ctx)
     out.append(Section("Filament: what it renders", [FILAMENT_NOTE]))
     return out
 
@@ -338,7 +400,13 @@ def data(m: Measurements) -> dict:
         e: {"frame_ms": r.frame_ms, "wall_s": r.wall_s, "version": r.version, "energy": r.energy, "info": r.info,
             "judgements": {k: j.to_json() for k, j in r.judgements.items()}} for e, r in s.engines.items()},
         "reference_energy": s.reference_energy} for s in m.scenes}, "startup": m.startup,
-        "bsdf_checks": m.bsdf_checks, "shadows": _shadow_data(m)}
+        "bsdf_checks": m.bsdf_checks, "shadows": _shadow_data(m), **_cdf_data(m)}
+
+
+def _cdf_data(m: Measurements) -> dict:
+    from .cdf_report import cdf_data  # (b) Babylon's CDF irradiance
+
+    return {"cdf_irradiance": cdf_data(m.cdf)} if m.cdf else {}
 
 
 def _shadow_data(m: Measurements) -> dict:
@@ -364,7 +432,8 @@ def settings_json(m: Measurements) -> dict[str, Any]:
             "probe_spp": s.probe_spp, "probe": m.probe_note, "material_metallic": list(s.material_metallic),
             "material_roughness": list(s.material_roughness), "bsdf_check_samples": s.bsdf_check_samples,
             "shadow_resolution": s.shadow_resolution, "shadow_spp": s.shadow_spp,
-            "shadow_engines": list(s.shadow_engines)}
+            "shadow_engines": list(s.shadow_engines), **({"cdf_sizes": list(s.cdf_sizes),
+                                                           "cdf_resolution": s.cdf_resolution} if s.cdf_sizes else {})}
 
 
 # ---------------------------------------------------------------- (b) glTF materials: (i) and (ii) kept apart

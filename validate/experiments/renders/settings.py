@@ -31,12 +31,21 @@ class Settings:
     # shadow types (render_shadow_scenes.SHADOW_TYPES) — () renders none
     shadow_resolution: int = 64
     shadow_spp: int = 64
-    shadow_engines: tuple[str, ...] = ("three", "babylon")
+    shadow_engines: tuple[str, ...] = ("three", "babylon", "filament")
+    # (b) Babylon's CDF irradiance (validate.scenes.render_cdf_scenes, Babylon PR 16247): Babylon's cube sizes, the
+    # image size; Babylon only, so full runs only (quick has no Babylon: its first call here — page, shaders, first
+    # CDF cube — took 42–45 s on the shared 2 cores, measured)
+    cdf_sizes: tuple[int, ...] = (64, 128, 256)
+    cdf_resolution: int = 32
 
 
 # quick: three.js and Filament (Babylon's page load and first prefilter cost ~80 s on 2 cores; Filament's page and
-# its four punctual scenes ~17 s at 64², measured); full: all three engines
+# its four punctual scenes ~17 s at 64², measured); full: all three engines. Quick's shadows stay three.js only:
+# Filament's two shadow scenes at 32² add 6.3 s of page time (4.9 s the first, its shadow-receiver shaders
+# compiled; 1.4 s the second; measured on the shared 2 cores) and at 32² its directional penumbra is under a pixel
+# wide (W = 0)
 QUICK = Settings(spp=16, passes=8, engines=("three", "filament"), env_spp=256, probe_roughness=(0.25, 0.5),
                  probe_resolution=32, probe_spp=128, rect_resolution=32, material_roughness=(0.5,),
-                 bsdf_check_samples=100_000, shadow_resolution=32, shadow_spp=16, shadow_engines=("three",))
+                 bsdf_check_samples=100_000, shadow_resolution=32, shadow_spp=16, shadow_engines=("three",),
+                 cdf_sizes=())
 FULL = Settings(spp=128, passes=8)

@@ -14,14 +14,18 @@ from .shadow_compute import REGIONS, ShadowSceneResult, shadow_factor
 
 NOTE = ("(e) Shadows. The Lambertian plane under a directional light (3 lux, 45° incidence) and a spot light (6 cd, "
         "the whole view inside its inner cone), each with a thin box occluder outside the camera's view. The engines "
-        "model both lights as delta lights — a hard shadow — filtered by their shadow maps (512², the same light "
-        "frustum in both engines, only the box casts). Mitsuba path-traces the light with a size: the sun as a "
+        "model both lights as delta lights — a hard shadow — filtered by their shadow maps (three and Babylon: 512², "
+        "the same light frustum, only the box casts; Filament 1.53: PCF, the only type its JS View can select, its "
+        "default 1024² map, biases and own light frustum — its ShadowOptions are not bound in the npm build — and the "
+        "plane casts as well as receives, without which Filament draws no shadow). Mitsuba path-traces the light "
+        "with a size: the sun as a "
         "sphere of 3° angular radius at 10 km (radiance E/(π sin²α), so the unshadowed plane receives exactly "
         "E cos θ), the spot as a sphere of radius 0.15 m (radiance I/(π r²): exactly I cos θ/d²); per-pixel standard "
         "error from 8 passes. Regions from the geometric visibility of the light's disc: lit (2 px or more from any "
         "shadow), penumbra (partly visible), umbra (nothing visible). Penumbra width W = pixels with shadow factor "
         "0.1 < s < 0.9 (s = radiance / unshadowed radiance); leak = umbra pixels brighter than the budget. "
-        "three 0.187's PCFSoftShadowMap is removed (it renders PCF: column 'used').")
+        "three 0.187's PCFSoftShadowMap is removed (it renders PCF: column 'used'). Filament's 8-bit canvas carries "
+        "its ±½ LSB quantisation as a known uncertainty in the per-pixel test.")
 
 
 def region_table(sr: ShadowSceneResult) -> Table:
@@ -88,8 +92,10 @@ def leak_finding(shadows: list[ShadowSceneResult]) -> list[str]:
     if not parts:
         return []
     return ["three issue 23551 (shadow light leaks that no bias fixes), umbra pixels brighter than the budget (light "
-            "leak; receiver not casting, three's bias 0, Babylon's 5e-5): " + "; ".join(parts) + ". A leak here is "
-            "the filter's, not a bias's: the receiver casts nothing."]
+            "leak; three/Babylon receiver not casting, three's bias 0, Babylon's 5e-5; Filament's plane casts, its "
+            "default biases): " + "; ".join(parts) + ". A leak here is the filter's (or, Filament's spot, a shadow "
+            "never drawn), not a bias's (three's VSM draws receivers into its map, which darkens the lit plane, not "
+            "the umbra)."]
 
 
 def shadow_findings(shadows: list[ShadowSceneResult]) -> list[str]:

@@ -11,13 +11,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from functools import cached_property
 from typing import Any
 
 import numpy as np
 from scipy.special import erf
 
 from ...errors import ValidateError
-from ...geometry import unit
+from ...geometry import NORM_FLOOR, unit
 
 DEFAULTS: dict[str, Any] = {"albedo": 0.0, "ks": 0.0, "exponent": 10.0, "phong_exponent": 10.0, "alpha": 0.3,
                             "distribution": "beckmann", "eta": 0.0, "k": 1.0, "sigma": 0.0, "minnaert_k": 1.0}
@@ -33,29 +34,82 @@ def param(params: Mapping[str, Any], key: str, who: str) -> np.ndarray:
 
 
 class Geometry:
-    """Per-sample dot products of (n, l, v): cosines, half vector, mirror direction, azimuth difference."""
+    """Per-sample dot products of (n, l, v): cosines, half vector, mirror direction, azimuth difference. Each is
+    formed on first use (``functools.cached_property``, the same float64 expressions): a caller that needs only the
+    horizon mask (:meth:`finish`) does not pay for the half vector, cos Δφ and the polar angles."""
 
     def __init__(self, normals: np.ndarray, lights: np.ndarray, views: np.ndarray):
         self.n, self.l, self.v = unit(normals), unit(lights), unit(views)
-        self.cl = np.sum(self.n * self.l, axis=-1)
-        self.cv = np.sum(self.n * self.v, axis=-1)
-        self.h = unit(self.l + self.v)
-        self.ch = np.clip(np.sum(self.n * self.h, axis=-1), 0.0, 1.0)
-        self.vh = np.clip(np.sum(self.v * self.h, axis=-1), 0.0, 1.0)
+
+    @cached_property
+    def cl(self) -> np.ndarray:
+        return np.sum(self.n * self.l, axis=-1)
+
+    @cached_property
+    def cv(self) -> np.ndarray:
+        return np.sum(self.n * self.v, axis=-1)
+
+    @cached_property
+    def h(self) -> np.ndarray:
+        return unit(self.l + self.v)
+
+    @cached_property
+    def ch(self) -> np.ndarray:
+        return np.clip(np.sum(self.n * self.h, axis=-1), 0.0, 1.0)
+
+    @cached_property
+    def vh(self) -> np.ndarray:
+        return np.clip(np.sum(self.v * self.h, axis=-1), 0.0, 1.0)
+
+    @cached_property
+    def rv(self) -> np.ndarray:
         r = 2.0 * self.cl[:, None] * self.n - self.l
-        self.rv = np.sum(r * self.v, axis=-1)
-        self.front = (self.cl > 0.0) & (self.cv > 0.0)
+        return np.sum(r * self.v, axis=-1)
+
+    @cached_property
+    def front(self) -> np.ndarray:
+        return (self.cl > 0.0) & (self.cv > 0.0)
+
+    @cached_property
+    def cos_dphi(self) -> np.ndarray:
         lt = self.l - self.cl[:, None] * self.n
         vt = self.v - self.cv[:, None] * self.n
         norm = np.linalg.norm(lt, axis=-1) * np.linalg.norm(vt, axis=-1)
-        self.cos_dphi = np.where(norm > 1e-12, np.sum(lt * vt, axis=-1) / np.maximum(norm, 1e-300), 0.0)
-        self.theta_l = np.arccos(np.clip(self.cl, -1.0, 1.0))
-        self.theta_v = np.arccos(np.clip(self.cv, -1.0, 1.0))
+        return np.where(norm > 1e-12, np.sum(lt * vt, axis=-1) / np.maximum(norm, 1e-300), 0.0)
+
+    @cached_property
+    def theta_l(self) -> np.ndarray:
+        return np.arccos(np.clip(self.cl, -1.0, 1.0))
+
+    @cached_property
+    def theta_v(self) -> np.ndarray:
+        return np.arccos(np.clip(self.cv, -1.0, 1.0))
 
     def finish(self, f_cos: np.ndarray) -> np.ndarray:
         """(N, 3), zero where l or v is below the horizon."""
-        out = np.broadcast_to(np.asarray(f_cos, dtype=np.float64).reshape(len(self.cl), -1), (len(self.cl), 3))
-        return np.where(self.front[:, None], np.maximum(out, 0.0), 0.0)
+        return finish_front(self.front, f_cos)
+
+
+def finish_front(front: np.ndarray, f_cos: np.ndarray) -> np.ndarray:
+    """:meth:`Geometry.finish` with the horizon mask given: (N, 3) max(0, f_cos), zero where ``front`` is false."""
+    out = np.broadcast_to(np.asarray(f_cos, dtype=np.float64).reshape(len(front), -1), (len(front), 3))
+    return np.where(front[:, None], np.maximum(out, 0.0), 0.0)
+
+
+def front_mask(normals: np.ndarray, lights: np.ndarray, views: np.ndarray) -> np.ndarray:
+    """:attr:`Geometry.front` (n·l > 0 and n·v > 0 of the unit vectors) by components, the same float64 numbers:
+    |x| = √((x₀² + x₁²) + x₂²) and n·l = (n₀l₀ + n₁l₁) + n₂l₂ are the left-to-right sums that ``np.linalg.norm``
+    and ``np.sum(·, axis=-1)`` form over a length-3 axis, and x/max(|x|, 10⁻³⁰⁰) is :func:`validate.geometry.unit`."""
+    def units(a: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        m = np.asarray(a, dtype=np.float64).reshape(-1, 3)
+        x, y, z = m[:, 0], m[:, 1], m[:, 2]
+        r = np.maximum(np.sqrt(x * x + y * y + z * z), NORM_FLOOR)
+        return x / r, y / r, z / r
+
+    n, l, v = units(normals), units(lights), units(views)
+    cl = n[0] * l[0] + n[1] * l[1] + n[2] * l[2]
+    cv = n[0] * v[0] + n[1] * v[1] + n[2] * v[2]
+    return (cl > 0.0) & (cv > 0.0)
 
 
 def column(x: np.ndarray) -> np.ndarray:
@@ -341,21 +395,60 @@ def power_dr(x: Any, s: float) -> Any:
     return dr.exp2(dr.log2(x) * e)
 
 
+_PACKED: list[Any] = [None]  # the last read-only (normals, lights, views) and their packed drjit input
+
+
+def _frozen(a: Any) -> bool:
+    """A numpy array that nothing can write into: it and every base below it read-only."""
+    while isinstance(a, np.ndarray):
+        if a.flags.writeable:
+            return False
+        a = a.base
+    return True
+
+
+def _packed_directions(normals: np.ndarray, lights: np.ndarray, views: np.ndarray) -> list[Any]:
+    """The nine direction components of :class:`GeometryDr` as drjit arrays of the active dtype, gathered from one
+    packed row-major (N, 9) input — :func:`validate.local_models.precision.packed_to_dr` of the nine columns, the
+    same kernel (rows side by side formed by one ``np.concatenate`` instead of nine strided column copies).
+
+    Memoised by identity for read-only inputs: the brdfs experiment's environment quadrature calls every technique
+    (each building a GeometryDr) on the same three frozen arrays (:func:`_frozen`, held by weak reference so a
+    recycled id cannot match), which are then converted once; the gathers stay per call (lazy, traced into each
+    technique's kernel as before)."""
+    import weakref  # noqa: PLC0415
+
+    from ..precision import active, active_backend, float_type, to_dr, uint_type  # noqa: PLC0415
+
+    dr = _dr()
+    arrays = (normals, lights, views)
+    key = (active(), active_backend())
+    hit = _PACKED[0]
+    packed = None
+    if hit is not None and hit[0] == key and all(r() is a for r, a in zip(hit[1], arrays, strict=True)):
+        packed, n = hit[2], hit[3]
+    if packed is None:
+        rows = np.concatenate([np.asarray(a, dtype=np.float64).reshape(-1, 3) for a in arrays], axis=1)
+        n = len(rows)
+        packed = to_dr(rows)
+        frozen = all(isinstance(a, np.ndarray) and _frozen(a) for a in arrays)
+        _PACKED[0] = (key, tuple(weakref.ref(a) for a in arrays), packed, n) if frozen else None
+    idx = dr.arange(uint_type(), n) * 9
+    return [dr.gather(float_type(), packed, idx + j) for j in range(9)]
+
+
 class GeometryDr:
     """:class:`Geometry` on drjit arrays of the active dtype: the same per-sample cosines (n·l, n·v, n·h, v·h, r·v),
     horizon mask, cos Δφ and polar angles, from (N, 3) numpy directions converted once
     (:func:`validate.local_models.precision.vec_to_dr`)."""
 
     def __init__(self, normals: np.ndarray, lights: np.ndarray, views: np.ndarray):
-        from ..precision import packed_to_dr  # noqa: PLC0415
-
         dr = _dr()
         # one packed input gathered nine ways (precision.packed_to_dr: row-major, offsets free of the size): with
         # nine separate inputs the LLVM kernel's hash follows the order drjit happens to number them in, and a
         # column-major offset k·N is a literal of the size, so identical calls or a new N missed the kernel cache
         size = len(np.asarray(normals).reshape(-1, 3))
-        c = packed_to_dr(*(col for a in (normals, lights, views) for col in np.asarray(a, dtype=np.float64)
-                           .reshape(-1, 3).T))
+        c = _packed_directions(normals, lights, views)
         n, l, v = (_unit((c[3 * i], c[3 * i + 1], c[3 * i + 2])) for i in range(3))
         self.size = size
         self.cl, self.cv = _dot(n, l), _dot(n, v)
@@ -373,13 +466,16 @@ class GeometryDr:
 
     def finish(self, f_cos: Any) -> np.ndarray:
         """(N, 3) float64 numpy, max(0, ·) and zero where l or v is below the horizon."""
-        from ..precision import rgb_to_np  # noqa: PLC0415
-
         dr = _dr()
         zero = dr.zeros(type(self.cl), self.size)
         ch = [dr.select(self.front, dr.maximum(zero + c, 0.0), 0.0) for c in RGB.of(f_cos).ch]
         dr.eval(*ch)  # one kernel for the three channels (they share every geometric term)
-        return rgb_to_np(*ch, self.size)
+        # each channel widened (exact) straight into its column: the values of precision.rgb_to_np, without its
+        # float64 temporaries and strided stack
+        out = np.empty((self.size, 3))
+        for i, c in enumerate(ch):
+            out[:, i] = np.array(c)
+        return out
 
 
 def fresnel_exact_dr(cos_theta: Any, eta: RGB, k: RGB) -> RGB:

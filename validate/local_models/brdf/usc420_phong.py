@@ -23,27 +23,39 @@ from typing import Any
 import numpy as np
 
 from ...gl.listing_harness import Placement, homogeneous
-from ..brdf.common import Geometry, param
+from ..brdf.common import finish_front, front_mask, param
 from ..families import brdf
 from ..listings.runner import register_gl, run
 
 
 def to_light_frame(lights: np.ndarray, *vectors: np.ndarray) -> list[np.ndarray]:
     """Rotate each sample's vectors by the R_i that takes l_i to +z (Rodrigues: R = I + [w]× + [w]×²/(1 + c),
-    w = l × z, c = l·z; l = −z is turned by π about x)."""
+    w = l × z, c = l·z; l = −z is turned by π about x). By components: the products and differences of
+    ``np.cross`` (w = (l_y·1 − l_z·0, l_z·0 − l_x·1, l_x·0 − l_y·0), w × x likewise), the same float64 numbers
+    without its (N, 3) temporaries."""
     lt = np.asarray(lights, dtype=np.float64)
     z = np.array([0.0, 0.0, 1.0])
-    w = np.cross(lt, z)
+    lc = (lt[:, 0], lt[:, 1], lt[:, 2])
+    w = _cross3(lc, (z[0], z[1], z[2]))
     c = lt @ z
     anti = c < -1.0 + 1e-12
     k = np.where(anti, 0.0, 1.0 / np.maximum(1.0 + c, 1e-300))
     out = []
     for vec in vectors:
         x = np.asarray(vec, dtype=np.float64)
-        wx = np.cross(w, x)
-        r = x + wx + k[:, None] * np.cross(w, wx)
-        out.append(np.where(anti[:, None], x * [1.0, -1.0, -1.0], r))
+        xc = (x[:, 0], x[:, 1], x[:, 2])
+        wx = _cross3(w, xc)
+        wwx = _cross3(w, wx)
+        r = np.empty((len(x), 3))
+        for i, sign in enumerate((1.0, -1.0, -1.0)):
+            r[:, i] = np.where(anti, xc[i] * sign, xc[i] + wx[i] + k * wwx[i])
+        out.append(r)
     return out
+
+
+def _cross3(a: tuple[Any, Any, Any], b: tuple[Any, Any, Any]) -> tuple[Any, Any, Any]:
+    """a × b by components, as ``np.cross`` forms it: (a₁b₂ − a₂b₁, a₂b₀ − a₀b₂, a₀b₁ − a₁b₀)."""
+    return a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]
 
 
 def glsl_phong(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray, views: np.ndarray) -> np.ndarray:
@@ -67,7 +79,7 @@ def glsl_phong(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarra
              seed="001 USC CSCI 420 lecture 11, 'Phong Shader'")
 def phong_usc420_glsl(params: Mapping[str, Any], normals: np.ndarray, lights: np.ndarray,
                       views: np.ndarray) -> np.ndarray:
-    return Geometry(normals, lights, views).finish(glsl_phong(params, normals, lights, views))
+    return finish_front(front_mask(normals, lights, views), glsl_phong(params, normals, lights, views))
 
 
 __all__ = ["glsl_phong", "phong_usc420_glsl", "to_light_frame"]

@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from ...blas import one_blas_thread
 from ...scenes import latlong
 from ..precision import constants_dr, to_dr, vec_to_dr
 
@@ -210,7 +211,12 @@ def fourier_row_sums(radiance: np.ndarray, lmax: int) -> np.ndarray:
     of 3 let BLAS run its efficient kernels at the same 2·lmax+1 multiply-adds per value; the rotations are
     a (q, q·k) product per row. Rows are shared among the process's CPUs (numpy's matmul releases the GIL)
     and, within a thread, read in blocks of about :data:`ROW_BLOCK_BYTES`, cast to float32 block by block
-    (no full-size copy)."""
+    (no full-size copy). Each pool thread runs its products on one BLAS thread of its own
+    (:class:`validate.blas.one_blas_thread`): the pool already occupies every CPU (nested BLAS threads only
+    oversubscribe it), and no two Python threads share OpenBLAS's thread server (concurrent calls into it are
+    where pthreads OpenBLAS has crashed before, e.g. OpenMathLib/OpenBLAS#4981, fixed in 0.3.29; a test worker
+    segfaulted here with no Python frame on the crashing thread). OpenBLAS splits a product by rows, not sums,
+    so the bits are the same (tested against the direct sum)."""
     h, w = radiance.shape[:2]
     k = polyphase(w)
     t_k, rot = _polyphase_operators(w, lmax, k)
@@ -220,11 +226,12 @@ def fourier_row_sums(radiance: np.ndarray, lmax: int) -> np.ndarray:
 
     def work(span: tuple[int, int]) -> None:
         buf = np.empty((min(step, span[1] - span[0]), q, 3 * k), dtype=np.float32)
-        for s in range(span[0], span[1], step):
-            e = min(s + step, span[1])
-            block = np.asarray(radiance[s:e], dtype=np.float32).reshape(e - s, w // k, 3 * k)
-            np.matmul(t_k, block, out=buf[:e - s])
-            np.matmul(rot, buf[:e - s].reshape(e - s, q * k, 3), out=rows[s:e])
+        with one_blas_thread():
+            for s in range(span[0], span[1], step):
+                e = min(s + step, span[1])
+                block = np.asarray(radiance[s:e], dtype=np.float32).reshape(e - s, w // k, 3 * k)
+                np.matmul(t_k, block, out=buf[:e - s])
+                np.matmul(rot, buf[:e - s].reshape(e - s, q * k, 3), out=rows[s:e])
 
     n = min(_cpus(), h)
     bounds = np.linspace(0, h, n + 1).astype(int)

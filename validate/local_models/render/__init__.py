@@ -42,6 +42,11 @@ ENGINES = {"three": ("three.html", "renderThree", {}), "babylon": ("babylon.html
            "babylon_lambert": ("babylon.html", "renderBabylon", {"diffuseModel": 2}),
            "three_probe": ("three.html", "renderThree", {"hemisphereProbe": True}),
            "filament": ("filament.html", "renderFilament", {})}
+# Babylon's CDF irradiance (babylon_cdf.mjs; validate.scenes.render_cdf_scenes): "babylon_cdf<size>_<variant>", the
+# Lambert diffuse model, the cube of <size>, supersampling as shipped (forced by Babylon PR 16247) or as before it
+ENGINES.update({f"babylon_cdf{n}_{v}": ("babylon.html", "renderBabylon",
+                                        {"diffuseModel": 2, "irradiance": "cdf", "cubeSize": n, "supersample": v})
+                for n in (32, 64, 128, 256, 512) for v in ("shipped", "pre16247")})
 HALF_FLOAT_RTOL = 2.0**-11  # IEEE binary16: 10 explicit mantissa bits, unit roundoff 2⁻¹¹
 SWIFTSHADER_TRIG_ATOL = 2e-4  # measured sin/cos error (validate.gl.webgl docstring)
 

@@ -13,10 +13,15 @@
 // set as ISO (setExposure below). Post-processing off (no tone mapping, dithering, FXAA): the colour pass writes
 // e × radiance straight into the canvas's RGBA8 (linear, no OETF: the swap chain is not sRGB; measured: at e = 1
 // the directional sphere's peak ρE/π = 0.955 read 242–243 of 255), read back with the context's gl.readPixels
-// (Filament's JS Renderer has no readPixels). Row 0 = bottom.
+// (Filament's JS Renderer has no readPixels). Row 0 = bottom. (e) Shadow scenes: filament_shadows.mjs (the lights
+// cast, the receiver's glTF bounds padded by RECEIVER_PAD_M).
+import {addShadows, applyShadowOptions} from './filament_shadows.mjs';  // (e) shadows
+
 export let version = '';
 let engine = null, renderer = null, swapChain = null, canvas = null, gl = null, loader = null;
 export const FALLOFF_M = 1000.0;
+export const RECEIVER_PAD_M = 1e-3;  // (e) filament_shadows.mjs
+let shadowOptionsApplied = '';
 
 export async function initFilament() {
   await new Promise((res) => Filament.init([], res));
@@ -69,7 +74,7 @@ function planeMesh(size) {
   return {pos, nrm, idx: new Uint32Array([0, 1, 2, 0, 2, 3])};
 }
 
-function glb(mesh, m, doubleSided) {
+function glb(mesh, m, doubleSided, pad = 0) {
   const bufs = [mesh.pos, mesh.nrm, mesh.idx];
   const views = [], chunks = [];
   let off = 0;
@@ -79,6 +84,7 @@ function glb(mesh, m, doubleSided) {
   }
   const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
   for (let k = 0; k < mesh.pos.length; k++) { lo[k % 3] = Math.min(lo[k % 3], mesh.pos[k]); hi[k % 3] = Math.max(hi[k % 3], mesh.pos[k]); }
+  for (let k = 0; k < 3; k++) { lo[k] -= pad; hi[k] += pad; }  // (e) a flat receiver's bounds given a thickness
   const json = {
     asset: {version: '2.0', generator: 'validate'},
     extensionsUsed: ['KHR_materials_ior', 'KHR_materials_specular'],
@@ -107,7 +113,7 @@ function glb(mesh, m, doubleSided) {
   return out;
 }
 
-function addLight(eng, scene, l) {
+function addLight(eng, scene, l, shadow) {
   const LM = Filament.LightManager;
   const ent = Filament.EntityManager.get().create();
   let b;
@@ -120,7 +126,9 @@ function addLight(eng, scene, l) {
       .intensity(Math.PI * l.intensity).falloff(FALLOFF_M)
       .spotLightCone(l.inner_deg * Math.PI / 180, l.outer_deg * Math.PI / 180);
   } else throw new Error(`filament: light type ${l.type} not rendered`);
-  b.color(l.color).castShadows(false).build(eng, ent);
+  const casts = Boolean(shadow) && l.type !== 'point';  // (e) the shadow scenes' directional or spot light
+  b.color(l.color).castShadows(casts).build(eng, ent);
+  if (casts) shadowOptionsApplied = applyShadowOptions(eng, ent, shadow);
   scene.addEntity(ent);
   return ent;
 }
@@ -173,10 +181,11 @@ export async function renderFilament(d) {
   renderer.setClearOptions({clearColor: [0, 0, 0, 0], clear: true});
   const g = d.geometry;
   const mesh = g.type === 'plane' ? planeMesh(g.size) : sphereMesh(g.radius, g.segments[0], g.segments[1]);
-  const asset = loader.createAsset(glb(mesh, d.material, g.type === 'plane'));
+  const asset = loader.createAsset(glb(mesh, d.material, g.type === 'plane', d.shadow ? RECEIVER_PAD_M : 0));
   await new Promise((res) => asset.loadResources(res, null, null, 1));
   scene.addEntities(asset.getEntities());
-  const lights = d.lights.map((l) => addLight(eng, scene, l));
+  const lights = d.lights.map((l) => addLight(eng, scene, l, d.shadow));
+  const shadows = d.shadow ? await addShadows(eng, scene, view, loader, asset, d.shadow, glb) : null;  // (e)
   const t0 = performance.now();
   let exposure = opts.exposure || 0.125, px = null, drawn = 0;
   for (let k = 0; k < 8; k++) {
@@ -195,10 +204,11 @@ export async function renderFilament(d) {
   }
   const frame_ms = performance.now() - t0;
   const camInfo = {aperture: cam.getAperture(), shutter: cam.getShutterSpeed(), iso: cam.getSensitivity()};
+  const shadowInfo = shadows ? {...shadows.finish(), shadow_options: shadowOptionsApplied} : {};
   scene.removeEntities(asset.getEntities()); loader.destroyAsset(asset);
   for (const l of lights) { scene.remove(l); eng.destroyEntity(l); }
   eng.destroyView(view); eng.destroyScene(scene); eng.destroyCameraComponent(camEnt);
   let s = ''; for (let i = 0; i < px.length; i += 0x8000) s += String.fromCharCode.apply(null, px.subarray(i, i + 0x8000));
   return {data: btoa(s), encoding: 'unorm8_linear', exposure, frame_ms, version,
-          info: {exposure, frames: drawn, max_lsb: maxColour(px), ...camInfo}};
+          info: {exposure, frames: drawn, max_lsb: maxColour(px), ...camInfo, ...shadowInfo}};
 }
