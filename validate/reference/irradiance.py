@@ -200,7 +200,11 @@ def cell_nodes(env: Environment, cells: int, g: int) -> tuple[np.ndarray, np.nda
     n_cells = hc * wc
     lw = lw_c.T  # (M, 3) view
     flux = np.stack([np.bincount(cell, lw_c[c], n_cells) for c in range(3)], axis=-1)
-    y = latlong.luminance(lw)
+    # Y = 0.2126 R + 0.7152 G + 0.0722 B as latlong.luminance (the same products, summed in the same order: the
+    # same bits) on the contiguous channel planes instead of the strided (M, 3) columns
+    y = lw_c[0] * 0.2126
+    y += lw_c[1] * 0.7152
+    y += lw_c[2] * 0.0722
     d_c = np.ascontiguousarray(d.T)  # (3, M): _node_grid's planes (no copy)
     cen = np.stack([np.bincount(cell, y * d_c[k], n_cells) for k in range(3)], axis=-1)
     cell_y = np.bincount(cell, y, n_cells)
