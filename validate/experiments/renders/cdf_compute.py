@@ -14,6 +14,7 @@ took 42–45 s on the shared 2 cores (measured); the whole group (reference + 6 
 
 from __future__ import annotations
 
+from concurrent.futures import Future
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -21,7 +22,7 @@ import numpy as np
 
 from ...local_models import render as engines
 from ...metrics.pixel_z import PixelJudgement, interior_mask, judge
-from ...reference.render_reference import render_reference
+from ...reference.render_reference import RenderReference, render_reference
 from ...scenes import render_cdf_scenes as rcs
 from ...scenes import render_scenes as rs
 from .compute import PROBE_BUDGET_REL
@@ -76,8 +77,10 @@ def load_cdf_probe(ctx: Any) -> tuple[np.ndarray | None, str]:
     return np.asarray(t, np.float64), note
 
 
-def measure(scene: rs.RenderScene, s: Settings, note: str) -> CdfScene:
-    ref = render_reference(scene, s.env_spp, s.passes, s.seed)
+def measure(scene: rs.RenderScene, s: Settings, note: str, prepared: Future | None = None) -> CdfScene:
+    """Babylon's CDF renders against the reference (``prepared``: its future, traced meanwhile on the reference
+    thread of :func:`validate.experiments.renders.compute.compute`; else traced here)."""
+    ref = prepared.result() if prepared is not None else cdf_reference(scene, s)
     out = CdfScene(scene, ref.mean, ref.stderr, ref.dof, ref.hit, note)
     for n in s.cdf_sizes:
         for v in rcs.CDF_VARIANTS:
@@ -97,11 +100,26 @@ def measure(scene: rs.RenderScene, s: Settings, note: str) -> CdfScene:
     return out
 
 
-def compute_cdf(ctx: Any, s: Settings) -> list[CdfScene]:
-    """The CDF scene when Babylon is among the engines and ``cdf_sizes`` is not empty (else none)."""
+def cdf_reference(scene: rs.RenderScene, s: Settings) -> RenderReference:
+    """The CDF scene's Mitsuba reference (``env_spp`` × ``passes``; Mitsuba only, safe on the reference thread)."""
+    return render_reference(scene, s.env_spp, s.passes, s.seed)
+
+
+def cdf_scene_list(ctx: Any, s: Settings) -> list[tuple[rs.RenderScene, str]]:
+    """The CDF scene and its probe note when Babylon is among the engines and ``cdf_sizes`` is not empty (else
+    none)."""
     if "babylon" not in s.engines or not s.cdf_sizes:
         return []
     texels, note = load_cdf_probe(ctx)
     if texels is None:
         return []
-    return [measure(rcs.cdf_lambert_scene(texels, s.cdf_resolution), s, note)]
+    return [(rcs.cdf_lambert_scene(texels, s.cdf_resolution), note)]
+
+
+def compute_cdf(ctx: Any, s: Settings, scenes: list[tuple[rs.RenderScene, str]] | None = None,
+                prepared: list[Future] | None = None) -> list[CdfScene]:
+    """Every scene of :func:`cdf_scene_list` (``scenes``: that list, already built); ``prepared``: their references'
+    futures, in order (else traced here)."""
+    scenes = cdf_scene_list(ctx, s) if scenes is None else scenes
+    futures: list[Future | None] = list(prepared) if prepared is not None else [None] * len(scenes)
+    return [measure(sc, s, note, f) for (sc, note), f in zip(scenes, futures, strict=True)]

@@ -59,7 +59,10 @@ FILAMENT_NO_IBL = ("Filament 1.53.4's npm package has no IBL prefilter (cmgen/li
 KIND_SKIP = {"rect": {"filament": "Filament has no area lights (LightManager types: SUN, DIRECTIONAL, POINT, "
                                   "FOCUSED_SPOT, SPOT)"},
              "furnace": {"filament": FILAMENT_NO_IBL}, "hemisphere": {"filament": FILAMENT_NO_IBL},
-             "probe": {"filament": FILAMENT_NO_IBL}, "probe_lambert": {"filament": FILAMENT_NO_IBL}}
+             "probe": {"filament": FILAMENT_NO_IBL}, "probe_lambert": {"filament": FILAMENT_NO_IBL},
+             # the glTF material scenes are lit by the furnace / the probe only: Filament was rendered there and
+             # failed each with "black image" after its exposure search (no IBL), 12 page calls of waste
+             "furnace_material": {"filament": FILAMENT_NO_IBL}, "probe_material": {"filament": FILAMENT_NO_IBL}}
 # engines rendered with a stated substitution, by kind: the label travels with the engine's info, the report row and
 # the claims. Babylon 9.35's RectAreaLight loads its LTC tables from assets.babylonjs.com
 # (Lights/LTC/ltcTextureTool.js: Tools.LoadFileAsync of areaLightsLTC.bin) and the render machine has no network;
@@ -259,28 +262,31 @@ def compute(ctx: Any, s: Settings) -> Measurements:
     from ...gl import browser_page, runtime
 
     probe, probe_note = load_probe(ctx)
-    from .cdf_compute import compute_cdf
+    from .cdf_compute import cdf_reference, cdf_scene_list, compute_cdf
     from .shadow_compute import compute_shadows, shadow_scene_list
 
     scenes = scene_list(s, probe)
     shadow_scenes = shadow_scene_list(s)
+    cdf_scenes = cdf_scene_list(ctx, s)
     pool = ThreadPoolExecutor(1, thread_name_prefix="renders-references")
     try:
         prepared = [pool.submit(prepare_references, sc, kind, s) for sc, kind in scenes]
         shadow_refs = [pool.submit(render_reference, sc, s.shadow_spp, s.passes, s.seed) for sc in shadow_scenes]
         bsdf = pool.submit(gltf_bsdf_checks, s)
+        cdf_refs = [pool.submit(cdf_reference, sc, s) for sc, _ in cdf_scenes]  # traced while the browser renders
         browser_page.preload([engines.ENGINES[n][0] for kind in dict.fromkeys(k for _, k in scenes)
                               for n in engine_names(kind, s) if n not in KIND_SKIP.get(kind, {})])
         out = [measure_scene(sc, kind, s, f)
                for (sc, kind), f in ctx.progress(list(zip(scenes, prepared, strict=True)), "renders: scenes")]
         shadows = compute_shadows(ctx, s, shadow_refs)
         checks = bsdf.result()
+        cdf = compute_cdf(ctx, s, cdf_scenes, cdf_refs)
     except BaseException:  # an error or an interrupt: drop the references not yet started, do not wait for them
         pool.shutdown(wait=False, cancel_futures=True)
         raise
     pool.shutdown()
     return Measurements(s, out, startup={"webgl2_s": runtime.startup_seconds("webgl2"), **time_info(out)},
-                        probe_note=probe_note, bsdf_checks=checks, shadows=shadows, cdf=compute_cdf(ctx, s))
+                        probe_note=probe_note, bsdf_checks=checks, shadows=shadows, cdf=cdf)
 
 
 def time_info(scenes: list[SceneResult]) -> dict[str, Any]:
