@@ -91,14 +91,10 @@ def welch_z(t: np.ndarray, s: np.ndarray, sigma: np.ndarray, dof: int) -> np.nda
 
 
 def judge(engine: np.ndarray, mean: np.ndarray, stderr: np.ndarray, dof: int, mask: np.ndarray,
-          budget: np.ndarray | float, budget_text: str, alpha: float = ALPHA,
-          known_sd: float = 0.0) -> PixelJudgement:
+          budget: np.ndarray | float, budget_text: str, alpha: float = ALPHA) -> PixelJudgement:
     """Judge ``engine`` (R, R, 3) against ``mean`` ± ``stderr`` on ``mask`` (module docstring).
 
-    ``budget``: b per pixel and channel (broadcast to (R, R, 3)), in radiance units. ``known_sd``: a known standard
-    uncertainty of the engine's values (an 8-bit readback's ±½ LSB), added as σ² = s² + (b/z*)² + σ_q² with ∞ dof
-    like the budget term — put into ``stderr`` instead it would be read through Student's t with ``dof`` dof and
-    widen the test far beyond σ_q.
+    ``budget``: b per pixel and channel (broadcast to (R, R, 3)), in radiance units.
     """
     n = int(mask.sum())
     if n == 0:
@@ -108,7 +104,7 @@ def judge(engine: np.ndarray, mean: np.ndarray, stderr: np.ndarray, dof: int, ma
         raise ValidateError("pixel judgement: NaN/Inf in the engine image or the reference on judged pixels")
     zc = sidak_critical(3 * n, alpha)
     b = np.broadcast_to(np.asarray(budget, np.float64), mean.shape)[mask]
-    sigma = np.sqrt(s**2 + (b / zc) ** 2 + float(known_sd) ** 2)
+    sigma = np.sqrt(s**2 + (b / zc) ** 2)
     diff = e - m
     t = np.divide(diff, sigma, out=np.where(diff == 0, 0.0, np.copysign(np.inf, diff)), where=sigma > 0)
     z = welch_z(t, s, sigma, dof)

@@ -48,7 +48,7 @@ import numpy as np
 
 from ...metrics.pixel_z import MIN_ACCEPTED, judge
 from ..base import Claim
-from .compute import EngineResult, Measurements, SceneResult, budget
+from .compute import EngineResult, Measurements, SceneResult, budget, with_readback
 
 FURNACE_ENERGY_TOL = 2e-3
 
@@ -69,9 +69,9 @@ def directional_claims(m: Measurements) -> list[Claim]:
                       f"per pixel (budget {text})", "fraction of pixels accepted (Šidák α = 0.01)", MIN_ACCEPTED,
                       j.fraction_accepted, 0.0, ">", "%",
                       "Mitsuba 3 render tests: ≥ 99.75 % of pixels pass the Šidák-corrected z-test at α = 0.01")
-            se, dof = _stderr(sr), m.settings.passes - 1
-            p102 = judge(er.image * 1.02, ref_m, se, dof, sr.mask, b, text, known_sd=er.stderr).fraction_accepted
-            ppi = judge(er.image * np.pi, ref_m, se, dof, sr.mask, b, text, known_sd=er.stderr).fraction_accepted
+            se, dof = with_readback(_stderr(sr), er), m.settings.passes - 1
+            p102 = judge(er.image * 1.02, ref_m, se, dof, sr.mask, b, text).fraction_accepted
+            ppi = judge(er.image * np.pi, ref_m, se, dof, sr.mask, b, text).fraction_accepted
             c.with_power("light intensity × 1.02 (engine image × 1.02)", p102)
             if c.power is not None and not c.power.fails:
                 c.with_power("E taken for E/π (engine image × π)", ppi)
@@ -137,10 +137,9 @@ def _accepted(sr: SceneResult, name: str, kind: str, what: str) -> Claim:
                  METRIC, MIN_ACCEPTED, j.fraction_accepted, 0.0, ">", "%", RULE)
 
 
-def _fraction(sr: SceneResult, image: np.ndarray, mean: np.ndarray, se: np.ndarray, er: EngineResult) -> float:
-    """The fraction accepted, the engine's readback uncertainty (``er.stderr``) a known term of the judgement."""
+def _fraction(sr: SceneResult, image: np.ndarray, mean: np.ndarray, se: np.ndarray) -> float:
     b, text = budget(sr.kind, mean)
-    return judge(image, mean, se, sr.dof, sr.mask, b, text, known_sd=er.stderr).fraction_accepted
+    return judge(image, mean, se, sr.dof, sr.mask, b, text).fraction_accepted
 
 
 def point_claims(m: Measurements) -> list[Claim]:
@@ -149,13 +148,13 @@ def point_claims(m: Measurements) -> list[Claim]:
         ref, s_ref = sr.references["mitsuba"], sr.stderrs["mitsuba"]
         li = sr.scene.lights[0]
         for name, er in sr.engines.items():
-            se = s_ref
+            se = with_readback(s_ref, er)
             c = _accepted(sr, name, "mitsuba", f"Lambertian {sr.scene.geometry} under a {li.intensity:g} cd point "
                                                   "light (KHR_lights_punctual, inverse square, no range)")
             c.with_power("intensity in lumens taken for candela (engine image × 4π)",
-                         _fraction(sr, er.image * 4 * np.pi, ref, se, er))
+                         _fraction(sr, er.image * 4 * np.pi, ref, se))
             if c.power is not None and not c.power.fails:
-                c.with_power("E/π units slip (engine image × 1/π)", _fraction(sr, er.image / np.pi, ref, se, er))
+                c.with_power("E/π units slip (engine image × 1/π)", _fraction(sr, er.image / np.pi, ref, se))
             out.append(c)
     return out
 
@@ -172,7 +171,7 @@ def spot_claims(m: Measurements) -> list[Claim]:
             label = next(k for k in sr.power_refs if k.startswith(profile))
             p_mean, p_se = sr.power_refs[label]
             c.with_power(f"cone falloff off by a degree: Mitsuba {label}",
-                         _fraction(sr, er.image, p_mean, p_se, er))
+                         _fraction(sr, er.image, p_mean, with_readback(p_se, er)))
             out.append(c)
             if name in SPOT_REGRESSIONS:
                 out.append(_spot_regression(sr, name))
@@ -181,7 +180,7 @@ def spot_claims(m: Measurements) -> list[Claim]:
 
 def _spot_regression(sr: SceneResult, name: str) -> Claim:
     er, ref = sr.engines[name], sr.references["mitsuba"]
-    se = sr.stderrs["mitsuba"]
+    se = with_readback(sr.stderrs["mitsuba"], er)
     c = Claim(f"renders.{name}.{sr.scene.name}.khr_falloff.regression", f"{name} keeps a known difference: "
               f"{SPOT_REGRESSIONS[name]}", METRIC + " against the KHR reference falloff", MIN_ACCEPTED,
               er.judgements["mitsuba"].fraction_accepted, 0.0, "<", "%",
@@ -190,7 +189,7 @@ def _spot_regression(sr: SceneResult, name: str) -> Claim:
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.where(smooth > 0, ref / np.where(smooth > 0, smooth, 1.0), 0.0)
     return c.with_power("corrected engine behaviour: the engine's image × f_KHR/f_smoothstep per pixel",
-                        _fraction(sr, er.image * ratio, ref, se, er))
+                        _fraction(sr, er.image * ratio, ref, se))
 
 
 def hemisphere_claims(m: Measurements) -> list[Claim]:
@@ -200,7 +199,7 @@ def hemisphere_claims(m: Measurements) -> list[Claim]:
         for name, er in sr.engines.items():
             c = _accepted(sr, name, "mitsuba", "Lambertian sphere under a hemisphere light (sky / ground radiance)")
             out.append(c.with_power("colour read as irradiance where it is radiance (engine image × 1/π)",
-                                    _fraction(sr, er.image / np.pi, ref, se, er)))
+                                    _fraction(sr, er.image / np.pi, ref, se)))
     return out
 
 

@@ -91,6 +91,9 @@ class EngineResult:
     stderr: float = 0.0  # the readback's standard uncertainty per value (Filament's 8-bit canvas), radiance
 
 
+def with_readback(stderr: np.ndarray, er: EngineResult) -> np.ndarray:
+    """The reference's standard error and the engine readback's (quantisation) in quadrature, √(s² + σ_q²)."""
+    return np.sqrt(stderr**2 + er.stderr**2)
 
 
 @dataclass
@@ -246,7 +249,7 @@ def measure_scene(scene: rs.RenderScene, kind: str, s: Settings, prepared: Futur
         res.mask = mask
         for k, (m, se, dof) in truths.items():
             b, text = budget(kind, m)
-            out.judgements[k] = judge(out.image, m, se, dof, mask, b, text, known_sd=out.stderr)
+            out.judgements[k] = judge(out.image, m, with_readback(se, out), dof, mask, b, text)
         out.energy = float(out.image[mask].mean())
         res.engines[name] = out
     for k, (m, se, _) in truths.items():

@@ -192,8 +192,8 @@ def spot_findings(sr: SceneResult) -> list[str]:
     ref, se = sr.references["mitsuba"], sr.stderrs["mitsuba"]
     b, text = budget(sr.kind, ref)
     for name, er in sr.engines.items():
-        jp = judge(er.image, ref, se, sr.dof, sr.mask & pen, b, text, known_sd=er.stderr)
-        jo = judge(er.image, ref, se, sr.dof, sr.mask & ~pen, b, text, known_sd=er.stderr)
+        jp = judge(er.image, ref, se, sr.dof, sr.mask & pen, b, text)
+        jo = judge(er.image, ref, se, sr.dof, sr.mask & ~pen, b, text)
         out.append(f"{sr.scene.name}, {name} vs KHR's reference falloff: penumbra ({li.inner_deg:g}°–"
                    f"{li.outer_deg:g}°, {jp.n_pixels} px) {pct(jp.fraction_accepted)} accepted, mean rel. err. "
                    f"{fpm(jp.mean_rel, jp.mean_rel_unc, '%')}, max {fpm(jp.max_rel, jp.max_rel_unc, '%')}, bias "
@@ -316,7 +316,7 @@ def rect_table(m: Measurements) -> Table | None:
             for part, mk in (("all", sr.mask), ("above horizon", sr.mask & above), ("clipped", sr.mask & ~above)):
                 if not mk.any():
                     continue
-                j = judge(er.image, ref, se, sr.dof, mk, b, text, known_sd=er.stderr)
+                j = judge(er.image, ref, se, sr.dof, mk, b, text)
                 rows.append([sr.scene.name, f"{name} ({er.info['note']})" if er.info.get("note") else name, part,
                              j.n_pixels, f"{100 * j.fraction_accepted:.2f}",
                              fpm(j.mean_rel, j.mean_rel_unc, scale=100), fpm(j.max_rel, j.max_rel_unc, scale=100),
