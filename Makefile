@@ -18,9 +18,10 @@ quick: setup
 	.venv/bin/python -m validate all --quick $(PROBES_ARG)
 
 # two pytest workers (pytest-xdist), a test file per worker: the 2-core machine's second core is otherwise idle
-# while a test waits on a subprocess, Node or the browser
+# while a test waits on a subprocess, Node or the browser; a crashed worker ends the run (no restart: after a
+# restart pytest-xdist's loadfile scheduler was seen to wait forever for the crashed file's tests)
 test: setup
-	VALIDATE_PROBES=$(PROBES) .venv/bin/python -m pytest -q -n 2 --dist loadfile
+	VALIDATE_PROBES=$(PROBES) .venv/bin/python -m pytest -q -n 2 --dist loadfile --max-worker-restart 0
 
 test-slow: setup
 	VALIDATE_PROBES=$(PROBES) .venv/bin/python -m pytest -q -m slow

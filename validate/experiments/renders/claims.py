@@ -306,7 +306,8 @@ RECT_DARK = {("three", "rect_plane")}  # regressions whose corrected behaviour i
 # where the light's unit comes from: three issue 19214 (RectAreaLight.intensity is luminance; .power = π·A·intensity);
 # Babylon 9.35 light.js _getPhotometricScale: 1 for LIGHTTYPEID_RECT_AREALIGHT in every intensity mode, the diffuse
 # term areaLightDiffuse · diffuse · intensity with areaLightDiffuse the form factor (babylon_render.mjs rectLight)
-RECT_UNITS_SOURCE = {"three": "three issue 19214", "babylon": "Babylon light.js _getPhotometricScale"}
+RECT_UNITS_SOURCE = {"three": "three.js RectAreaLight: intensity is luminance (nits), power = π·A·intensity",
+                     "babylon": "Babylon light.js _getPhotometricScale"}
 
 
 def _rect_fraction(sr: SceneResult, image: np.ndarray, mask: np.ndarray) -> float:
