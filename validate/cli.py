@@ -40,7 +40,6 @@ import tempfile
 import time
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
 
 from . import interrupt
 from .atomic import OutputError, output_error
@@ -397,33 +396,6 @@ def _run(args: argparse.Namespace, names: list[str] | None) -> int:
     return 1 if failed and args.strict else 0
 
 
-# Expected seconds of each experiment's full run when no previous report says (cold cache, 2-core machine,
-# measured 2026-12-02 with the machine shared): only the order of the tasks depends on them (costliest first)
-_COST_HINT = {"multiscatter": 300.0, "brdfs": 200.0, "renders": 300.0, "arealights": 160.0, "sh9": 120.0,
-              "worstcase": 80.0, "ibl": 70.0, "engines": 70.0, "uberlight": 60.0, "shadows": 60.0, "lights": 55.0,
-              "listings": 20.0, "hemisphere": 15.0}
-
-
-def _expected_seconds(previous: dict, names: list[str]) -> dict[str, float]:
-    """Each experiment's wall time in the previous report (``previous``), else :data:`_COST_HINT`, else 0."""
-    exps = previous.get("experiments", {}) if isinstance(previous, dict) else {}
-    out = {}
-    for n in names:
-        w = exps.get(n, {}).get("wall_time_s") if isinstance(exps.get(n), dict) else None
-        out[n] = float(w) if isinstance(w, (int, float)) else _COST_HINT.get(n, 0.0)
-    return out
-
-
-def _previous_quietly(out: Path) -> dict:
-    """The previous report's results for the task order only: {} when absent or unreadable."""
-    from .report.html import load_results
-
-    try:
-        return load_results(out)
-    except ValidateError:
-        return {}
-
-
 def _run_in(args: argparse.Namespace, exps: dict, todo: list[str], staging: Path, out: Path, previous: dict,
             baseline: dict | None, be: object, t0: float, state: dict[str, bool]) -> tuple[dict, list[int]]:
     """The experiments, in the staging folder, then the commit: (results, signals held meanwhile)."""
@@ -446,19 +418,13 @@ def _run_in(args: argparse.Namespace, exps: dict, todo: list[str], staging: Path
             client = ctx.client()
             where = args.scheduler or f"local Dask cluster, {args.workers} processes"
             print(f"workers: {len(client.scheduler_info()['workers'])} ({where})", flush=True)
-        def finished(n: str, res: Any) -> None:
+        done = {}
+        for n in todo:
+            print(f"running {n} ...", flush=True)
+            res = exps[n].run(ctx)
+            done[n] = res.to_json()
             print(f"  {n}: {res.wall_time_s:.1f} s, {sum(c.passed for c in res.claims)}/{len(res.claims)} "
-                  "claims pass", flush=True)
-
-        if ctx.distributed and len(todo) > 1:
-            print(f"running {', '.join(todo)} ... (an experiment per task, costliest first)", flush=True)
-            ran = ctx.run_experiments(exps, todo, _expected_seconds(previous or _previous_quietly(out), todo), finished)
-        else:
-            ran = {}
-            for n in todo:
-                print(f"running {n} ...", flush=True)
-                ran.update(ctx.run_experiments(exps, [n], done=finished))
-        done = {n: res.to_json() for n, res in ran.items()}
+                  "claims pass")
         experiments = dict(previous.get("experiments", {}))
         experiments.update(done)
         experiments = {k: experiments[k] for k in list(exps) + [k for k in experiments if k not in exps]

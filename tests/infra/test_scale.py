@@ -168,38 +168,6 @@ def test_failed_task_on_a_worker_is_one_line_naming_the_environment(plugin: Path
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
 
 
-def test_experiments_as_tasks_write_the_numbers_of_the_serial_run(resumed_run: dict[str, Any], plugin: Path,
-                                                                   tmp_path: Path) -> None:
-    """Two experiments on ``--workers 2``: each one Dask task (its own map serial in its worker), costliest
-    first; the plug-in experiment's numbers equal the serial run's, and both experiments are reported."""
-    out = tmp_path / "out"
-    args = _probe_args(plugin, out, "--workers", "2")
-    args.insert(2, "hemisphere")
-    proc = _cli(args, tmp_path / "c")
-    stdout, err = proc.communicate(timeout=600)
-    assert proc.returncode == 0, err
-    assert "an experiment per task" in stdout
-    run = json.loads((out / "results.json").read_text())["experiments"]
-    assert set(run) >= {"scale_probe", "hemisphere"}
-    assert all(c["passed"] for c in run["hemisphere"]["claims"])
-    assert _numbers({"scale_probe": run["scale_probe"]}) == _numbers(
-        {"scale_probe": resumed_run["results"]["experiments"]["scale_probe"]})
-
-
-def test_failed_experiment_task_is_one_line_naming_the_environment(plugin: Path, tmp_path: Path) -> None:
-    out = tmp_path / "out"
-    before = _previous_report(out)
-    args = _probe_args(plugin, out, "--workers", "2")
-    args.insert(2, "hemisphere")
-    proc = _cli(args, tmp_path / "c", SCALE_TEST_FAIL="two_tone_32")
-    _, err = proc.communicate(timeout=600)
-    assert proc.returncode == 2
-    lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("validate: error: task ") and "two_tone_32" in lines[0], lines
-    assert "ZeroDivisionError" in lines[0]
-    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
-
-
 def test_sigint_mid_run(plugin: Path, tmp_path: Path) -> None:
     out = tmp_path / "out"
     before = _previous_report(out)

@@ -12,8 +12,8 @@ measured + uncertainty < threshold; for ``">"`` iff measured − uncertainty > t
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
-from dataclasses import asdict, dataclass, field, replace
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any, ClassVar, Protocol, TypeVar, runtime_checkable
 
@@ -147,14 +147,6 @@ class ExperimentResult:
         return out
 
 
-def _silent(_: str) -> None:
-    """The log of an experiment run as a task: the main process already printed the inputs' notes."""
-
-
-# a worker process's environments, by inputs (probes, files, layout, clamping, quick): loaded once per process
-_WORKER_ENVIRONMENTS: dict[tuple[Any, ...], Any] = {}
-
-
 @dataclass
 class Context:
     """Everything an experiment may use: where to write, how hard to try, which inputs, and where the
@@ -183,7 +175,6 @@ class Context:
     workers: int = 1
     scheduler: str | None = None
     worker_setup: Callable[[], None] | None = None  # picklable; run once per worker process
-    label_failures: bool = False  # serial map: a failed item raises ValidateError naming it (experiments as tasks)
     _env_cache: dict[str, Any] = field(default_factory=dict)
     _client: Any = field(default=None, repr=False)
     _ready: ClassVar[set[str]] = set()  # worker_setup already run in this process (by repr)
@@ -221,15 +212,7 @@ class Context:
         (its ``name``, e.g. the environment)."""
         items = list(items)
         if not self.distributed or not items:
-            if not self.label_failures:
-                return [fn(x) for x in self.progress(items, desc, total=len(items))]
-            out = []
-            for x in self.progress(items, desc, total=len(items)):
-                try:
-                    out.append(fn(x))
-                except Exception as exc:  # an experiment run as a task: name the environment, as a worker would
-                    raise self._task_error(desc, x, exc) from exc
-            return out
+            return [fn(x) for x in self.progress(items, desc, total=len(items))]
         from dask.distributed import as_completed
 
         client = self.client()
@@ -259,76 +242,6 @@ class Context:
             setup()
             Context._ready.add(repr(setup))
         return fn(item)
-
-    def run_experiments(self, exps: Mapping[str, Experiment], names: Sequence[str],
-                        cost: Mapping[str, float] | None = None,
-                        done: Callable[[str, ExperimentResult], None] | None = None) -> dict[str, ExperimentResult]:
-        """Run the experiments ``names`` of ``exps``; returns their results in the order of ``names``.
-
-        Serial, or a single experiment: here, one after the other (a distributed context sends each experiment's
-        per-environment tasks to the workers, :meth:`map`). Several experiments on a distributed context: each
-        experiment is one Dask task, its own :meth:`map` serial in its worker, handed out costliest first
-        (``cost``: expected seconds, e.g. the previous report's wall times; longest-processing-time-first keeps
-        the two workers of the 2-core machine busy to the end instead of idling through each experiment's
-        serial part). Tasks are pure functions of the context and the experiment, so either way returns the
-        same numbers. ``done(name, result)`` is called as each finishes."""
-        if not self.distributed or len(names) < 2:
-            out = {}
-            for n in names:
-                out[n] = exps[n].run(self)
-                if done is not None:
-                    done(n, out[n])
-            return out
-        from dask.distributed import as_completed
-
-        inner = replace(self, workers=1, scheduler=None, show_progress=False, log=_silent, label_failures=True,
-                        _env_cache={}, _client=None)
-        cost = cost or {}
-        order = sorted(names, key=lambda n: -float(cost.get(n, 0.0)))
-        client = self.client()
-        futures = {client.submit(Context._run_experiment, n, inner, self.worker_setup, key=f"experiment-{n}",
-                                 priority=len(order) - k, pure=False): n for k, n in enumerate(order)}
-        results: dict[str, ExperimentResult] = {}
-        try:
-            for fut in as_completed(list(futures)):
-                n = futures[fut]
-                if fut.status == "error":
-                    exc = fut.exception()
-                    if isinstance(exc, (ValidateError, OSError)):
-                        raise exc
-                    text = (str(exc).strip().splitlines() or [""])[0]
-                    raise ValidateError(f"experiment {n!r} failed on a worker: {type(exc).__name__}: {text}"[:400])
-                results[n] = fut.result()
-                if done is not None:
-                    done(n, results[n])
-        finally:
-            client.cancel(list(futures))
-        return {n: results[n] for n in names}
-
-    @staticmethod
-    def _run_experiment(name: str, ctx: Context, setup: Callable[[], None] | None) -> ExperimentResult:
-        """One experiment as a task on a worker: the variant, the setup once, the environments loaded once per
-        worker process (the same inputs give the same maps), then the experiment."""
-        import threading
-
-        from tqdm import tqdm
-
-        from . import discover
-
-        # tqdm's default lock is a multiprocessing RLock (a POSIX semaphore): a worker stopped mid-experiment (another
-        # experiment failed) would leave it to the resource tracker, which warns on stderr; a thread lock suffices here
-        tqdm.set_lock(threading.RLock())
-        init()
-        if setup is not None and repr(setup) not in Context._ready:
-            setup()
-            Context._ready.add(repr(setup))
-        key = (str(ctx.probes_dir), tuple(map(str, ctx.probe_files)), ctx.layout, ctx.clamp_negative, ctx.quick)
-        if key in _WORKER_ENVIRONMENTS:
-            ctx._env_cache["envs"] = _WORKER_ENVIRONMENTS[key]
-        result = discover()[name].run(ctx)
-        if "envs" in ctx._env_cache:
-            _WORKER_ENVIRONMENTS[key] = ctx._env_cache["envs"]
-        return result
 
     @staticmethod
     def _task_error(desc: str, item: Any, exc: BaseException | None) -> Exception:
