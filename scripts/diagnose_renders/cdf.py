@@ -10,7 +10,6 @@ unscaled one); "variant" is shipped | pre16247.
 import json
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -21,11 +20,20 @@ from validate.metrics.pixel_z import interior_mask
 from validate.reference.render_reference import render_reference
 from validate.scenes import render_cdf_scenes as rcs
 from validate.scenes.loaders import load_environment
+from validate.scenes.probes import default_probes_dir
 
-PROBES = Path("/work/wt/shared/probes")
+PROBES = default_probes_dir()  # ../shared/probes beside the checkout, or $VALIDATE_PROBES
 
 def probe(name=rcs.CDF_PROBE_FILE):
     return np.asarray(load_environment(PROBES / name, "latlong", False).radiance, np.float64)
+
+def config_scene():
+    """(cfg, scene) from the JSON config in argv[1]: the probe ('probe'), optionally capped at 'cap', on the 32² sphere."""
+    cfg = json.loads(sys.argv[1])
+    t = probe(cfg.get("probe", rcs.CDF_PROBE_FILE))
+    if "cap" in cfg:
+        t = np.minimum(t, cfg["cap"])
+    return cfg, rcs.cdf_lambert_scene(t, 32)
 
 def render(scene, size, variant="shipped", extra=None):
     page, fn, options = engines.ENGINES[rcs.engine_name(size, variant)]

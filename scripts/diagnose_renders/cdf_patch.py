@@ -7,16 +7,14 @@ sub-samples at sub-texel centres instead of Babylon's corners). Usage:
     python -m scripts.diagnose_renders.cdf_patch '{"lattice": 2048}'   # 8 samples per panorama texel width
 """
 import json
-import sys
 
 import numpy as np
 
-from scripts.diagnose_renders.cdf import probe, render
+from scripts.diagnose_renders.cdf import config_scene, render
 from validate.experiments.renders.cdf_compute import energy_ratio
 from validate.gl import browser_page
 from validate.metrics.pixel_z import interior_mask
 from validate.reference.render_reference import render_reference
-from validate.scenes import render_cdf_scenes as rcs
 
 PATCH = r"""
 async ({quality, lattice, centred}) => {
@@ -50,11 +48,7 @@ async ({quality, lattice, centred}) => {
 """
 
 if __name__ == "__main__":
-    cfg = json.loads(sys.argv[1])
-    t = probe(cfg.get("probe", rcs.CDF_PROBE_FILE))
-    if "cap" in cfg:
-        t = np.minimum(t, cfg["cap"])
-    scene = rcs.cdf_lambert_scene(t, 32)
+    cfg, scene = config_scene()
     ref = render_reference(scene, 1024, 8, 0)
     page = browser_page.open_page("babylon.html")
     page.evaluate(PATCH, {"quality": cfg.get("quality", 0), "lattice": cfg.get("lattice", 0),

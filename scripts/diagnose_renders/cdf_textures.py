@@ -6,14 +6,11 @@ scaled-luminance texture sin θ·lum, 4N × 2N, read back; its 1×1 mip, the pdf
 over the panorama's. Usage: python -m scripts.diagnose_renders.cdf_textures '{"sizes": [64, 256], "lattice": 2048}'
 ("lattice": as cdf_patch.py).
 """
-import json
-import sys
 
 import numpy as np
 
-from scripts.diagnose_renders.cdf import probe
+from scripts.diagnose_renders.cdf import config_scene
 from validate.gl import browser_page
-from validate.scenes import render_cdf_scenes as rcs
 from validate.scenes.render_scenes import engine_environment
 
 JS = r"""
@@ -54,11 +51,7 @@ def cube_solid_angles(n):
     return (2.0 / n) ** 2 / (1 + x * x + y * y) ** 1.5
 
 if __name__ == "__main__":
-    cfg = json.loads(sys.argv[1])
-    t = probe(cfg.get("probe", rcs.CDF_PROBE_FILE))
-    if "cap" in cfg:
-        t = np.minimum(t, cfg["cap"])
-    scene = rcs.cdf_lambert_scene(t, 32)
+    cfg, scene = config_scene()
     env = engine_environment(scene.environment)
     tex = scene.environment.texels
     h, w = tex.shape[:2]
