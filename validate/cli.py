@@ -399,7 +399,8 @@ def _run(args: argparse.Namespace, names: list[str] | None) -> int:
 def _run_in(args: argparse.Namespace, exps: dict, todo: list[str], staging: Path, out: Path, previous: dict,
             baseline: dict | None, be: object, t0: float, state: dict[str, bool]) -> tuple[dict, list[int]]:
     """The experiments, in the staging folder, then the commit: (results, signals held meanwhile)."""
-    from .experiments import Context
+    from .experiments import Context, ExperimentResult
+    from .experiments.schedule import run_experiments
     from .scenes.probes import default_probes_dir
 
     ctx = Context(out_dir=staging, quick=args.quick, probes_dir=args.probes or default_probes_dir(),
@@ -418,13 +419,15 @@ def _run_in(args: argparse.Namespace, exps: dict, todo: list[str], staging: Path
             client = ctx.client()
             where = args.scheduler or f"local Dask cluster, {args.workers} processes"
             print(f"workers: {len(client.scheduler_info()['workers'])} ({where})", flush=True)
-        done = {}
-        for n in todo:
-            print(f"running {n} ...", flush=True)
-            res = exps[n].run(ctx)
-            done[n] = res.to_json()
+        def started(n: str, beside: bool) -> None:
+            print(f"running {n} ..." + (" (on a thread beside the others: it mostly waits on the browser)"
+                                        if beside else ""), flush=True)
+
+        def finished(n: str, res: ExperimentResult) -> None:
             print(f"  {n}: {res.wall_time_s:.1f} s, {sum(c.passed for c in res.claims)}/{len(res.claims)} "
-                  "claims pass")
+                  "claims pass", flush=True)
+
+        done = {n: res.to_json() for n, res in run_experiments(ctx, exps, todo, started, finished).items()}
         experiments = dict(previous.get("experiments", {}))
         experiments.update(done)
         experiments = {k: experiments[k] for k in list(exps) + [k for k in experiments if k not in exps]

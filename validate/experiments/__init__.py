@@ -5,7 +5,7 @@
 Every package has the same stages: ``settings.py`` (``QUICK``, ``FULL``) → ``compute.py`` (``compute(ctx, s)``,
 numbers only) → ``claims.py`` (``claims(m)``) → ``report.py`` (``findings(m)``, ``sections(m, ctx)``), plus
 ``check.py`` where :mod:`validate.testing` needs one. Modules of this folder (:mod:`.base`, :mod:`.formatting`,
-:mod:`.techniques`, :mod:`.inputs`) are shared by the experiments and are not experiments."""
+:mod:`.techniques`, :mod:`.inputs`, :mod:`.schedule`) are shared by the experiments and are not experiments."""
 
 from __future__ import annotations
 

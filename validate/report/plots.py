@@ -24,6 +24,7 @@ References
 from __future__ import annotations
 
 import os
+import threading
 from collections.abc import Mapping, Sequence
 
 import numpy as np
@@ -46,6 +47,9 @@ NAN_GREY = 128  # 8-bit value of pixels with a non-finite channel
 MASK_COLOUR = "#d9d9d9"  # heatmap colour of masked (NaN) pixels
 FIG_SIZE = (5.0, 3.5)  # inches; at FIG_DPI a plot is 500 × 350 px, small enough for a light report
 FIG_DPI = 100
+FIGURE_LOCK = threading.RLock()
+"""Held while a figure is drawn and written: matplotlib's drawing (text layout, font caches) is not thread-safe,
+and an experiment may run on a thread beside the others (:mod:`validate.experiments.schedule`)."""
 _ACES = (2.51, 0.03, 2.43, 0.59, 0.14)  # a, b, c, d, e of f(x) = x(ax + b) / (x(cx + d) + e) [1]
 _MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*")
 _HLINE_COLOURS = ("0.25", "#b2182b", "#2166ac", "#1b7837")
@@ -130,7 +134,7 @@ def _new_figure(figsize: tuple[float, float], layout: str | None = "constrained"
 
 
 def _save_figure(path: str | os.PathLike[str], fig: Figure) -> None:
-    with atomic_path(path, suffix=".png") as tmp:
+    with FIGURE_LOCK, atomic_path(path, suffix=".png") as tmp:
         fig.savefig(tmp, format="png", dpi=FIG_DPI)
 
 

@@ -41,7 +41,7 @@ def _save_png(path: Path, fig: Any, margins: dict[str, float] | None = None) -> 
         if ax.get_title() and ax.xaxis.get_ticks_position() not in ("top", "unknown") \
                 and ax.xaxis.get_label_position() != "top":
             ax.set_title(ax.get_title(), fontsize=ax.title.get_fontsize(), y=1.0)
-    with atomic_path(path, suffix=".png") as tmp:
+    with plots.FIGURE_LOCK, atomic_path(path, suffix=".png") as tmp:
         fig.savefig(tmp, format="png", dpi=plots.FIG_DPI)
 
 

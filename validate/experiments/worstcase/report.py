@@ -7,6 +7,7 @@ from typing import Any
 import numpy as np
 
 from ...local_models import irradiance
+from ...report import plots
 from ...scenes.latlong import direction_to_spherical
 from ..base import Context, Figure, Section, Table
 from ..formatting import pct
@@ -54,16 +55,16 @@ def findings(m: Measurements) -> list[str]:
 
 
 def _figure(m: Measurements, ctx: Context, name: str) -> Figure:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure as MplFigure
 
     c = m.certificates[name]["flux_luminance.max"]
     normals, e = c.errors_over_normals
     th, ph = direction_to_spherical(normals)
     path, rel = ctx.figure_path(NAME, f"certificate_{name}.png")
-    fig, ax = plt.subplots(figsize=(6, 3))
+    fig = MplFigure(figsize=(6, 3))  # no pyplot: no global figure state (an experiment may run beside this one)
+    FigureCanvasAgg(fig)
+    ax = fig.subplots()
     sc = ax.scatter(np.degrees(ph), np.degrees(th), c=100 * e, s=6, cmap="magma")
     lt, lp = direction_to_spherical(np.asarray(c.direction))
     ax.plot(np.degrees(lp), np.degrees(lt), "c*", ms=12, label="worst light")
@@ -73,9 +74,9 @@ def _figure(m: Measurements, ctx: Context, name: str) -> Figure:
     ax.legend(loc="lower right", fontsize=7)
     fig.colorbar(sc, ax=ax, label="|E′ − E| / Φ (%)")
     ax.set_title(f"{name}: error over normals, worst light")
-    fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
+    with plots.FIGURE_LOCK:
+        fig.tight_layout()
+        fig.savefig(path, dpi=90)
     return Figure(rel, f"{name}: |E′ − E| / Φ over normals for the certificate's worst light (a unit-flux delta)")
 
 
