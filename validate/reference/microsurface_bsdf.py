@@ -273,10 +273,15 @@ def _bits(x: Any) -> Any:
 
 def rng_from(values: list[Any], seed: int, lane: Any = None) -> Any:
     """A PCG32 per lane whose stream is a TEA hash of the float bits of ``values`` and ``seed`` (and the lane index
-    when given): distinct inputs give independent streams, equal inputs the same one."""
+    when given): distinct inputs give independent streams, equal inputs the same one. Outside a symbolic scope the
+    seed is an opaque JIT value, not a literal: every seed then reuses the same compiled kernels (a literal is baked
+    into the kernel, so each new seed compiled the whole walk loop again); the values are the same integers."""
+    import drjit as dr
     import mitsuba as mi
 
-    v0, v1 = mi.UInt32(seed & 0xFFFFFFFF), mi.UInt32(0x9E3779B9)
+    jit = dr.is_jit_v(mi.Float) and not dr.flag(dr.JitFlag.SymbolicScope)
+    v0 = dr.opaque(mi.UInt32, seed & 0xFFFFFFFF) if jit else mi.UInt32(seed & 0xFFFFFFFF)
+    v1 = mi.UInt32(0x9E3779B9)
     for x in values:
         v0, v1 = mi.sample_tea_32(v0 ^ _bits(x), v1)
     if lane is not None:
@@ -452,6 +457,10 @@ def pooled_chi2(observed: Any, expected: Any, variance: Any, min_expected: float
 # expected counts are a deterministic function of these (``pdf`` seeds from (ω_i, ω_o, seed) alone) and never see
 # ``extra``, so a power check right after its case (the same settings, a perturbed sampler) reuses them.
 _PDF_MEMO: dict[str, Any] = {}
+# chi2_walk's last histogram: {"key": (α, θ_i, samples, seed, grid, the sampler's properties), "state": the harness's
+# fields after ``tabulate_histogram``}. ``sample`` never reads ``walks`` (only ``bs.pdf`` does, which the adapter
+# drops: it returns ``bs.wo`` and the weight), so a case re-run with more pdf walks has the same histogram.
+_HISTOGRAM_MEMO: dict[str, Any] = {}
 
 
 def chi2_walk(alpha: float, theta_i: float, samples: int, seed: int, res: int = 31, ires: int = 4, repeats: int = 4,
@@ -466,7 +475,9 @@ def chi2_walk(alpha: float, theta_i: float, samples: int, seed: int, res: int = 
     Poisson variance Ê). :func:`pooled_chi2` adds it to the denominator; ``run``'s own p-value (exact-pdf
     assumption) and its sanity checks are reported beside it. ``extra``: plug-in properties (the power checks'
     perturbations, e.g. ``sample_alpha_scale``), which only the sampler sees: the expected counts of the same
-    (α, θ_i, walks, seed, repeats, grid) as the previous call are that call's (:data:`_PDF_MEMO`)."""
+    (α, θ_i, walks, seed, repeats, grid) as the previous call are that call's (:data:`_PDF_MEMO`), and the
+    histogram of the same sampler (α, θ_i, samples, seed, grid, ``extra``; any ``walks``) that call's
+    (:data:`_HISTOGRAM_MEMO`)."""
     import mitsuba as mi
     import numpy as np
     from mitsuba import chi2
@@ -476,7 +487,15 @@ def chi2_walk(alpha: float, theta_i: float, samples: int, seed: int, res: int = 
     sample_func, _ = chi2.BSDFAdapter(register(), _bsdf_dict(alpha, 1.0, walks, seed, **extra), wi=wi)
     test = chi2.ChiSquareTest(domain=chi2.SphericalDomain(), sample_func=sample_func, pdf_func=lambda p: p.x * 0.0,
                               sample_dim=3, sample_count=samples, res=res, ires=ires, seed=seed)
-    test.tabulate_histogram()
+    hkey = (float(alpha), float(theta_i), int(samples), int(seed), int(res), int(ires), repr(sorted(extra.items())))
+    if _HISTOGRAM_MEMO.get("key") == hkey:  # the same sampler and samples: the same histogram (see the memo)
+        for k, v in _HISTOGRAM_MEMO["state"].items():
+            setattr(test, k, v)
+    else:
+        test.tabulate_histogram()
+        _HISTOGRAM_MEMO.clear()
+        _HISTOGRAM_MEMO.update(key=hkey, state={k: getattr(test, k) for k in ("histogram", "histogram_sum", "fail",
+                                                                                "messages")})
     nx, ny = int(test.res.x), int(test.res.y)
     d, w, cell = _pdf_grid((nx, ny), ires, samples)
     key = (float(alpha), float(theta_i), int(walks), int(seed), int(repeats), nx, ny, int(ires))
