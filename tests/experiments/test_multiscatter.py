@@ -132,6 +132,27 @@ def test_chi2_histogram_memo_returns_what_a_fresh_tabulation_does():
     assert bad == mb.chi2_walk(0.6, 50.0, **kw, walks=16, sample_alpha_scale=1.1) and bad != memo
 
 
+def test_resumed_pdf_walks_equal_a_fresh_evaluation_bit_for_bit():
+    """pdf_state continued from a state of fewer walks (chi2_walk's quadrupling) returns exactly the harness's own
+    pdf functor (BSDFAdapter) of the full walk count."""
+    import drjit as dr
+    import mitsuba as mi
+    from mitsuba import chi2
+
+    from validate.reference import microsurface_bsdf as mb
+
+    d, _, _ = mb._pdf_grid((10, 21), 3, 1)
+    dirs = mi.Vector3f(np.ascontiguousarray(d.T, dtype=np.float32))
+    wi, state = mb._direction(30.0), None
+    for walks in (4, 16):
+        _, pdf = chi2.BSDFAdapter(mb.register(), mb._bsdf_dict(0.1, 1.0, walks, 1003), wi=wi)
+        bsdf = mi.load_dict(mb._bsdf_dict(0.1, 1.0, walks, 1003))
+        si = dr.zeros(mi.SurfaceInteraction3f, dr.width(dirs))
+        si.wi = wi
+        v, state = bsdf.pdf_state(si, dirs, state)
+        assert np.array_equal(np.asarray(v), np.asarray(pdf(dirs)))
+
+
 def test_bsdf_tasks_cover_the_serial_loop_and_collect_in_its_order():
     """compute's BSDF-check tasks: one per case of each check, the serial loop's seeds, collected back in the
     serial order whatever order they finished in."""
