@@ -116,6 +116,59 @@ def test_walk_bsdf_chi2_at_a_sharp_lobe_needs_the_pdf_noise_below_poisson():
     assert mb.chi2_walk(0.1, 30.0, **used, **CHI2_POWER)["p_value"] < 1e-6
 
 
+def test_chi2_histogram_memo_returns_what_a_fresh_tabulation_does():
+    """chi2_walk reuses the previous call's histogram when only the pdf walks changed (``sample`` never reads
+    them): the row equals the one from a fresh tabulation (memo cleared), and a perturbed sampler is tabulated
+    anew."""
+    from validate.reference import microsurface_bsdf as mb
+
+    kw = {"samples": 50_000, "seed": 7, "res": 21, "ires": 4}
+    mb.chi2_walk(0.6, 50.0, **kw, walks=8)
+    memo = mb.chi2_walk(0.6, 50.0, **kw, walks=16)
+    mb._HISTOGRAM_MEMO.clear()
+    assert memo == mb.chi2_walk(0.6, 50.0, **kw, walks=16)
+    bad = mb.chi2_walk(0.6, 50.0, **kw, walks=16, sample_alpha_scale=1.1)
+    mb._HISTOGRAM_MEMO.clear()
+    assert bad == mb.chi2_walk(0.6, 50.0, **kw, walks=16, sample_alpha_scale=1.1) and bad != memo
+
+
+def test_resumed_pdf_walks_equal_a_fresh_evaluation_bit_for_bit():
+    """pdf_state continued from a state of fewer walks (chi2_walk's quadrupling) returns exactly the harness's own
+    pdf functor (BSDFAdapter) of the full walk count."""
+    import drjit as dr
+    import mitsuba as mi
+    from mitsuba import chi2
+
+    from validate.reference import microsurface_bsdf as mb
+
+    d, _, _ = mb._pdf_grid((10, 21), 3, 1)
+    dirs = mi.Vector3f(np.ascontiguousarray(d.T, dtype=np.float32))
+    wi, state = mb._direction(30.0), None
+    for walks in (4, 16):
+        _, pdf = chi2.BSDFAdapter(mb.register(), mb._bsdf_dict(0.1, 1.0, walks, 1003), wi=wi)
+        bsdf = mi.load_dict(mb._bsdf_dict(0.1, 1.0, walks, 1003))
+        si = dr.zeros(mi.SurfaceInteraction3f, dr.width(dirs))
+        si.wi = wi
+        v, state = bsdf.pdf_state(si, dirs, state)
+        assert np.array_equal(np.asarray(v), np.asarray(pdf(dirs)))
+
+
+def test_bsdf_tasks_cover_the_serial_loop_and_collect_in_its_order():
+    """compute's BSDF-check tasks: one per case of each check, the serial loop's seeds, collected back in the
+    serial order whatever order they finished in."""
+    from validate.experiments.multiscatter.compute import bsdf_collect, bsdf_tasks
+
+    s = ms.FULL
+    tasks = bsdf_tasks(s, 1234)
+    kinds = [t[0] for t in tasks]
+    assert kinds.count("chi2") == len(s.chi2_cases) and kinds.count("render") == len(s.walk_alphas)
+    assert kinds.count("reciprocity") == len(s.walk_alphas) * len(s.recip_f0s)
+    assert sorted(t[-1] for t in tasks if t[0] == "chi2") == [1234 + k for k in range(len(s.chi2_cases))]
+    fake = [(t, {t[0]: t[1]}) for t in tasks]
+    out = bsdf_collect(fake[::-1])
+    assert out["chi2"] == list(range(len(s.chi2_cases))) and out["render"] == list(range(len(s.walk_alphas)))
+
+
 def test_walk_bsdf_reciprocity_and_its_power():
     """|z| of forward vs reverse one-sided eval within the Šidák bound (9 pairs, family-wise 1 %); next-event
     shadowing by the distant G₁ breaks reciprocity by many standard errors."""

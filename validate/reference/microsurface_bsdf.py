@@ -221,6 +221,18 @@ def walk_eval(wi: Any, wo: Any, alpha: Any, f0: Any, rng: Any, walks: int, max_o
     Order 1 exact (:func:`single_scattering`); orders k ≥ 2 by next-event estimation: each vertex adds
     E_{k−1} p(−ω_r → ω_o) G¹(ω_o, h_k) (E_{k−1} the energy after k − 1 bounces). The variance is the sample
     variance of the per-walk sums over the walks (0 for one walk)."""
+    mean, var, _ = walk_eval_state(wi, wo, alpha, f0, rng, walks, max_order, distant_g1)
+    return mean, var
+
+
+def walk_eval_state(wi: Any, wo: Any, alpha: Any, f0: Any, rng: Any, walks: int, max_order: int,
+                    distant_g1: bool = False,
+                    resume: tuple[Any, ...] | None = None) -> tuple[Any, Any, tuple[Any, ...]]:
+    """:func:`walk_eval` → (mean, variance of the mean, the loop's final state). ``resume``: the final state of an
+    earlier call with the same ω_i, ω_o, α, F₀ and ``rng`` seed but fewer walks; each lane's walks run one after
+    another from its own stream, and a lane's state after w walks is what a longer call holds after its first w,
+    so the call continues from there (``rng`` unused) and returns what a fresh call of ``walks`` walks returns,
+    bit for bit, without repeating the first w walks."""
     import drjit as dr
     import mitsuba as mi
 
@@ -248,13 +260,17 @@ def walk_eval(wi: Any, wo: Any, alpha: Any, f0: Any, rng: Any, walks: int, max_o
         order = dr.select(esc, 0, order + 1)
         return wr, hr, energy, order, dr.select(esc, 0.0, acc), s1, s2, k, rng
 
-    state = (start, zero + START_HEIGHT, zero + 1.0, dr.zeros(mi.UInt32, n), zero, zero, zero,
-             dr.select(valid, dr.zeros(mi.UInt32, n), walks), rng)
+    if resume is None:
+        state = (start, zero + START_HEIGHT, zero + 1.0, dr.zeros(mi.UInt32, n), zero, zero, zero,
+                 dr.select(valid, dr.zeros(mi.UInt32, n), walks), rng)
+    else:  # an invalid lane never walks: its count is the new total
+        state = (*resume[:7], dr.select(valid, resume[7], walks), resume[8])
     state = dr.while_loop(state, lambda *s: s[7] < walks, body, label="microsurface_walk_eval")
     s1, s2 = state[5], state[6]
     mean = s1 / walks
     var = dr.maximum(s2 / walks - mean * mean, 0.0) * walks / max(walks - 1, 1) / walks
-    return dr.select(valid, single_scattering(wi, wo, alpha, f0) + mean, 0.0), dr.select(valid, var, 0.0)
+    return (dr.select(valid, single_scattering(wi, wo, alpha, f0) + mean, 0.0), dr.select(valid, var, 0.0),
+            tuple(state))
 
 
 # ---------------------------------------------------------------- seeding
@@ -273,10 +289,15 @@ def _bits(x: Any) -> Any:
 
 def rng_from(values: list[Any], seed: int, lane: Any = None) -> Any:
     """A PCG32 per lane whose stream is a TEA hash of the float bits of ``values`` and ``seed`` (and the lane index
-    when given): distinct inputs give independent streams, equal inputs the same one."""
+    when given): distinct inputs give independent streams, equal inputs the same one. Outside a symbolic scope the
+    seed is an opaque JIT value, not a literal: every seed then reuses the same compiled kernels (a literal is baked
+    into the kernel, so each new seed compiled the whole walk loop again); the values are the same integers."""
+    import drjit as dr
     import mitsuba as mi
 
-    v0, v1 = mi.UInt32(seed & 0xFFFFFFFF), mi.UInt32(0x9E3779B9)
+    jit = dr.is_jit_v(mi.Float) and not dr.flag(dr.JitFlag.SymbolicScope)
+    v0 = dr.opaque(mi.UInt32, seed & 0xFFFFFFFF) if jit else mi.UInt32(seed & 0xFFFFFFFF)
+    v1 = mi.UInt32(0x9E3779B9)
     for x in values:
         v0, v1 = mi.sample_tea_32(v0 ^ _bits(x), v1)
     if lane is not None:
@@ -371,6 +392,14 @@ def _plugin_class() -> type:
         def eval_pdf(self, ctx: Any, si: Any, wo: Any, active: Any = True) -> Any:
             return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
 
+        def pdf_state(self, si: Any, wo: Any, resume: tuple[Any, ...] | None = None) -> tuple[Any, tuple[Any, ...]]:
+            """``pdf`` (default context) and the walk loop's final state; ``resume``: an earlier call's state with
+            fewer ``walks`` (:func:`walk_eval_state`: the same values as a fresh call)."""
+            rng = self._rng(si, wo, True)
+            v, _, state = walk_eval_state(si.wi, wo, self.p["alpha"], 1.0, rng, self.p["walks"], self.p["max_order"],
+                                          self.p["nee_distant_g1"], resume)
+            return dr.select(self._enabled(mi.BSDFContext(), si, True), v, 0.0), state
+
         def estimate(self, si: Any, wo: Any, f0: float | None = None) -> tuple[Any, Any]:
             """(f cos θ_o estimate, its variance) — :func:`walk_eval` with this plug-in's settings (F₀ by default)."""
             return self._estimate(si, wo, self.p["f0"] if f0 is None else f0)
@@ -452,6 +481,14 @@ def pooled_chi2(observed: Any, expected: Any, variance: Any, min_expected: float
 # expected counts are a deterministic function of these (``pdf`` seeds from (ω_i, ω_o, seed) alone) and never see
 # ``extra``, so a power check right after its case (the same settings, a perturbed sampler) reuses them.
 _PDF_MEMO: dict[str, Any] = {}
+# chi2_walk's last histogram: {"key": (α, θ_i, samples, seed, grid, the sampler's properties), "state": the harness's
+# fields after ``tabulate_histogram``}. ``sample`` never reads ``walks`` (only ``bs.pdf`` does, which the adapter
+# drops: it returns ``bs.wo`` and the weight), so a case re-run with more pdf walks has the same histogram.
+_HISTOGRAM_MEMO: dict[str, Any] = {}
+# chi2_walk's last pdf walk states per repeat {"key": (α, θ_i, seed, grid), "walks", "states": {repeat: state}}:
+# repeat r's plug-in seed is seed + 1000 (r + 1) whatever the walks, so a case re-run with 4× the walks continues
+# each repeat's walks (walk_eval_state) instead of repeating them; the expected counts are those of a fresh run.
+_PDF_STATES: dict[str, Any] = {}
 
 
 def chi2_walk(alpha: float, theta_i: float, samples: int, seed: int, res: int = 31, ires: int = 4, repeats: int = 4,
@@ -466,7 +503,10 @@ def chi2_walk(alpha: float, theta_i: float, samples: int, seed: int, res: int = 
     Poisson variance Ê). :func:`pooled_chi2` adds it to the denominator; ``run``'s own p-value (exact-pdf
     assumption) and its sanity checks are reported beside it. ``extra``: plug-in properties (the power checks'
     perturbations, e.g. ``sample_alpha_scale``), which only the sampler sees: the expected counts of the same
-    (α, θ_i, walks, seed, repeats, grid) as the previous call are that call's (:data:`_PDF_MEMO`)."""
+    (α, θ_i, walks, seed, repeats, grid) as the previous call are that call's (:data:`_PDF_MEMO`), and the
+    histogram of the same sampler (α, θ_i, samples, seed, grid, ``extra``; any ``walks``) that call's
+    (:data:`_HISTOGRAM_MEMO`)."""
+    import drjit as dr
     import mitsuba as mi
     import numpy as np
     from mitsuba import chi2
@@ -476,7 +516,15 @@ def chi2_walk(alpha: float, theta_i: float, samples: int, seed: int, res: int = 
     sample_func, _ = chi2.BSDFAdapter(register(), _bsdf_dict(alpha, 1.0, walks, seed, **extra), wi=wi)
     test = chi2.ChiSquareTest(domain=chi2.SphericalDomain(), sample_func=sample_func, pdf_func=lambda p: p.x * 0.0,
                               sample_dim=3, sample_count=samples, res=res, ires=ires, seed=seed)
-    test.tabulate_histogram()
+    hkey = (float(alpha), float(theta_i), int(samples), int(seed), int(res), int(ires), repr(sorted(extra.items())))
+    if _HISTOGRAM_MEMO.get("key") == hkey:  # the same sampler and samples: the same histogram (see the memo)
+        for k, v in _HISTOGRAM_MEMO["state"].items():
+            setattr(test, k, v)
+    else:
+        test.tabulate_histogram()
+        _HISTOGRAM_MEMO.clear()
+        _HISTOGRAM_MEMO.update(key=hkey, state={k: getattr(test, k) for k in ("histogram", "histogram_sum", "fail",
+                                                                                "messages")})
     nx, ny = int(test.res.x), int(test.res.y)
     d, w, cell = _pdf_grid((nx, ny), ires, samples)
     key = (float(alpha), float(theta_i), int(walks), int(seed), int(repeats), nx, ny, int(ires))
@@ -484,13 +532,23 @@ def chi2_walk(alpha: float, theta_i: float, samples: int, seed: int, res: int = 
         vals = _PDF_MEMO["vals"]
     else:
         dirs = mi.Vector3f(np.ascontiguousarray(d.T, dtype=np.float32))
-        vals = []
+        # the walk states of the last pdf evaluation of this (α, θ_i, seed, grid), with fewer walks, continue
+        skey = (float(alpha), float(theta_i), int(seed), nx, ny, int(ires))
+        states = _PDF_STATES["states"] if _PDF_STATES.get("key") == skey and _PDF_STATES["walks"] < walks else {}
+        vals, new_states = [], {}
         for r in range(repeats):
-            _, pdf_func = chi2.BSDFAdapter(register(), _bsdf_dict(alpha, 1.0, walks, seed + 1000 * (r + 1)), wi=wi)
-            vals.append(np.asarray(pdf_func(dirs), dtype=np.float64))
+            # the harness's pdf functor (BSDFAdapter: default context, si.wi = ω_i), keeping the walk states
+            bsdf = mi.load_dict(_bsdf_dict(alpha, 1.0, walks, seed + 1000 * (r + 1)))
+            si = dr.zeros(mi.SurfaceInteraction3f, dr.width(dirs))
+            si.wi = wi
+            v, new_states[r] = bsdf.pdf_state(si, dirs, states.get(r))
+            dr.eval(v, new_states[r])
+            vals.append(np.asarray(v, dtype=np.float64))
         vals = np.asarray(vals)
         _PDF_MEMO.clear()
         _PDF_MEMO.update(key=key, vals=vals)
+        _PDF_STATES.clear()
+        _PDF_STATES.update(key=skey, walks=int(walks), states=new_states)
     mean, var = vals.mean(0), vals.var(0, ddof=1) / repeats
     expected = np.bincount(cell, w * mean, nx * ny)
     variance = np.bincount(cell, w * w * var, nx * ny)

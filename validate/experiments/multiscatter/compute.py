@@ -151,13 +151,49 @@ def measure(tech: Technique, s: Settings) -> dict[str, Any]:
     return out
 
 
+Task = tuple[Any, ...]
+
+
+def _tasks(s: Settings, techniques: list[Technique], seed: int) -> list[Task]:
+    """Every independent piece of :func:`compute`, costliest first (measured on the full settings: the χ² cases'
+    pdf walks, the numpy random walks, the technique grids, then the other BSDF checks); the numbers do not
+    depend on the order (each task's seeds come from ``seed`` and the task)."""
+    checks = bsdf_tasks(s, seed) if s.bsdf_checks and init().is_vectorized else []
+    chi2 = [t for t in checks if t[0] == "chi2"]
+    walks = [("walk", a, seed + i) for i, a in enumerate(s.walk_alphas)]
+    return chi2 + walks + [("technique", t) for t in techniques] + [t for t in checks if t[0] != "chi2"]
+
+
+def _run_task(task: Task, s: Settings) -> Any:
+    """One task of :func:`_tasks`: a technique's grids and walk values, one reference walk, or one BSDF check."""
+    if task[0] == "technique":
+        t = task[1]
+        grids = measure(t, s)
+        return grids, [walk_techniques(t, a, s, {t.name: grids}) for a in s.walk_alphas]
+    if task[0] == "walk":
+        return walk_reference(task[1], s, task[2])
+    return bsdf_task(task, s)
+
+
 def compute(ctx: Context, s: Settings) -> Measurements:
-    """Furnace grids (``ctx.map`` over the techniques), the walks, the walk BSDF's checks, the published table."""
+    """Furnace grids, the walks, the walk BSDF's checks (independent tasks through ``ctx.map``), the published
+    table."""
     m = Measurements(s, list(family("brdf")))
-    results = ctx.map(lambda t: measure(t, s), m.techniques, "multiscatter: furnace grids")
-    m.w = {t.name: r for t, r in zip(m.techniques, results, strict=True)}
-    m.walk = [walk_compare(m.techniques, a, s, ctx.seed + i, m.w) for i, a in enumerate(s.walk_alphas)]
-    m.bsdf = bsdf_checks(s, ctx.seed) if s.bsdf_checks else {}
+    tasks = _tasks(s, m.techniques, ctx.seed)
+    done = ctx.map(lambda t: _run_task(t, s), tasks, "multiscatter: grids, walks, BSDF checks")
+    by_kind: dict[str, list[tuple[Task, Any]]] = {}
+    for t, r in zip(tasks, done, strict=True):
+        by_kind.setdefault(t[0], []).append((t, r))
+    m.w = {t[1].name: r[0] for t, r in by_kind.get("technique", [])}
+    tech_walk = {t[1].name: r[1] for t, r in by_kind.get("technique", [])}
+    m.walk = [r | {"techniques": {t.name: tech_walk[t.name][i] for t in m.techniques}}
+              for i, (_, r) in enumerate(by_kind.get("walk", []))]
+    if not s.bsdf_checks:
+        m.bsdf = {}
+    elif not init().is_vectorized:
+        m.bsdf = {"skipped": f"{init().variant}: the BSDF checks need a JIT variant (llvm/cuda)"}
+    else:
+        m.bsdf = bsdf_collect([(t, r) for t, r in zip(tasks, done, strict=True) if t[0] not in ("technique", "walk")])
     for r, mu, w in PUBLISHED_SS:
         m.published.append({"roughness": r, "alpha": r * r, "nov": mu, "published": w, "table": _e(r * r, mu),
                             "table_neighbour": _e((r * 1.1 if r < 1.0 else 0.9) ** 2, mu)})
@@ -186,25 +222,34 @@ def _known_w(w: dict[str, Any], s: Settings, tech: str, alpha: float, f0: float)
     return None
 
 
+def walk_reference(alpha: float, s: Settings, seed: int) -> dict[str, Any]:
+    """The random walk's albedo at μ_v = s.walk_mu for each F₀ (Schlick per bounce) and its first-bounce albedo
+    against the height-correlated closed form (:func:`walk_compare` without the techniques)."""
+    r = mw.walk(alpha, s.walk_mu, s.walk_f0s, s.walkers, seed % 2**31)
+    return {"alpha": alpha, "mu": s.walk_mu, "f0s": list(s.walk_f0s), "albedo": r.albedo.tolist(),
+            "albedo_se": r.albedo_se.tolist(), "single": r.single.tolist(), "single_se": r.single_se.tolist(),
+            "mean_order": r.mean_order, "truncated": r.truncated, "e_correlated": e_correlated(alpha, s.walk_mu),
+            "e_separable": _e(alpha, s.walk_mu)}
+
+
+def walk_techniques(t: Technique, alpha: float, s: Settings, known: dict[str, Any] | None = None) -> list[float]:
+    """A technique's W at μ_v = s.walk_mu for each of the walk's F₀ (η real, or metalness 1 with base colour F₀;
+    F₀ = 1: η = 0, k = 1); values already in the furnace grids ``known`` (:func:`measure`) are reused."""
+    vals = []
+    for f0 in s.walk_f0s:
+        v = _known_w(known or {}, s, t.name, alpha, f0)
+        vals.append(v if v is not None else float(_furnace(t, _f1(alpha) if f0 >= 1.0 else _dielectric(alpha, f0),
+                                                           (s.walk_mu,), s.nodes)[0]))
+    return vals
+
+
 def walk_compare(techs: list[Technique], alpha: float, s: Settings, seed: int,
                  known: dict[str, Any] | None = None) -> dict[str, Any]:
     """The random walk's albedo at μ_v = s.walk_mu for each F₀ (Schlick per bounce), its first-bounce albedo against
-    the height-correlated closed form, and every technique's W at the same F₀ (η real, or metalness 1 with base
-    colour F₀; F₀ = 1: η = 0, k = 1); values already in the furnace grids ``known`` (:func:`measure`) are reused."""
-    r = mw.walk(alpha, s.walk_mu, s.walk_f0s, s.walkers, seed % 2**31)
-    out: dict[str, Any] = {"alpha": alpha, "mu": s.walk_mu, "f0s": list(s.walk_f0s), "albedo": r.albedo.tolist(),
-                           "albedo_se": r.albedo_se.tolist(), "single": r.single.tolist(),
-                           "single_se": r.single_se.tolist(), "mean_order": r.mean_order, "truncated": r.truncated,
-                           "e_correlated": e_correlated(alpha, s.walk_mu), "e_separable": _e(alpha, s.walk_mu),
-                           "techniques": {}}
-    for t in techs:
-        vals = []
-        for f0 in s.walk_f0s:
-            v = _known_w(known or {}, s, t.name, alpha, f0)
-            vals.append(v if v is not None else float(_furnace(t, _f1(alpha) if f0 >= 1.0 else _dielectric(alpha, f0),
-                                                               (s.walk_mu,), s.nodes)[0]))
-        out["techniques"][t.name] = vals
-    return out
+    the height-correlated closed form, and every technique's W at the same F₀ (:func:`walk_reference`,
+    :func:`walk_techniques`)."""
+    return walk_reference(alpha, s, seed) | {"techniques": {t.name: walk_techniques(t, alpha, s, known)
+                                                            for t in techs}}
 
 
 def _e(alpha: float, mu: float) -> float:
@@ -236,39 +281,68 @@ def metrics(m: Measurements, tech: str) -> dict[str, dict[str, float]]:
     return out
 
 
+def bsdf_tasks(s: Settings, seed: int) -> list[Task]:
+    """The BSDF checks of :func:`bsdf_checks` as independent tasks, each with its power check (a χ² power check
+    reuses its case's expected counts): ("chi2", k, α, θ_i, seed), ("reciprocity", k, α, F₀, seed),
+    ("furnace", k, α, μ_i, seed), ("render", k, α, seed); the seeds are those of the serial loop."""
+    seed = seed % 2**20
+    chi2 = [("chi2", k, a, th, seed + k) for k, (a, th) in enumerate(s.chi2_cases)]
+    # the costliest χ² case first: the sharpest lobe quadruples its pdf walks the most (see MAX_PDF_VARIANCE_RATIO)
+    chi2.sort(key=lambda t: t[2])
+    recip = [("reciprocity", k, a, f0, seed + 100 + k)
+             for k, (a, f0) in enumerate((a, f0) for a in s.walk_alphas for f0 in s.recip_f0s)]
+    furnace = [("furnace", k, a, mu, seed + 200 + k)
+               for k, (a, mu) in enumerate((a, mu) for a in s.walk_alphas for mu in s.furnace_mus)]
+    render = [("render", k, a, seed + 300 + k) for k, a in enumerate(s.walk_alphas)]
+    return chi2 + furnace + recip + render
+
+
+def bsdf_task(task: Task, s: Settings) -> dict[str, Any]:
+    """One task of :func:`bsdf_tasks` → its rows (the check and its power check)."""
+    kind = task[0]
+    if kind == "chi2":
+        _, _, a, th, sd = task
+        kw = {"samples": s.chi2_samples, "seed": sd, "res": s.chi2_res, "ires": 6, "walks": s.chi2_walks,
+              "test_count": len(s.chi2_cases), "significance": FAMILY_WISE}
+        row, kw = chi2_case(a, th, kw)
+        return {"chi2": row, "chi2_power": mbsdf.chi2_walk(a, th, **kw, **CHI2_POWER)}
+    if kind == "reciprocity":
+        _, _, a, f0, sd = task
+        return {"reciprocity": mbsdf.reciprocity_walk(a, f0, 64, s.recip_lanes, sd),
+                "reciprocity_power": mbsdf.reciprocity_walk(a, f0, 64, s.recip_lanes, sd, **RECIP_POWER)}
+    if kind == "furnace":
+        _, _, a, mu, sd = task
+        return {"furnace": mbsdf.furnace_eval(a, mu, 1.0, s.furnace_directions, 8, sd),
+                "furnace_power": mbsdf.furnace_eval(a, mu, 1.0, s.furnace_directions, 8, sd, **RECIP_POWER)}
+    _, _, a, sd = task
+    return {"render": mbsdf.render_furnace(a, s.render_spp, 32, sd),
+            "render_power": mbsdf.render_furnace(a, s.render_spp, 32, sd, max_order=1),
+            "single_scatter": {**mbsdf.single_scatter_vs_mitsuba(a, 20_000, sd + 100),
+                               "power": mbsdf.single_scatter_vs_mitsuba(a, 20_000, sd + 100, 1.01)["max_rel_diff"]}}
+
+
+def bsdf_collect(done: list[tuple[Task, dict[str, Any]]]) -> dict[str, Any]:
+    """The rows of :func:`bsdf_task` results in the serial order (by kind, then index k)."""
+    out: dict[str, Any] = {"chi2": [], "chi2_power": [], "reciprocity": [], "reciprocity_power": [], "furnace": [],
+                           "furnace_power": [], "render": [], "render_power": [], "single_scatter": []}
+    for kind in ("chi2", "reciprocity", "furnace", "render"):
+        for _, rows in sorted((tr for tr in done if tr[0][0] == kind), key=lambda tr: tr[0][1]):
+            for key, row in rows.items():
+                out[key].append(row)
+    return out
+
+
 def bsdf_checks(s: Settings, seed: int) -> dict[str, Any]:
     """The random walk as a Mitsuba BSDF (``microsurface_walk``), checked with Mitsuba's own machinery: χ² of
     sample vs pdf (each case also with the perturbed sampler), reciprocity z-scores of the one-sided eval (also
     with the non-reciprocal perturbation), eval's white furnace, a path-traced white furnace, and the closed first
-    order against ``roughconductor``. Needs a JIT variant (Mitsuba's χ² harness and the walks' vectorised loops)."""
+    order against ``roughconductor``. Needs a JIT variant (Mitsuba's χ² harness and the walks' vectorised loops).
+    Serially here; :func:`compute` runs the same :func:`bsdf_tasks` through ``ctx.map``."""
     backend = init()
     if not backend.is_vectorized:
         return {"skipped": f"{backend.variant}: the BSDF checks need a JIT variant (llvm/cuda)"}
-    seed = seed % 2**20
-    out: dict[str, Any] = {"chi2": [], "chi2_power": [], "reciprocity": [], "reciprocity_power": [], "furnace": [],
-                           "furnace_power": [], "render": [], "render_power": [], "single_scatter": []}
-    for k, (a, th) in enumerate(s.chi2_cases):
-        kw = {"samples": s.chi2_samples, "seed": seed + k, "res": s.chi2_res, "ires": 6, "walks": s.chi2_walks,
-              "test_count": len(s.chi2_cases), "significance": FAMILY_WISE}
-        row, kw = chi2_case(a, th, kw)
-        out["chi2"].append(row)
-        out["chi2_power"].append(mbsdf.chi2_walk(a, th, **kw, **CHI2_POWER))
-    for k, (a, f0) in enumerate((a, f0) for a in s.walk_alphas for f0 in s.recip_f0s):
-        out["reciprocity"].append(mbsdf.reciprocity_walk(a, f0, 64, s.recip_lanes, seed + 100 + k))
-        out["reciprocity_power"].append(mbsdf.reciprocity_walk(a, f0, 64, s.recip_lanes, seed + 100 + k,
-                                                               **RECIP_POWER))
-    for k, (a, mu) in enumerate((a, mu) for a in s.walk_alphas for mu in s.furnace_mus):
-        out["furnace"].append(mbsdf.furnace_eval(a, mu, 1.0, s.furnace_directions, 8, seed + 200 + k))
-        out["furnace_power"].append(mbsdf.furnace_eval(a, mu, 1.0, s.furnace_directions, 8, seed + 200 + k,
-                                                       **RECIP_POWER))
-    for k, a in enumerate(s.walk_alphas):
-        out["render"].append(mbsdf.render_furnace(a, s.render_spp, 32, seed + 300 + k))
-        out["render_power"].append(mbsdf.render_furnace(a, s.render_spp, 32, seed + 300 + k, max_order=1))
-        out["single_scatter"].append({**mbsdf.single_scatter_vs_mitsuba(a, 20_000, seed + 400 + k),
-                                      "power": mbsdf.single_scatter_vs_mitsuba(a, 20_000, seed + 400 + k,
-                                                                              1.01)["max_rel_diff"]})
-    return out
+    return bsdf_collect([(t, bsdf_task(t, s)) for t in bsdf_tasks(s, seed)])
 
 
-__all__ = ["CHI2_POWER", "FAMILY_WISE", "RECIP_POWER", "Measurements", "bsdf_checks", "chi2_case", "compute",
-           "metric", "metrics"]
+__all__ = ["CHI2_POWER", "FAMILY_WISE", "RECIP_POWER", "Measurements", "bsdf_checks", "bsdf_tasks", "chi2_case",
+           "compute", "metric", "metrics", "walk_compare"]
