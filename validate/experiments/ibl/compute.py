@@ -9,8 +9,10 @@
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -418,14 +420,61 @@ def phong_ni(st: Settings, scene: Scene, renders: Mapping[str, rr.Render],
     return out
 
 
+REFERENCE_CHECKS = ("furnace", "chi2", "split_constant")  # the costliest first
+
+
+def reference_check(which: str, st: Settings) -> Chi2Check | ZCheck:
+    """One of the reference BSDF checks, which depend on the settings alone: ``"chi2"``
+    (:func:`.chk.phong_chi2`), ``"furnace"`` (:func:`.chk.phong_furnace`), ``"split_constant"``
+    (:func:`.chk.split_sum_constant`)."""
+    return {"chi2": chk.phong_chi2, "furnace": chk.phong_furnace, "split_constant": chk.split_sum_constant}[which](st)
+
+
+class _Background:
+    """``ctx.map(fn, items, desc)`` on a daemon thread of this process (the Dask workers do the work while this
+    process goes on); :meth:`result` waits and returns its list, or raises what it raised. Daemon: a signal's
+    watchdog (:mod:`validate.interrupt`) ends the run without waiting for it."""
+
+    def __init__(self, ctx: Context, fn: Any, items: list[Any], desc: str) -> None:
+        self._out: list[Any] = []
+        self._exc: BaseException | None = None
+        ctx.client()  # the cluster is started (or connected to) from the main thread
+
+        def run() -> None:
+            try:
+                self._out = ctx.map(fn, items, desc)
+            except BaseException as exc:  # re-raised in the caller's thread by result()
+                self._exc = exc
+
+        self._thread = threading.Thread(target=run, name="ibl-reference-checks", daemon=True)
+        self._thread.start()
+
+    def result(self) -> list[Any]:
+        self._thread.join()
+        if self._exc is not None:
+            raise self._exc
+        return self._out
+
+
 def compute(ctx: Context, st: Settings) -> IblMeasurements:
-    """Every number of the experiment (no claims, no prose)."""
+    """Every number of the experiment (no claims, no prose). With Dask workers, the reference BSDF checks
+    (:data:`REFERENCE_CHECKS`, settings alone) run there while this process does the rest; without, here
+    (the same tasks in the serial run's order, the same numbers)."""
+    fn = partial(reference_check, st=st)
+    background = _Background(ctx, fn, list(REFERENCE_CHECKS), "ibl: reference BSDF checks") \
+        if ctx.distributed else None
     scene = build_scene(st, ctx.seed)
     renders = render_all(ctx, scene)
     refs = reference_all(ctx, st, scene, renders)
     maps = diffuse_maps(ctx, st, scene, refs)
     spec = specular_run(ctx, st, scene, renders)
-    return IblMeasurements(
-        st, scene, renders, maps, diffuse_render(st, scene, renders, refs, maps), spec,
-        mix_shader(st, scene, renders, refs, maps), concave(st, scene, renders, refs, maps),
-        chk.phong_chi2(st), chk.phong_furnace(st), chk.split_sum_constant(st), phong_ni(st, scene, renders, spec))
+    diffuse = diffuse_render(st, scene, renders, refs, maps)
+    mix, dent = mix_shader(st, scene, renders, refs, maps), concave(st, scene, renders, refs, maps)
+    if background is not None:
+        ni = phong_ni(st, scene, renders, spec)
+        checks = dict(zip(REFERENCE_CHECKS, background.result(), strict=True))
+    else:  # the order of the serial run before the checks went to the workers
+        checks = {w: fn(w) for w in ("chi2", "furnace", "split_constant")}
+        ni = phong_ni(st, scene, renders, spec)
+    return IblMeasurements(st, scene, renders, maps, diffuse, spec, mix, dent, checks["chi2"], checks["furnace"],
+                           checks["split_constant"], ni)

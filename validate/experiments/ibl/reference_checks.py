@@ -188,11 +188,30 @@ def phong_bound(radiance: np.ndarray, s: float, normals: np.ndarray, views: np.n
         c = np.clip(np.asarray(c, dtype=np.float64), 0.0, 1.0)
         return np.where((c > 0) & (c <= math.sin(tmax)), cn * c ** m, 0.0)
 
+    sin_tmax, same_power = math.sin(tmax), (m - 1.0) == s
+
+    def fused(c: np.ndarray) -> list[np.ndarray]:
+        """[k2, k1, kv, kh (when θ_v > 0)] at once, sharing c, its powers and √(1 − c²): the same operations
+        on the same values as the four functions above, so the same bits."""
+        c = np.clip(np.asarray(c, dtype=np.float64), 0.0, 1.0)
+        pos = c > 0
+        p_m1, p_m, omc = c ** (m - 1.0), c ** m, 1.0 - c * c
+        p_s = p_m1 if same_power else c ** s
+        sq = np.sqrt(omc)
+        out = [np.where(pos, cn * m * ((m - 1.0) * c ** (m - 2.0) * omc + p_m), 0.0),
+               np.where(pos, cn * m * p_m1 * sq, 0.0),
+               np.where(pos, cn * p_s * (sq + tmax), 0.0)]
+        if tmax > 0:
+            out.append(np.where(pos & (c <= sin_tmax), cn * p_m, 0.0))
+        return out
+
     nodes = im.environment_nodes(radiance, block_deg_for_width(ps.phong_lobe_width(m)))
     r = reflect(n, v)
-    interp = 0.25 * h * h * (_zonal(nodes, r, k2) + FACE_CURVATURE * _zonal(nodes, r, k1))
-    horizon = _zonal(nodes, r, kh) if tmax > 0 else 0.0
-    return interp + theta_v * _zonal(nodes, r, kv) + horizon
+    kernels = [k2, k1, kv] + ([kh] if tmax > 0 else [])
+    z = im.convolve_zonal_dense_many(nodes, r, fused, [_kernel_integral(k) for k in kernels])
+    interp = 0.25 * h * h * (z[0] + FACE_CURVATURE * z[1])
+    horizon = z[3] if tmax > 0 else 0.0
+    return interp + theta_v * z[2] + horizon
 
 
 def luminance_sum(x: np.ndarray) -> float:

@@ -312,15 +312,26 @@ class Measurements:
     skipped: list[tuple[str, str]] = field(default_factory=list)
 
 
+def _task(item: tuple[str, Environment], settings: Settings, published: dict, aliases: dict, seed: int) -> dict:
+    """One task of :func:`compute`: ``("analyse", env)`` → :func:`analyse_environment`, ``("pathtrace", env)`` →
+    :func:`pathtrace_crosscheck` (one ``ctx.map`` for both, so the cross-checks fill the workers the last
+    environments leave idle)."""
+    kind, env = item
+    if kind == "pathtrace":
+        return pathtrace_crosscheck(env, settings, seed)
+    return analyse_environment(env, settings, published, aliases)
+
+
 def compute(ctx: Context, s: Settings) -> Measurements:
-    """Every environment (``ctx.map``), then the path-traced cross-checks of the reference."""
+    """Every environment, then the path-traced cross-checks of the reference, in one ``ctx.map`` (in this
+    order: a cross-check reuses its environment's cached quadrature nodes; results keep the items' order)."""
     envs, skipped = ctx.environments()
     published, aliases = read_published_sh9(), read_aliases()
-    results = ctx.map(partial(analyse_environment, settings=s, published=published, aliases=aliases),
-                      envs, "sh9: environments")
     by_name = {e.name: e for e in envs}
     checked = [n for n in s.pathtrace if n in by_name]
-    cross = ctx.map(partial(pathtrace_crosscheck, settings=s, seed=ctx.seed), [by_name[n] for n in checked],
-                    "sh9: path-traced cross-checks")
+    items = [("analyse", e) for e in envs] + [("pathtrace", by_name[n]) for n in checked]
+    out = ctx.map(partial(_task, settings=s, published=published, aliases=aliases, seed=ctx.seed), items,
+                  "sh9: environments and path-traced cross-checks")
+    results, cross = out[:len(envs)], out[len(envs):]
     return Measurements(s, {e.name: r for e, r in zip(envs, results, strict=True)},
                         dict(zip(checked, cross, strict=True)), list(skipped))

@@ -3,6 +3,7 @@ their arrays), and the ``results.json`` payload (summary, data, technique entrie
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -184,7 +185,9 @@ def cmgen_section(m: Measurements) -> Section | None:
                        "min E′ / Φ (%)", "rejected c (–)", "min without window (%)"], rows)])
 
 
-def crosscheck_section(m: Measurements, ctx: Context) -> Section | None:
+def crosscheck_section(m: Measurements, ctx: Context, gallery: list[list[Figure]] | None = None) -> Section | None:
+    """The path-traced cross-check table and figures (``gallery``: the figures when already drawn, in
+    ``m.crosschecks`` order)."""
     if not m.crosschecks:
         return None
     rows = [[n, d["n_pixels"], f"{d['max_abs_z']:.2f}", f"{d['critical_z']:.2f}", f"{d['mean_z']:+.3f}",
@@ -199,13 +202,30 @@ def crosscheck_section(m: Measurements, ctx: Context) -> Section | None:
         "pixels (a near-zero denominator measures nothing); 'masked' is the share of pixel-channels left out."],
         tables=[Table(["environment", "pixels (px)", "max |z| (–)", "critical z (–)", "mean z (–)", "χ²/dof (–)",
                        "max rel. diff (%)", "masked (%)", "result"], rows)],
-        gallery=[crosscheck_figures(n, d, ctx) for n, d in m.crosschecks.items()])
+        gallery=gallery if gallery is not None else [crosscheck_figures(n, d, ctx) for n, d in m.crosschecks.items()])
+
+
+def _figure_task(item: tuple[str, str, dict[str, Any]], ctx: Context) -> list[list[Figure]]:
+    """One ``ctx.map`` task of :func:`sections`: ``("environment", name, r)`` → [its environment figures, its
+    technique figures]; ``("crosscheck", name, d)`` → [its cross-check figures]."""
+    kind, name, r = item
+    if kind == "crosscheck":
+        return [crosscheck_figures(name, r, ctx)]
+    return [environment_figures(name, r, ctx), technique_figures(name, r, ctx)]
 
 
 def sections(m: Measurements, ctx: Context) -> list[Section]:
+    """Every section; the figures are drawn by ``ctx.map`` tasks (one per environment and cross-check: on the
+    Dask workers when there are any, which write them to ``ctx.out_dir``), in the order of the measurements."""
     coeff_rows = [[n] + [f"({c[0]:.3g}, {c[1]:.3g}, {c[2]:.3g})" for c in r["coefficients"]]
                   for n, r in m.environments.items()]
-    out = [s for s in [crosscheck_section(m, ctx)] if s is not None]
+    items = [("crosscheck", n, d) for n, d in m.crosschecks.items()]
+    items += [("environment", n, {"_arrays": r["_arrays"], "order_sweep": r["order_sweep"]})
+              for n, r in m.environments.items()]
+    drawn = ctx.map(partial(_figure_task, ctx=ctx), items, "sh9: figures")
+    cross_gallery = [f[0] for f in drawn[:len(m.crosschecks)]]
+    env_figs = drawn[len(m.crosschecks):]
+    out = [s for s in [crosscheck_section(m, ctx, cross_gallery)] if s is not None]
     out += [
         metric_section(m), published_section(m), technique_section(m),
         *[x for x in [cmgen_section(m)] if x is not None],
@@ -215,12 +235,12 @@ def sections(m: Measurements, ctx: Context) -> list[Section]:
         Section("Environments", ["Per environment: the environment, the reference sphere and the SH9 sphere "
                                  "(front view from +z, same exposure), the error over all normals and the "
                                  "error against SH order."],
-                gallery=[environment_figures(n, r, ctx) for n, r in m.environments.items()]),
+                gallery=[f[0] for f in env_figs]),
         Section("Techniques on each environment", [
             "Every registered irradiance technique (built-in or plug-in) on the front-facing sphere of each "
             "environment: E′/π beside the reference at one exposure, and its error |Y(E′) − Y(E)| / Φ_Y per "
             "pixel on one colour scale per environment."],
-                figures=[f for n, r in m.environments.items() for f in technique_figures(n, r, ctx)]),
+                figures=[x for f in env_figs for x in f[1]]),
     ]
     return out
 

@@ -261,6 +261,34 @@ def convolve_zonal(nodes: EnvironmentNodes, dirs: np.ndarray, kernel: Kernel, ke
     return out
 
 
+def convolve_zonal_dense_many(nodes: EnvironmentNodes, dirs: np.ndarray,
+                              kernels: Callable[[np.ndarray], list[np.ndarray]],
+                              kernel_integrals: list[float]) -> list[np.ndarray]:
+    """[V_j(r)] = [C_j · Σ_k K_j(r·ω_k) Φ_k / Σ_k K_j(r·ω_k) Ω_k] for several kernels at once (dense path of
+    :func:`convolve_zonal`, whole-sphere support): ``kernels(c)`` returns every K_j at the cosines ``c``, so
+    they can share intermediate values (powers of c). The cosine blocks are computed once for all kernels;
+    each kernel's values are stored in float32 as :func:`convolve_zonal` stores them and summed by the same
+    products, so each V_j has the bits of ``convolve_zonal(nodes, dirs, K_j, C_j)``."""
+    dirs = np.asarray(dirs, dtype=np.float64).reshape(-1, 3)
+    outs = [np.full((dirs.shape[0], 3), np.nan) for _ in kernel_integrals]
+    if dirs.shape[0] == 0:
+        return outs
+    nd = nodes.direction.astype(np.float32)
+    fo32 = np.concatenate([nodes.flux, nodes.solid_angle[:, None]], axis=1).astype(np.float32)  # (M, 4)
+    chunk = max(1, CHUNK_PAIRS // max(1, nodes.count))
+    rows = max(1, KERNEL_PAIRS // max(1, nodes.count))
+    for s in range(0, dirs.shape[0], chunk):
+        c = _cosines(dirs[s:s + chunk].astype(np.float32), nd)
+        ks = [np.empty_like(c) for _ in kernel_integrals]
+        for r in range(0, c.shape[0], rows):
+            for kj, v in zip(ks, kernels(c[r:r + rows]), strict=True):
+                kj[r:r + rows] = v
+        for out, kj, ci in zip(outs, ks, kernel_integrals, strict=True):
+            acc = (kj @ fo32).astype(np.float64)
+            out[s:s + chunk] = ci * acc[:, :3] / np.maximum(acc[:, 3:], 1e-300)
+    return outs
+
+
 def convolve_cosine(nodes: EnvironmentNodes, normals: np.ndarray) -> np.ndarray:
     """E(n) = π Σ max(0, n·ω_k) Φ_k / Σ max(0, n·ω_k) Ω_k at ``normals`` (N, 3) → (N, 3)."""
     return convolve_zonal(nodes, normals, cosine_kernel, np.pi)
