@@ -11,11 +11,12 @@ measured + uncertainty < threshold; for ``">"`` iff measured − uncertainty > t
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any, ClassVar, Protocol, TypeVar, runtime_checkable
+from typing import Any, ClassVar, Generic, Protocol, TypeVar, runtime_checkable
 
 from ..backend import init
 from ..errors import ValidateError
@@ -311,6 +312,35 @@ class Context:
             envs = list(procedural.builtin_environments(self.quick))
             self._env_cache["envs"] = (envs + found, skipped)
         return self._env_cache["envs"]
+
+
+class Background(threading.Thread, Generic[T]):
+    """``fn()`` on a daemon thread of this process: :meth:`result` waits and returns its value or re-raises its
+    exception in the caller's thread; :meth:`failed` is the exception once it has ended with one. Daemon: an
+    interrupt unwinds the main thread (:mod:`validate.interrupt`) without waiting for it. Used for work that
+    waits on other processes (Dask tasks, the browser) while this thread goes on."""
+
+    def __init__(self, fn: Callable[[], T], name: str) -> None:
+        super().__init__(name=name, daemon=True)
+        self._fn = fn
+        self._value: T | None = None
+        self._error: BaseException | None = None
+        self.start()
+
+    def run(self) -> None:
+        try:
+            self._value = self._fn()
+        except BaseException as exc:  # re-raised in the caller's thread by result()
+            self._error = exc
+
+    def failed(self) -> BaseException | None:
+        return None if self.is_alive() else self._error
+
+    def result(self) -> T:
+        self.join()
+        if self._error is not None:
+            raise self._error
+        return self._value  # type: ignore[return-value]
 
 
 @dataclass(frozen=True)

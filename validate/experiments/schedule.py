@@ -20,11 +20,10 @@ What makes the overlap safe:
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Callable
-from typing import Any
+from functools import partial
 
-from .base import Context, Experiment, ExperimentResult
+from .base import Background, Context, Experiment, ExperimentResult
 
 BESIDE = ("renders",)
 """Experiments that run beside the others when the run has Dask workers (see the module docstring)."""
@@ -42,55 +41,27 @@ def beside(ctx: Context, todo: list[str]) -> list[str]:
     return [n for n in todo if n in BESIDE]
 
 
-class _Beside(threading.Thread):
-    """One experiment on its own daemon thread; its result or exception is kept for :meth:`outcome`."""
-
-    def __init__(self, name: str, exp: Experiment, ctx: Context) -> None:
-        super().__init__(name=f"validate-{name}", daemon=True)
-        self.exp_name, self.exp, self.ctx = name, exp, ctx
-        self.result: ExperimentResult | None = None
-        self.error: BaseException | None = None
-
-    def run(self) -> None:
-        try:
-            self.result = self.exp.run(self.ctx)
-        except BaseException as exc:  # re-raised in the main thread by outcome()
-            self.error = exc
-
-    def failed(self) -> BaseException | None:
-        return self.error if not self.is_alive() else None
-
-    def outcome(self) -> ExperimentResult:
-        self.join()
-        if self.error is not None:
-            raise self.error
-        assert self.result is not None
-        return self.result
-
-
 def run_experiments(ctx: Context, exps: dict[str, Experiment], todo: list[str],
                     started: Callable[[str, bool], None], finished: Callable[[str, ExperimentResult], None]
                     ) -> dict[str, ExperimentResult]:
     """Run ``todo`` (names of ``exps``): the :func:`beside` ones on threads started first, the rest in order on
     this thread. ``started(name, beside)`` and ``finished(name, result)`` report progress; the results come back
     in the order of ``todo``."""
-    side = beside(ctx, todo)
-    threads = []
-    for n in side:
+    side: dict[str, Background[ExperimentResult]] = {}
+    for n in beside(ctx, todo):
         started(n, True)
-        threads.append(_Beside(n, exps[n], ctx))
-        threads[-1].start()
-    done: dict[str, Any] = {}
+        side[n] = Background(partial(exps[n].run, ctx), f"validate-{n}")
+    done: dict[str, ExperimentResult] = {}
     for n in todo:
         if n in side:
             continue
-        for th in threads:
+        for th in side.values():
             if (exc := th.failed()) is not None:
                 raise exc
         started(n, False)
         done[n] = exps[n].run(ctx)
         finished(n, done[n])
-    for th in threads:
-        done[th.exp_name] = th.outcome()
-        finished(th.exp_name, done[th.exp_name])
+    for n, th in side.items():
+        done[n] = th.result()
+        finished(n, done[n])
     return {n: done[n] for n in todo}

@@ -9,7 +9,6 @@
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from functools import partial
@@ -30,7 +29,7 @@ from ...reference import ibl_render as rr
 from ...reference.irradiance import reference_irradiance
 from ...scenes import latlong
 from ...stats import t_to_z
-from ..base import Context
+from ..base import Background, Context
 from . import reference_checks as chk
 from .reference_checks import Chi2Check, ZCheck
 from .scene import (
@@ -430,39 +429,16 @@ def reference_check(which: str, st: Settings) -> Chi2Check | ZCheck:
     return {"chi2": chk.phong_chi2, "furnace": chk.phong_furnace, "split_constant": chk.split_sum_constant}[which](st)
 
 
-class _Background:
-    """``ctx.map(fn, items, desc)`` on a daemon thread of this process (the Dask workers do the work while this
-    process goes on); :meth:`result` waits and returns its list, or raises what it raised. Daemon: a signal's
-    watchdog (:mod:`validate.interrupt`) ends the run without waiting for it."""
-
-    def __init__(self, ctx: Context, fn: Any, items: list[Any], desc: str) -> None:
-        self._out: list[Any] = []
-        self._exc: BaseException | None = None
-        ctx.client()  # the cluster is started (or connected to) from the main thread
-
-        def run() -> None:
-            try:
-                self._out = ctx.map(fn, items, desc)
-            except BaseException as exc:  # re-raised in the caller's thread by result()
-                self._exc = exc
-
-        self._thread = threading.Thread(target=run, name="ibl-reference-checks", daemon=True)
-        self._thread.start()
-
-    def result(self) -> list[Any]:
-        self._thread.join()
-        if self._exc is not None:
-            raise self._exc
-        return self._out
-
-
 def compute(ctx: Context, st: Settings) -> IblMeasurements:
     """Every number of the experiment (no claims, no prose). With Dask workers, the reference BSDF checks
     (:data:`REFERENCE_CHECKS`, settings alone) run there while this process does the rest; without, here
     (the same tasks in the serial run's order, the same numbers)."""
     fn = partial(reference_check, st=st)
-    background = _Background(ctx, fn, list(REFERENCE_CHECKS), "ibl: reference BSDF checks") \
-        if ctx.distributed else None
+    background = None
+    if ctx.distributed:
+        ctx.client()  # the cluster is started (or connected to) from the main thread
+        background = Background(lambda: ctx.map(fn, list(REFERENCE_CHECKS), "ibl: reference BSDF checks"),
+                                "ibl-reference-checks")
     scene = build_scene(st, ctx.seed)
     renders = render_all(ctx, scene)
     refs = reference_all(ctx, st, scene, renders)

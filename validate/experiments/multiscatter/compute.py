@@ -158,7 +158,7 @@ def _tasks(s: Settings, techniques: list[Technique], seed: int) -> list[Task]:
     """Every independent piece of :func:`compute`, costliest first (measured on the full settings: the χ² cases'
     pdf walks, the numpy random walks, the technique grids, then the other BSDF checks); the numbers do not
     depend on the order (each task's seeds come from ``seed`` and the task)."""
-    checks = bsdf_tasks(s, seed) if s.bsdf_checks and init().is_vectorized else []
+    checks = bsdf_tasks(s, seed) if s.bsdf_checks and _bsdf_skipped() is None else []
     chi2 = [t for t in checks if t[0] == "chi2"]
     walks = [("walk", a, seed + i) for i, a in enumerate(s.walk_alphas)]
     return chi2 + walks + [("technique", t) for t in techniques] + [t for t in checks if t[0] != "chi2"]
@@ -190,10 +190,9 @@ def compute(ctx: Context, s: Settings) -> Measurements:
               for i, (_, r) in enumerate(by_kind.get("walk", []))]
     if not s.bsdf_checks:
         m.bsdf = {}
-    elif not init().is_vectorized:
-        m.bsdf = {"skipped": f"{init().variant}: the BSDF checks need a JIT variant (llvm/cuda)"}
     else:
-        m.bsdf = bsdf_collect([(t, r) for t, r in zip(tasks, done, strict=True) if t[0] not in ("technique", "walk")])
+        m.bsdf = _bsdf_skipped() or bsdf_collect([tr for k, trs in by_kind.items() if k not in ("technique", "walk")
+                                                  for tr in trs])
     for r, mu, w in PUBLISHED_SS:
         m.published.append({"roughness": r, "alpha": r * r, "nov": mu, "published": w, "table": _e(r * r, mu),
                             "table_neighbour": _e((r * 1.1 if r < 1.0 else 0.9) ** 2, mu)})
@@ -338,10 +337,14 @@ def bsdf_checks(s: Settings, seed: int) -> dict[str, Any]:
     with the non-reciprocal perturbation), eval's white furnace, a path-traced white furnace, and the closed first
     order against ``roughconductor``. Needs a JIT variant (Mitsuba's χ² harness and the walks' vectorised loops).
     Serially here; :func:`compute` runs the same :func:`bsdf_tasks` through ``ctx.map``."""
+    return _bsdf_skipped() or bsdf_collect([(t, bsdf_task(t, s)) for t in bsdf_tasks(s, seed)])
+
+
+def _bsdf_skipped() -> dict[str, Any] | None:
+    """``{"skipped": why}`` on a variant without the JIT the BSDF checks need, else None."""
     backend = init()
-    if not backend.is_vectorized:
-        return {"skipped": f"{backend.variant}: the BSDF checks need a JIT variant (llvm/cuda)"}
-    return bsdf_collect([(t, bsdf_task(t, s)) for t in bsdf_tasks(s, seed)])
+    return None if backend.is_vectorized else {
+        "skipped": f"{backend.variant}: the BSDF checks need a JIT variant (llvm/cuda)"}
 
 
 __all__ = ["CHI2_POWER", "FAMILY_WISE", "RECIP_POWER", "Measurements", "bsdf_checks", "bsdf_tasks", "chi2_case",

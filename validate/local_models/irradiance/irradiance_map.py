@@ -226,20 +226,11 @@ def convolve_zonal(nodes: EnvironmentNodes, dirs: np.ndarray, kernel: Kernel, ke
     out = np.full((dirs.shape[0], 3), np.nan)
     if dirs.shape[0] == 0:
         return out
-    nd = nodes.direction.astype(np.float32)
-    fo = np.concatenate([nodes.flux, nodes.solid_angle[:, None]], axis=1)  # (M, 4)
-    fo32 = fo.astype(np.float32)
     cap_fraction = (1.0 - support_cos) / 2.0
     if support_cos <= -1.0 or cap_fraction > 0.25:
-        chunk = max(1, CHUNK_PAIRS // max(1, nodes.count))
-        rows = max(1, KERNEL_PAIRS // max(1, nodes.count))
-        for s in range(0, dirs.shape[0], chunk):
-            c = _cosines(dirs[s:s + chunk].astype(np.float32), nd)
-            for r in range(0, c.shape[0], rows):
-                c[r:r + rows] = kernel(c[r:r + rows])
-            acc = (c @ fo32).astype(np.float64)
-            out[s:s + chunk] = kernel_integral * acc[:, :3] / np.maximum(acc[:, 3:], 1e-300)
-        return out
+        return convolve_zonal_dense_many(nodes, dirs, lambda c: [kernel(c)], [kernel_integral])[0]
+    nd = nodes.direction.astype(np.float32)
+    fo32 = np.concatenate([nodes.flux, nodes.solid_angle[:, None]], axis=1).astype(np.float32)  # (M, 4)
     from scipy.spatial import cKDTree
 
     tree = cKDTree(nodes.direction)
@@ -264,11 +255,11 @@ def convolve_zonal(nodes: EnvironmentNodes, dirs: np.ndarray, kernel: Kernel, ke
 def convolve_zonal_dense_many(nodes: EnvironmentNodes, dirs: np.ndarray,
                               kernels: Callable[[np.ndarray], list[np.ndarray]],
                               kernel_integrals: list[float]) -> list[np.ndarray]:
-    """[V_j(r)] = [C_j · Σ_k K_j(r·ω_k) Φ_k / Σ_k K_j(r·ω_k) Ω_k] for several kernels at once (dense path of
-    :func:`convolve_zonal`, whole-sphere support): ``kernels(c)`` returns every K_j at the cosines ``c``, so
-    they can share intermediate values (powers of c). The cosine blocks are computed once for all kernels;
-    each kernel's values are stored in float32 as :func:`convolve_zonal` stores them and summed by the same
-    products, so each V_j has the bits of ``convolve_zonal(nodes, dirs, K_j, C_j)``."""
+    """[V_j(r)] = [C_j · Σ_k K_j(r·ω_k) Φ_k / Σ_k K_j(r·ω_k) Ω_k] for several kernels at once (the dense path of
+    :func:`convolve_zonal`, whole-sphere support, is this with one kernel): ``kernels(c)`` returns every K_j at
+    the cosines ``c``, so they can share intermediate values (powers of c). The cosine blocks are computed once
+    for all kernels; each kernel's values are stored in float32 and summed by one float32 product with (Φ, Ω),
+    so each V_j has the bits of ``convolve_zonal(nodes, dirs, K_j, C_j)``."""
     dirs = np.asarray(dirs, dtype=np.float64).reshape(-1, 3)
     outs = [np.full((dirs.shape[0], 3), np.nan) for _ in kernel_integrals]
     if dirs.shape[0] == 0:
