@@ -397,17 +397,53 @@ def _sun_share(rad: np.ndarray) -> float:
     return sun_share(Environment("m", rad))
 
 
-@pytest.fixture(scope="module")
-def map_4k() -> np.ndarray:
+PER_MAP_PASSES = ("sh9", "sh9_cmgen_auto", "hemisphere", "hemisphere_red_book", "zh3_hallucinated", "engine_faces",
+                  "sun_share", "environment_nodes")
+
+
+def _traced_peaks(whats: tuple[str, ...]) -> dict[str, int]:
+    """{pass: peak traced bytes of the pass on a 4096×8192 map, beyond the map} — run in a fresh interpreter by
+    the fixture below. The SH row sums run on the calling thread (``sh._cpus`` = 1): CPython 3.11's tracemalloc
+    is not safe against threads that allocate or free while it starts or stops
+    (my reading of the evidence, not a proven cause);
+    in pytest's own process this test's xdist worker segfaulted three times, the crashing thread with no Python
+    frame, beside threads left by the file's earlier Dask tests and the row pool."""
+    import tracemalloc
+
     from validate.bench import sky_with_sun
+    from validate.local_models.irradiance import sh
+    from validate.local_models.irradiance.engines.cube_faces import render_faces
+    from validate.local_models.irradiance.irradiance_map import environment_nodes
 
-    return sky_with_sun(4096)
+    sh._cpus = lambda: 1  # type: ignore[assignment]  # this process only
+    rad = sky_with_sun(4096)
+    out = {}
+    for what in whats:
+        fn = {"engine_faces": lambda r: render_faces(r, 64), "sun_share": _sun_share,
+              "environment_nodes": environment_nodes}.get(what) or _irradiance_technique(what)
+        fn(sky_with_sun(64))  # warm caches that do not scale with the map (basis tables, drjit kernels)
+        tracemalloc.start()
+        try:
+            fn(rad)
+            out[what] = tracemalloc.get_traced_memory()[1]
+        finally:
+            tracemalloc.stop()
+    out["map_bytes"] = rad.nbytes
+    return out
 
 
-@pytest.mark.parametrize("what", ["sh9", "sh9_cmgen_auto", "hemisphere", "hemisphere_red_book", "zh3_hallucinated",
-                                  "engine_faces", "sun_share", "environment_nodes"])
-def test_per_map_work_allocates_far_less_than_the_map(what: str, map_4k: np.ndarray,
-                                                      monkeypatch: pytest.MonkeyPatch) -> None:
+@pytest.fixture(scope="module")
+def traced_peaks() -> dict[str, int]:
+    """:func:`_traced_peaks` of every pass, in one child interpreter (no thread of another test beside it)."""
+    code = (f"import json, sys; sys.path.insert(0, {str(Path(__file__).parent)!r}); import test_scale; "
+            f"print(json.dumps(test_scale._traced_peaks({PER_MAP_PASSES!r})))")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=900)
+    assert proc.returncode == 0, f"child exited {proc.returncode}: {proc.stderr.strip()[-2000:]}"
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+@pytest.mark.parametrize("what", PER_MAP_PASSES)
+def test_per_map_work_allocates_far_less_than_the_map(what: str, traced_peaks: dict[str, int]) -> None:
     """Every per-map pass of `run sh9` that the 8k measurement found allocating full-size float64 copies (the
     engines' cube faces, hemisphere pole colours, the sun share: 11.5 GiB peak on an 8k map before; the ibl
     techniques' environment nodes: 14.6 GiB) now works
@@ -415,26 +451,5 @@ def test_per_map_work_allocates_far_less_than_the_map(what: str, map_4k: np.ndar
     4096×8192 map (384 MiB; one float64 copy would be 768 MiB). What remains is bounded by the row blocks
     (~1M texels, or one row of 4° node blocks) and, for the cube faces, by the face size's sampling plan — not
     by the map."""
-    import tracemalloc
-
-    from validate.bench import sky_with_sun
-    from validate.local_models.irradiance.engines.cube_faces import render_faces
-    from validate.local_models.irradiance.irradiance_map import environment_nodes
-
-    fn = {"engine_faces": lambda rad: render_faces(rad, 64), "sun_share": _sun_share,
-          "environment_nodes": environment_nodes}.get(what) or \
-        _irradiance_technique(what)
-    from validate.local_models.irradiance import sh
-
-    # the row sums on this thread, not the row pool: CPython 3.11's tracemalloc races with threads that allocate or
-    # free while it starts/stops (this test's xdist worker segfaulted twice, the crashing thread with no Python frame,
-    # beside the idle validate-rows pool threads); one span allocates what each pool thread's span does
-    monkeypatch.setattr(sh, "_cpus", lambda: 1)
-    fn(sky_with_sun(64))  # warm caches that do not scale with the map (basis tables, drjit kernels)
-    tracemalloc.start()
-    try:
-        fn(map_4k)
-        peak = tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
-    assert peak < map_4k.nbytes / 3, f"{what}: {peak / 2**20:.0f} MiB traced for a {map_4k.nbytes / 2**20:.0f} MiB map"
+    peak, size = traced_peaks[what], traced_peaks["map_bytes"]
+    assert peak < size / 3, f"{what}: {peak / 2**20:.0f} MiB traced for a {size / 2**20:.0f} MiB map"
