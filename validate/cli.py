@@ -420,7 +420,7 @@ def _run_in(args: argparse.Namespace, exps: dict, todo: list[str], staging: Path
             where = args.scheduler or f"local Dask cluster, {args.workers} processes"
             print(f"workers: {len(client.scheduler_info()['workers'])} ({where})", flush=True)
         def started(n: str, beside: bool) -> None:
-            print(f"running {n} ..." + (" (on a thread beside the others: it mostly waits on the browser)"
+            print(f"running {n} ..." + (" (second lane)"
                                         if beside else ""), flush=True)
 
         def finished(n: str, res: ExperimentResult) -> None:

@@ -39,7 +39,7 @@ def test_every_experiment_is_a_package() -> None:
                           "shadows", "uberlight"}
     flat = [m.name for m in pkgutil.iter_modules([str(PACKAGE_DIR)]) if not m.ispkg]
     # shared by the experiments, not experiments
-    assert sorted(flat) == ["base", "formatting", "inputs", "schedule", "techniques"]
+    assert sorted(flat) == ["base", "formatting", "inputs", "lane", "schedule", "techniques"]
 
 
 @pytest.mark.parametrize("name", NAMES)

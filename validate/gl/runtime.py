@@ -30,6 +30,7 @@ _lock = threading.RLock()
 _started: dict[str, Any] = {}  # kind -> runtime object (egl.Context or webgl.WebGL2)
 _startup_s: dict[str, float] = {}  # kind -> seconds its start took
 _failed: dict[str, str] = {}  # kind -> reason it could not start
+_elsewhere: dict[str, dict[str, str]] = {}  # kind -> meta of a runtime started by another process of this run
 _pid = os.getpid()
 
 
@@ -104,7 +105,14 @@ def meta() -> dict[str, dict[str, str]]:
         _forget_after_fork()
         out: dict[str, dict[str, str]] = {k: dict(rt.info) for k, rt in _started.items()}
         out.update({k: {"unavailable": why} for k, why in _failed.items()})
-        return out
+        return {**_elsewhere, **out}
+
+
+def note_elsewhere(started: dict[str, dict[str, str]]) -> None:
+    """Record the :func:`meta` of another process of this run (the second lane of experiments), so this
+    process's :func:`meta` lists the runtimes it started too."""
+    with _lock:
+        _elsewhere.update(started)
 
 
 def close(kind: str) -> None:
