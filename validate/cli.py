@@ -101,7 +101,7 @@ def _parser() -> argparse.ArgumentParser:
     common.add_argument("--no-progress", action="store_true", help="no progress bars")
     common.add_argument("--workers", type=_positive_int, default=1, metavar="N",
                         help="run per-environment tasks on a local Dask cluster of N processes (default 1: "
-                             "in-process)")
+                             "in-process); with N > 1 experiments run in two lanes, this process and a child")
     common.add_argument("--scheduler", default=None, metavar="ADDRESS",
                         help="run the tasks on an existing Dask cluster (e.g. tcp://host:8786)")
 
@@ -419,9 +419,8 @@ def _run_in(args: argparse.Namespace, exps: dict, todo: list[str], staging: Path
             client = ctx.client()
             where = args.scheduler or f"local Dask cluster, {args.workers} processes"
             print(f"workers: {len(client.scheduler_info()['workers'])} ({where})", flush=True)
-        def started(n: str, beside: bool) -> None:
-            print(f"running {n} ..." + (" (second lane)"
-                                        if beside else ""), flush=True)
+        def started(n: str, second_lane: bool) -> None:
+            print(f"running {n} ..." + (" (second lane)" if second_lane else ""), flush=True)
 
         def finished(n: str, res: ExperimentResult) -> None:
             print(f"  {n}: {res.wall_time_s:.1f} s, {sum(c.passed for c in res.claims)}/{len(res.claims)} "

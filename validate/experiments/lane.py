@@ -43,7 +43,8 @@ class ProcessLane:
     def __init__(self, ctx: Context) -> None:
         parent, child = socket.socketpair()
         self._proc = subprocess.Popen([sys.executable, "-m", "validate.experiments.lane", str(child.fileno())],
-                                      pass_fds=(child.fileno(),), close_fds=True)
+                                      pass_fds=(child.fileno(),), close_fds=True,
+                                      env={**os.environ, "PYTHONUNBUFFERED": "1"})  # its lines among ours
         child.close()
         self._conn = Connection(parent.detach())
         scheduler = ctx.scheduler or ctx.client().scheduler.address

@@ -126,7 +126,9 @@ def close(kind: str) -> None:
 
 
 def close_all() -> None:
-    """Shut down every started runtime (idempotent; registered with atexit, called by the CLI)."""
+    """Shut down every started runtime (idempotent; registered with atexit, called by the CLI) and forget those
+    noted from elsewhere."""
+    _elsewhere.clear()
     for kind in list(_started):
         try:
             close(kind)
