@@ -98,7 +98,7 @@ def test_an_error_in_the_second_lane_is_the_runs_error(tmp_path: Path) -> None:
     with pytest.raises(ValidateError, match="renders: broken"):
         run_experiments(ctx, exps, ["sh9", "renders", "ibl"], lambda n, b: time.sleep(0.05), lambda n, r: None,
                         second=_thread_lane(exps, ctx, closed))
-    assert closed == [False]  # the run failed: the child is ended at once
+    assert len(closed) == 1  # ended once (at once when this lane saw the error first, else after it)
 
 
 def test_an_error_in_this_lane_stops_the_other_at_its_next_boundary(tmp_path: Path) -> None:
