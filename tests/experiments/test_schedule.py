@@ -126,6 +126,7 @@ def test_the_child_interpreter_returns_this_processs_numbers(tmp_path: Path) -> 
     name is a one-line error and the child goes on."""
     from validate.experiments import discover
     from validate.experiments.lane import ProcessLane
+    from validate.gl import runtime
 
     ctx = Context(out_dir=tmp_path, quick=True, workers=2, show_progress=False)
     try:
@@ -139,5 +140,6 @@ def test_the_child_interpreter_returns_this_processs_numbers(tmp_path: Path) -> 
             lane.close()
     finally:
         ctx.close()
+        runtime.close_all()  # forget the child's GL runtimes noted in this process
     assert lane._proc.returncode == 0
     assert _numbers(there) == _numbers(here) and there.claims and all(c.passed for c in there.claims)

@@ -121,6 +121,7 @@ def close(kind: str) -> None:
         _forget_after_fork()
         rt = _started.pop(kind, None)
         _startup_s.pop(kind, None)
+        _elsewhere.pop(kind, None)
     if rt is not None:
         rt.release()
 
