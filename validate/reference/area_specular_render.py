@@ -339,24 +339,45 @@ def emitter_shapes(light: Mapping[str, Any], workdir: str | None = None) -> dict
 def write_hemisphere_obj(path: str, center: np.ndarray, axis: np.ndarray, radius: float,
                          rings: int = CAP_RINGS, segments: int = CAP_SEGMENTS) -> None:
     """A hemisphere {center + R m : m·axis ≥ 0} as an OBJ triangle mesh, faces wound counter-clockwise seen from
-    outside (outward face normals): the pole, then ``rings`` rings at polar angles kπ/(2·rings)."""
-    t, b = frame(axis)
+    outside (outward face normals): the pole, then ``rings`` rings at polar angles kπ/(2·rings). The text is built
+    once per distinct (center, axis, R, rings, segments) (:func:`_hemisphere_obj_text`): the render check asks for
+    the same tube, hence the same caps, at every α."""
+    text = _hemisphere_obj_text(tuple(float(x) for x in np.asarray(center, dtype=np.float64)),
+                                tuple(float(x) for x in np.asarray(axis, dtype=np.float64)), float(radius),
+                                int(rings), int(segments))
+    with open(path, "w") as f:
+        f.write(text)
+
+
+@lru_cache(maxsize=64)
+def _hemisphere_obj_text(center: tuple[float, ...], axis: tuple[float, ...], radius: float, rings: int,
+                         segments: int) -> str:
+    """The OBJ text of :func:`write_hemisphere_obj` (vertices ``v x y z`` to 9 significant digits, then the faces of
+    :func:`_hemisphere_obj_faces`)."""
+    c, ax = np.array(center), np.array(axis)
+    t, b = frame(ax)
     th = np.arange(1, rings + 1) * (0.5 * np.pi / rings)
     ph = np.arange(segments) * (2.0 * np.pi / segments)
-    ring = (np.cos(th)[:, None, None] * axis + np.sin(th)[:, None, None]
+    ring = (np.cos(th)[:, None, None] * ax + np.sin(th)[:, None, None]
             * (np.cos(ph)[None, :, None] * t + np.sin(ph)[None, :, None] * b))
-    verts = np.concatenate([[center + radius * axis], (center + radius * ring).reshape(-1, 3)])
+    verts = np.concatenate([[c + radius * ax], (c + radius * ring).reshape(-1, 3)])
+    return "\n".join([f"v {x:.9g} {y:.9g} {z:.9g}" for x, y, z in verts]) + "\n" + _hemisphere_obj_faces(rings,
+                                                                                                         segments)
+
+
+@lru_cache(maxsize=8)
+def _hemisphere_obj_faces(rings: int, segments: int) -> str:
+    """The face lines ``f i j k`` (1-based; vertex 1 is the pole, then ring after ring of ``segments`` vertices) of
+    :func:`write_hemisphere_obj`, newline-terminated: they depend on the tessellation alone."""
     faces = []
-    for j in range(segments):  # 1-based OBJ indices; vertex 1 is the pole
+    for j in range(segments):
         k = (j + 1) % segments
         faces.append((1, 2 + j, 2 + k))
         for i in range(rings - 1):
             a0, a1 = 2 + i * segments + j, 2 + i * segments + k
             b0, b1 = a0 + segments, a1 + segments
             faces += [(a0, b0, b1), (a0, b1, a1)]
-    lines = [f"v {x:.9g} {y:.9g} {z:.9g}" for x, y, z in verts] + [f"f {i} {j} {k}" for i, j, k in faces]
-    with open(path, "w") as f:
-        f.write("\n".join(lines) + "\n")
+    return "\n".join(f"f {i} {j} {k}" for i, j, k in faces) + "\n"
 
 
 def render(light: Mapping[str, Any], alpha: float, point: np.ndarray, normal: np.ndarray, view: np.ndarray,

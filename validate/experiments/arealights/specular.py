@@ -35,15 +35,20 @@ from typing import Any
 
 import numpy as np
 
+from ...errors import ValidateError
 from ...local_models import family
+from ...local_models.precision import family_precision
 from ...local_models.registry import Technique
 from ...local_models.specular_arealight.ltc import (
     fit_quadrature,
     ggx_cos,
     load_table,
     local_frames,
+    ltc,
     ltc_density,
     ltc_integral,
+    ltc_integral_many,
+    ltc_many,
 )
 from ...local_models.specular_arealight.representative_point import representative_point_tube
 from ...reference import area_specular_render as asr
@@ -108,9 +113,12 @@ def misfit(mu_v: float, alpha: float, lookup_alpha: float | None = None) -> floa
 
 def measure_config(shape: str, alpha: float, sigma: float, cfg: tuple[float, float, float], nodes: int,
                    techs: list[Technique], axis: str = "across",
-                   reference: tuple[float, float] | None = None) -> dict[str, Any]:
+                   reference: tuple[float, float] | None = None,
+                   ltc_values: tuple[float | None, float] | None = None) -> dict[str, Any]:
     """Reference and every supporting technique at one configuration; ``reference`` = (L_ref, u_ref) when already
-    measured (:func:`references`), else :func:`validate.reference.area_specular_render.reference` here."""
+    measured (:func:`references`), else :func:`validate.reference.area_specular_render.reference` here;
+    ``ltc_values`` = (the built-in ``ltc`` technique's L, or None to call it here; the α-as-roughness LTC) when
+    already measured (:func:`ltc_batch`: the same numbers, bit for bit)."""
     tv, tl, dphi = cfg
     light = light_for(shape, tl, dphi, sigma, axis)
     p, n, v = _receiver(tv)
@@ -122,11 +130,17 @@ def measure_config(shape: str, alpha: float, sigma: float, cfg: tuple[float, flo
                            "techniques": {}}
     for t in techs:
         if shape in tuple(t.meta.get("shapes", SHAPES)):
-            out["techniques"][t.name] = float(family("specular_arealight").call(t, light, brdf, p, n, v)[0, 1])
+            if ltc_values is not None and ltc_values[0] is not None and t.fn is ltc:
+                out["techniques"][t.name] = ltc_values[0]
+            else:
+                out["techniques"][t.name] = float(family("specular_arealight").call(t, light, brdf, p, n, v)[0, 1])
     mu = float(np.cos(np.radians(tv)))
     out["bound"] = misfit(mu, alpha)
-    ff, norm, _ = ltc_integral(light, alpha * alpha, p, n, v)  # r = α instead of √α: the lookup bug
-    out["ltc_alpha_as_roughness"] = float(ff[0] * norm[0])
+    if ltc_values is not None:
+        out["ltc_alpha_as_roughness"] = ltc_values[1]
+    else:
+        ff, norm, _ = ltc_integral(light, alpha * alpha, p, n, v)  # r = α instead of √α: the lookup bug
+        out["ltc_alpha_as_roughness"] = float(ff[0] * norm[0])
     if shape == "tube":
         out["axis"] = axis
         out["tube_variants"] = {k: float(representative_point_tube(light, brdf, p, n, v, k, lp, sp)[0, 1])
@@ -134,7 +148,45 @@ def measure_config(shape: str, alpha: float, sigma: float, cfg: tuple[float, flo
     return out
 
 
-RefKey = tuple[str, float, float, tuple[float, float, float], str]  # (shape, α, σ, configuration, axis)
+ConfigKey = tuple[str, float, float, tuple[float, float, float], str]  # (shape, α, σ, configuration, axis)
+
+
+def ltc_batch(keys: list[ConfigKey], techs: list[Technique]) -> dict[ConfigKey, tuple[float | None, float]]:
+    """What :func:`measure_config` computes with the LTC at each configuration key — (the built-in ``ltc``
+    technique's L (None where ``techs`` lacks it or it does not take the shape), the α-as-roughness LTC
+    F(α²)·E(α²)) — in one drjit evaluation per shape (:func:`~validate.local_models.specular_arealight.ltc.ltc_many`
+    under the family's precision and output check, :func:`~validate.local_models.specular_arealight.ltc.
+    ltc_integral_many`) instead of two per configuration: equal bit for bit (the same float32 operations per
+    receiver; checked on every configuration of FULL and QUICK against the per-call path)."""
+    fam = family("specular_arealight")
+    tech = next((t for t in techs if t.fn is ltc), None)
+    out: dict[ConfigKey, tuple[float | None, float]] = {}
+    for shape in SHAPES:
+        sel = [k for k in keys if k[0] == shape]
+        if not sel:
+            continue
+        lights = [light_for(shape, k[3][1], k[3][2], k[2], k[4]) for k in sel]
+        rec = [_receiver(k[3][0]) for k in sel]
+        p, n, v = (np.concatenate([r[i] for r in rec]) for i in range(3))
+        alphas = [k[1] for k in sel]
+        vals: list[float | None] = [None] * len(sel)
+        if tech is not None and shape in tuple(tech.meta.get("shapes", SHAPES)):
+            try:
+                with family_precision(fam.precision):
+                    rgb = ltc_many(lights, [{"alpha": a, "f0": 1.0} for a in alphas], p, n, v)
+            except ValidateError:
+                raise
+            except Exception as exc:  # as Family.call words it
+                raise ValidateError(f"technique '{tech.name}' ({fam.name}): raised {type(exc).__name__}: {exc}"
+                                    ) from None
+            vals = [float(x) for x in fam.check(tech.name, rgb, (len(sel), 3))[:, 1]]
+        ff, norm, _ = ltc_integral_many(lights, [a * a for a in alphas], p, n, v)  # r = α: the lookup bug
+        for k, val, f, e in zip(sel, vals, ff, norm, strict=True):
+            out[k] = (val, float(f * e))
+    return out
+
+
+RefKey = ConfigKey
 
 
 def references(s: SpecularSettings, sigmas: tuple[float, ...] | None = None,
@@ -161,15 +213,11 @@ def compute(s: SpecularSettings) -> dict[str, Any]:
     """Every configuration × shape × α × σ (JSON-able)."""
     techs = list(family("specular_arealight"))
     refs = references(s)
-    rows = []
-    for shape in SHAPES:
-        for a in s.alphas:
-            for sg in s.sigmas_deg:
-                for cfg in CONFIGS:
-                    for ax in TUBE_AXES if shape == "tube" else ("across",):
-                        rows.append({"shape": shape, "alpha": a, "sigma_deg": sg,
-                                     **measure_config(shape, a, sg, cfg, s.nodes, techs, ax,
-                                                      refs[(shape, a, sg, cfg, ax)])})
+    keys = [(shape, a, sg, cfg, ax) for shape in SHAPES for a in s.alphas for sg in s.sigmas_deg for cfg in CONFIGS
+            for ax in (TUBE_AXES if shape == "tube" else ("across",))]
+    ltcs = ltc_batch(keys, techs)
+    rows = [{"shape": k[0], "alpha": k[1], "sigma_deg": k[2],
+             **measure_config(k[0], k[1], k[2], k[3], s.nodes, techs, k[4], refs[k], ltcs[k])} for k in keys]
     return {"settings": s.to_json(), "rows": rows, "techniques": [t.name for t in techs],
             "exactness": exactness(s.nodes), "render_check": render_check(s, refs)}
 

@@ -45,7 +45,7 @@ References
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -354,8 +354,18 @@ def light_polygon_dr(light: Mapping[str, Any], points: np.ndarray, p: Vec, who: 
     """The light's polygon, K vertices (drjit (x, y, z) each, per receiver), relative to the receivers ``p``:
     counter-clockwise seen from the emitting side (rectangle, the equal-area 64-gon of a disc); the disc through a
     sphere's centre facing the receiver, radius scaled by d/√(d² − r²) (the same cone); a tube's stadium
-    (:func:`tube_polygon_dr`). Per-light numbers enter through :func:`_constants`. ``points`` (N, 3) float64 is
-    read only to refuse a receiver inside the light."""
+    (:func:`tube_polygon_dr`). Per-light numbers (:func:`polygon_constants`) enter through
+    :func:`~validate.local_models.precision.constants_dr`.
+    ``points`` (N, 3) float64 is read only to refuse a receiver inside the light."""
+    shape = light.get("shape")
+    return polygon_dr(shape, precision.constants_dr(polygon_constants(light, points, who)), p)
+
+
+def polygon_constants(light: Mapping[str, Any], points: np.ndarray, who: str) -> np.ndarray:
+    """The light's numbers (float64, formed in numpy) that :func:`polygon_dr` builds its polygon from: rectangle the
+    four corners (12); disc its centre, scale·t and scale·b (9; scale = the equal-area 64-gon's circumradius); sphere
+    its centre, radius and that scale (5); tube its centre, axis, ℓ/2 and radius (8). Refuses a receiver of
+    ``points`` (N, 3) inside a sphere or within a tube's radius of its axis."""
     shape = light.get("shape")
     c = np.asarray(light.get("center", (0.0, 0.0, 0.0)), dtype=np.float64)
     if shape == "rectangle":
@@ -364,25 +374,42 @@ def light_polygon_dr(light: Mapping[str, Any], points: np.ndarray, p: Vec, who: 
         t = unit(t - nrm * np.dot(t, nrm))
         b = np.cross(nrm, t)
         w, h = (float(x) for x in light["size"])
-        corners = np.array([c + 0.5 * (sx * w * t + sy * h * b) for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
-        k = precision.constants_dr(corners)
-        return [(k[3 * i] - p[0], k[3 * i + 1] - p[1], k[3 * i + 2] - p[2]) for i in range(4)]
+        return np.array([c + 0.5 * (sx * w * t + sy * h * b) for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+                        ).ravel()
     if shape in ("disc", "sphere"):
         r = float(light["radius"])
-        ang = 2.0 * np.pi * np.arange(DISC_SIDES) / DISC_SIDES
         scale = r * np.sqrt(2.0 * np.pi / (DISC_SIDES * np.sin(2.0 * np.pi / DISC_SIDES)))  # equal area
         if shape == "disc":
             nrm = unit(light["normal"])
             t = perp(nrm)
             b = np.cross(nrm, t)
-            cc, tt, bb = precision.constants_dr(c), precision.constants_dr(scale * t), precision.constants_dr(scale * b)
-            return [tuple(cc[i] + float(np.cos(a)) * tt[i] + float(np.sin(a)) * bb[i] - p[i] for i in range(3))
-                    for a in ang]  # type: ignore[misc]
+            return np.r_[c, scale * t, scale * b]
         if np.any(np.linalg.norm(points - c, axis=-1) <= r):
             raise ValidateError(f"technique '{who}' (specular_arealight): a receiver lies inside the sphere light")
+        return np.r_[c, r, scale]
+    if shape == "tube":
+        c, ax, length, r = tube_geometry(light, f"technique '{who}' (specular_arealight)")
+        q64 = np.asarray(points, dtype=np.float64) - c
+        if np.any(np.linalg.norm(q64 - (q64 @ ax)[:, None] * ax, axis=-1) <= r):
+            raise ValidateError(f"technique '{who}' (specular_arealight): a receiver lies within the tube's radius "
+                                "of its axis")
+        return np.r_[c, ax, 0.5 * length, r]
+    raise ValidateError(f"technique '{who}' (specular_arealight): light shape {shape!r}; expected one of {SHAPES}")
+
+
+def polygon_dr(shape: str, k: list[Any], p: Vec) -> list[Vec]:
+    """The polygon of :func:`light_polygon_dr` from the light's numbers ``k`` (:func:`polygon_constants` as drjit
+    arrays: width 1 for one light, or one entry per receiver for a light per receiver) and the receivers ``p``."""
+    if shape == "rectangle":
+        return [(k[3 * i] - p[0], k[3 * i + 1] - p[1], k[3 * i + 2] - p[2]) for i in range(4)]
+    ang = 2.0 * np.pi * np.arange(DISC_SIDES) / DISC_SIDES
+    if shape == "disc":
+        cc, tt, bb = k[0:3], k[3:6], k[6:9]
+        return [tuple(cc[i] + float(np.cos(a)) * tt[i] + float(np.sin(a)) * bb[i] - p[i] for i in range(3))
+                for a in ang]  # type: ignore[misc]
+    if shape == "sphere":
         import drjit as dr
 
-        k = precision.constants_dr(np.r_[c, r, scale])
         to_p = (p[0] - k[0], p[1] - k[1], p[2] - k[2])
         d2 = dot(to_p, to_p)
         d = dr.sqrt(d2)
@@ -394,22 +421,21 @@ def light_polygon_dr(light: Mapping[str, Any], points: np.ndarray, p: Vec, who: 
         return [tuple(s * (float(np.cos(a)) * t[i] + float(np.sin(a)) * b[i]) - to_p[i] for i in range(3))
                 for a in ang]  # type: ignore[misc]
     if shape == "tube":
-        return tube_polygon_dr(light, points, p, who)
-    raise ValidateError(f"technique '{who}' (specular_arealight): light shape {shape!r}; expected one of {SHAPES}")
+        return _tube_polygon(k, p)
+    raise ValidateError(f"ltc polygon_dr: light shape {shape!r}; expected one of {SHAPES}")
 
 
 def tube_polygon_dr(light: Mapping[str, Any], points: np.ndarray, p: Vec, who: str) -> list[Vec]:
     """The stadium (2·(TUBE_ARC_SIDES + 1) vertices relative to each receiver) standing in for a capsule: in the
     plane through the axis whose normal points at the receiver, the rectangle ℓ × 2R′ closed by half-circles of
     radius R′ = R h/√(h² − R²) about the ends (h: the receiver's distance to the axis)."""
+    return _tube_polygon(precision.constants_dr(polygon_constants(dict(light, shape="tube"), points, who)), p)
+
+
+def _tube_polygon(k: list[Any], p: Vec) -> list[Vec]:
+    """:func:`tube_polygon_dr` from the tube's numbers k = (centre, axis, ℓ/2, R) (drjit)."""
     import drjit as dr
 
-    c, ax, length, r = tube_geometry(light, f"technique '{who}' (specular_arealight)")
-    q64 = np.asarray(points, dtype=np.float64) - c
-    if np.any(np.linalg.norm(q64 - (q64 @ ax)[:, None] * ax, axis=-1) <= r):
-        raise ValidateError(f"technique '{who}' (specular_arealight): a receiver lies within the tube's radius of "
-                            "its axis")
-    k = precision.constants_dr(np.r_[c, ax, 0.5 * length, r])
     cc, aa, half, rad = k[0:3], k[3:6], k[6], k[7]
     q = (p[0] - cc[0], p[1] - cc[1], p[2] - cc[2])
     qa = dot(q, aa)
@@ -535,33 +561,77 @@ def ltc_integral_dr(light: Mapping[str, Any], alpha: float, points: np.ndarray, 
     """(∫_light D_ltc dω, E, E_f) per receiver as drjit arrays of the active dtype: the table row at √α (numpy
     set-up), then per receiver the frame, the bilinear lookup in x (a gather), the polygon in the frame transformed
     by M⁻¹ and its clipped form factor (:func:`form_factor_dr`); zero behind a one-sided light or for n·v ≤ 0."""
-    import drjit as dr
-
     tab = table or load_table()
     pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    kpoly = precision.constants_dr(polygon_constants(light, pts, who))
+    shape = light.get("shape")
+    kfront = None if shape in ("sphere", "tube") else precision.constants_dr(_front_constants(light))
+    return _ltc_integral(shape, kpoly, kfront, table_row(tab, alpha).T.ravel(), None, tab.size, pts, normals, views)
+
+
+def ltc_integral_many_dr(lights: Sequence[Mapping[str, Any]], alphas: Sequence[float], points: np.ndarray,
+                         normals: np.ndarray, views: np.ndarray, who: str = "ltc", table: Table | None = None
+                         ) -> tuple[Any, Any, Any]:
+    """:func:`ltc_integral_dr` with a light and an α per receiver (M lights of one shape, M α, M receivers), in one
+    drjit evaluation: receiver m's numbers are those :func:`ltc_integral_dr` gives for (lights[m], alphas[m]) and
+    receiver m alone — the same operations on the same values, the light's numbers and the table rows read per
+    receiver (the rows of the distinct α side by side, an offset per receiver) instead of once per call."""
+    tab = table or load_table()
+    pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    m = len(pts)
+    shapes = {light.get("shape") for light in lights}
+    if len(lights) != m or len(alphas) != m or len(shapes) != 1:
+        raise ValidateError(f"technique '{who}' (specular_arealight): ltc_integral_many_dr needs one light and one α "
+                            f"per receiver, all of one shape (got {len(lights)} lights of shapes "
+                            f"{sorted(map(str, shapes))}, {len(alphas)} α, {m} receivers)")
+    shape = shapes.pop()
+    kpoly = precision.packed_to_dr(*np.stack([polygon_constants(light, pts[i:i + 1], who)
+                                              for i, light in enumerate(lights)]).T)
+    kfront = None if shape in ("sphere", "tube") else precision.packed_to_dr(
+        *np.stack([_front_constants(light) for light in lights]).T)
+    distinct = sorted(set(float(a) for a in alphas))
+    rows = np.concatenate([table_row(tab, a).T.ravel() for a in distinct])
+    offsets = np.array([distinct.index(float(a)) for a in alphas], dtype=np.uint32) * np.uint32(6 * tab.size)
+    return _ltc_integral(shape, kpoly, kfront, rows, offsets, tab.size, pts, normals, views)
+
+
+def _front_constants(light: Mapping[str, Any]) -> np.ndarray:
+    """A one-sided light's centre and normal (6), for the receiver-in-front test."""
+    return np.r_[np.asarray(light.get("center"), dtype=np.float64),
+                 np.asarray(light.get("normal", (0.0, 0.0, 0.0)), dtype=np.float64)]
+
+
+def _ltc_integral(shape: str, kpoly: list[Any], kfront: list[Any] | None, rows_np: np.ndarray,
+                  offsets: np.ndarray | None, size_t: int, pts: np.ndarray, normals: np.ndarray, views: np.ndarray
+                  ) -> tuple[Any, Any, Any]:
+    """The drjit part of :func:`ltc_integral_dr`: ``rows_np`` the table rows (:func:`table_row`, column-major, one
+    block of 6·size per α), ``offsets`` per receiver the start of its α's block (None: one block), ``kpoly`` the
+    polygon's numbers (:func:`polygon_dr`), ``kfront`` a one-sided light's centre and normal (None: none)."""
+    import drjit as dr
+
     col = precision.packed_to_dr(*pts.T, *unit(normals).T, *unit(views).T)
     p, n, v = (col[0], col[1], col[2]), unit_dr((col[3], col[4], col[5])), unit_dr((col[6], col[7], col[8]))
     x_axis, y_axis, mu, x = local_frames_dr(n, v)
-    size_t = tab.size
-    rows = precision.to_dr(table_row(tab, alpha).T.ravel())  # column-major: entry c of node j at c·size + j
+    rows = precision.to_dr(rows_np)  # column-major: entry c of node j at c·size + j
     dr.make_opaque(rows)
     fx = dr.clip(x, 0.0, 1.0) * float(size_t - 1)
     j0 = dr.minimum(dr.floor(fx), float(size_t - 2))
     tx = fx - j0
     u = precision.uint_type()
     j = u(j0)
+    if offsets is not None:
+        j = j + u(offsets)
     ft = precision.float_type()
     m00, m02, m11, m20, norm, fres = (dr.lerp(dr.gather(ft, rows, j + c * size_t),
                                               dr.gather(ft, rows, j + c * size_t + 1), tx) for c in range(6))
     poly = []
-    for w in light_polygon_dr(light, pts, p, who):
+    for w in polygon_dr(shape, kpoly, p):
         lx, ly, lz = dot(x_axis, w), dot(y_axis, w), dot(n, w)
         poly.append((dr.fma(m02, lz, m00 * lx), m11 * ly, dr.fma(m20, lx, lz)))
     ff = form_factor_dr(poly)
     front = mu > 0.0
-    if light.get("shape") not in ("sphere", "tube"):
-        k = precision.constants_dr(np.r_[np.asarray(light.get("center"), dtype=np.float64),
-                             np.asarray(light.get("normal", (0.0, 0.0, 0.0)), dtype=np.float64)])
+    if kfront is not None:
+        k = kfront
         front &= ((k[0] - p[0]) * k[3] + (k[1] - p[1]) * k[4] + (k[2] - p[2]) * k[5]) < 0.0
     return dr.select(front, ff, 0.0), norm, fres
 
@@ -578,6 +648,18 @@ def ltc_integral(light: Mapping[str, Any], alpha: float, points: np.ndarray, nor
     return precision.to_np(ff, (n,)), precision.to_np(norm, (n,)), precision.to_np(fres, (n,))
 
 
+def ltc_integral_many(lights: Sequence[Mapping[str, Any]], alphas: Sequence[float], points: np.ndarray,
+                      normals: np.ndarray, views: np.ndarray, who: str = "ltc", table: Table | None = None
+                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`ltc_integral_many_dr` as (M,) float64 numpy arrays (∫_light D_ltc dω, E, E_f)."""
+    import drjit as dr
+
+    ff, norm, fres = ltc_integral_many_dr(lights, alphas, points, normals, views, who, table)
+    dr.eval(ff, norm, fres)
+    m = len(np.asarray(points).reshape(-1, 3))
+    return precision.to_np(ff, (m,)), precision.to_np(norm, (m,)), precision.to_np(fres, (m,))
+
+
 @specular_arealight.register("ltc", "Linearly Transformed Cosines (Heitz et al. 2016), GGX table fitted here "
                              "(scripts/fit_ltc.py); disc as an equal-area 64-gon, sphere as its silhouette disc, tube "
                              "as its silhouette stadium",
@@ -585,19 +667,39 @@ def ltc_integral(light: Mapping[str, Any], alpha: float, points: np.ndarray, nor
 def ltc(light: Mapping[str, Any], brdf: Mapping[str, Any], points: np.ndarray, normals: np.ndarray,
         views: np.ndarray) -> np.ndarray:
     """L_o = L_e F (F₀ E + (1 − F₀) E_f) per channel ([1] §5.2), in the family's dtype (:func:`ltc_integral_dr`)."""
-    import drjit as dr
-
     alpha, f0 = brdf_params(brdf, "ltc")
     ff, norm, fres = ltc_integral_dr(light, alpha, np.asarray(points, dtype=np.float64), normals, views)
     k = precision.constants_dr(np.r_[float(light.get("radiance", 1.0)), f0])
+    return _ltc_radiance(k, ff, norm, fres, len(np.asarray(points).reshape(-1, 3)))
+
+
+def ltc_many(lights: Sequence[Mapping[str, Any]], brdfs: Sequence[Mapping[str, Any]], points: np.ndarray,
+             normals: np.ndarray, views: np.ndarray) -> np.ndarray:
+    """:func:`ltc` with a light and a brdf per receiver (M of each, the lights of one shape) in one drjit
+    evaluation (:func:`ltc_integral_many_dr`): row m equals ``ltc(lights[m], brdfs[m], receiver m)``. Call it with
+    the family's precision active (:func:`~validate.local_models.precision.family_precision`), as
+    :meth:`~validate.local_models.registry.Family.call` does for :func:`ltc`."""
+    params = [brdf_params(b, "ltc") for b in brdfs]
+    pts = np.asarray(points, dtype=np.float64)
+    ff, norm, fres = ltc_integral_many_dr(lights, [a for a, _ in params], pts, normals, views)
+    k = precision.packed_to_dr(*np.stack([np.r_[float(light.get("radiance", 1.0)), f0]
+                                          for light, (_, f0) in zip(lights, params, strict=True)]).T)
+    return _ltc_radiance(k, ff, norm, fres, len(pts.reshape(-1, 3)))
+
+
+def _ltc_radiance(k: list[Any], ff: Any, norm: Any, fres: Any, n: int) -> np.ndarray:
+    """L_e F (F₀ E + (1 − F₀) E_f) per channel, k = (L_e, F₀ RGB) (drjit), as (n, 3) float64."""
+    import drjit as dr
+
     lf = k[0] * ff
     out = [lf * dr.fma(k[1 + c], norm - fres, fres) for c in range(3)]
     dr.eval(*out)
-    return precision.rgb_to_np(*out, len(np.asarray(points).reshape(-1, 3)))
+    return precision.rgb_to_np(*out, n)
 
 
 __all__ = ["specular_arealight", "fit_entry", "fit_entry_ad", "fit_entry_scipy", "fit_problem", "FitProblem",
            "l3_error_ad", "fit_quadrature", "ggx_cos", "ltc_density", "table_axes", "alpha_of",
            "pack", "load_table", "Table", "Entry", "clipped_form_factor", "form_factor_dr", "light_polygon_dr",
-           "local_frames", "local_frames_dr", "ltc_integral", "ltc_integral_dr", "table_row", "brdf_params",
+           "local_frames", "local_frames_dr", "ltc_integral", "ltc_integral_dr", "ltc_integral_many",
+           "ltc_integral_many_dr", "ltc_many", "polygon_constants", "polygon_dr", "table_row", "brdf_params",
            "tube_polygon_dr"]
