@@ -400,6 +400,7 @@ def _run_in(args: argparse.Namespace, exps: dict, todo: list[str], staging: Path
             baseline: dict | None, be: object, t0: float, state: dict[str, bool]) -> tuple[dict, list[int]]:
     """The experiments, in the staging folder, then the commit: (results, signals held meanwhile)."""
     from .experiments import Context, ExperimentResult
+    from .experiments.base import Background
     from .experiments.schedule import run_experiments
     from .scenes.probes import default_probes_dir
 
@@ -409,14 +410,17 @@ def _run_in(args: argparse.Namespace, exps: dict, todo: list[str], staging: Path
                   show_progress=not args.no_progress and sys.stderr.isatty(),
                   workers=args.workers, scheduler=args.scheduler,
                   worker_setup=functools.partial(load_plugins, tuple(args.plugin)) if args.plugin else None)
+    # the Dask workers start (their interpreters import on the other core) while this process reads and checks the
+    # environments; no task is sent before every input is validated
+    starting = Background(ctx.client, "validate-dask-start") if ctx.distributed else None
     try:
         envs, skipped = ctx.environments()  # validate every input before any work
         print(f"environments: {len(envs)} ({len(skipped)} skipped)")
         for e in envs:
             if e.clamped_negative is not None:
                 print(f"  {e.name}: {e.notes[0]}")
-        if ctx.distributed:
-            client = ctx.client()
+        if starting is not None:
+            client = starting.result()
             where = args.scheduler or f"local Dask cluster, {args.workers} processes"
             print(f"workers: {len(client.scheduler_info()['workers'])} ({where})", flush=True)
         def started(n: str, second_lane: bool) -> None:
@@ -447,6 +451,8 @@ def _run_in(args: argparse.Namespace, exps: dict, todo: list[str], staging: Path
             _commit(out, staging, done, results)
             state["committed"] = True
     finally:
+        if starting is not None:
+            starting.join()  # a cluster still starting (an input was refused meanwhile) is closed below
         ctx.close()
         runtime.close_all()
     return results, held

@@ -188,7 +188,9 @@ def save_image(path: str | os.PathLike[str], rgb: np.ndarray, exposure: float | 
     if upscale > 1:
         img = np.repeat(np.repeat(img, upscale, axis=0), upscale, axis=1)
     with atomic_path(path, suffix=".png") as tmp:
-        Image.fromarray(img, mode="RGB").save(tmp, format="PNG", optimize=True)
+        # Pillow's default zlib level 6; optimize=True took 5x the time for the same bytes (measured: the 130
+        # tone-mapped images of a full report, 2.15 s against 0.43 s, 1.7 MB either way)
+        Image.fromarray(img, mode="RGB").save(tmp, format="PNG")
 
 
 def save_image_grid(path: str | os.PathLike[str], images: Sequence[np.ndarray], titles: Sequence[str],
