@@ -160,3 +160,20 @@ def test_irradiance_at_equals_the_dense_sum() -> None:
     assert got.shape == (3000, 3)
     assert np.abs(got - dense).max() / dense.max() < DENSE_AGREEMENT
     assert np.array_equal(got[3], np.zeros(3))
+
+
+@pytest.mark.parametrize("name", ["near_directional", "disc_on_sky", "sunsky_5deg"])
+def test_cell_nodes_do_not_depend_on_the_bands(monkeypatch: pytest.MonkeyPatch, name: str) -> None:
+    """cell_nodes evaluates the grid in bands that never split a cell: one band for the whole grid and bands of a
+    few rows give the same nodes bit for bit (each cell's sums in node order), refined sun cells included."""
+    from validate.reference import irradiance
+
+    env = builtin(name)
+    g = irradiance.gauss_order(env, 32)
+    monkeypatch.setattr(irradiance, "BAND_NODES", 1 << 40)
+    whole = irradiance.cell_nodes(env, 32, g)
+    monkeypatch.setattr(irradiance, "BAND_NODES", 1)  # as many bands as the cell rows allow
+    banded = irradiance.cell_nodes(env, 32, g)
+    assert len(irradiance._bands(irradiance._grid_axes(env, g)[0], 1, 32)) > 8
+    assert whole[0].shape == banded[0].shape and whole[0].shape[0] > 32 * 64  # refined nodes beyond the cells
+    assert np.array_equal(whole[0], banded[0]) and np.array_equal(whole[1], banded[1])

@@ -100,9 +100,9 @@ def gauss_order(env: Environment, cells: int) -> int:
     return max(2, int(np.ceil(2.0 * cells / (env.height - 1))))
 
 
-def _node_grid(env: Environment, g: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Step 1's product grid: node θ (R,), node φ (C,), directions (R·C, 3) and weights (R·C,), row-major
-    (the directions as a view of three contiguous (R·C,) component planes)."""
+def _grid_axes(env: Environment, g: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Step 1's product rule as its two axes: node θ (R,), node φ (C,), and their weights Δθ w_a sin θ_a (R,) and
+    Δφ w_b (C,); a node's weight is the product of its row's and its column's."""
     h, w = env.height, env.width
     x, wx = np.polynomial.legendre.leggauss(g)
     x, wx = (x + 1) / 2, wx / 2  # on [0, 1]
@@ -111,15 +111,28 @@ def _node_grid(env: Environment, g: int) -> tuple[np.ndarray, np.ndarray, np.nda
     wth = (dth * wx[None, :] * np.ones((h - 1, 1))).reshape(-1) * np.sin(th)
     ph = (latlong.col_phi(w)[:, None] + dph * x[None, :]).reshape(-1)
     wph = np.full(ph.shape, 0.0) + np.tile(dph * wx, w)
-    # latlong.spherical_to_direction(th[:, None], ph[None, :]) written in place (the same values), one
-    # contiguous plane per component: the (R·C, 3) directions returned are a view of the (3, R·C) planes
+    return th, ph, wth, wph
+
+
+def _grid_block(th: np.ndarray, ph: np.ndarray, wth: np.ndarray, wph: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Directions (R·C, 3) and weights (R·C,) of the grid rows ``th`` × columns ``ph``, row-major: the directions
+    ``latlong.spherical_to_direction(th[:, None], ph[None, :])`` written in place (the same values), as a view of
+    three contiguous (R·C,) component planes. Row by row the same numbers as the whole grid's."""
     st = np.sin(th)[:, None]
     planes = np.empty((3, th.size, ph.size))
     planes[0] = np.sin(ph)[None, :] * st
     planes[1] = np.cos(th)[:, None]
     planes[2] = -np.cos(ph)[None, :] * st
     weights = (wth[:, None] * wph[None, :]).reshape(-1)
-    return th, ph, planes.reshape(3, -1).T, weights
+    return planes.reshape(3, -1).T, weights
+
+
+def _node_grid(env: Environment, g: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Step 1's product grid: node θ (R,), node φ (C,), directions (R·C, 3) and weights (R·C,), row-major
+    (the directions as a view of three contiguous (R·C,) component planes)."""
+    th, ph, wth, wph = _grid_axes(env, g)
+    d, weights = _grid_block(th, ph, wth, wph)
+    return th, ph, d, weights
 
 
 def radiance_nodes(env: Environment, g: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -134,7 +147,7 @@ def _mitsuba_radiance(env: Environment, d: np.ndarray) -> np.ndarray:
     return eval_emitter(mi.load_dict(env.mitsuba_emitter()), d)
 
 
-def _mitsuba_radiance_planes(env: Environment, d: np.ndarray) -> np.ndarray:
+def _mitsuba_radiance_planes(env: Environment, d: np.ndarray, emitter: object = None) -> np.ndarray:
     """Mitsuba's radiance (3, M) float64 at directions ``d`` (M, 3), one contiguous plane per channel: the
     ``emitter.eval`` of :func:`validate.scenes.mitsuba_eval.eval_emitter` (the same float32 directions, incident
     ``si.wi = −d``, the same lanes) fed from and read into channel planes, without the (M, 3) interleaving and its
@@ -142,7 +155,8 @@ def _mitsuba_radiance_planes(env: Environment, d: np.ndarray) -> np.ndarray:
     import drjit as dr
     import mitsuba as mi
 
-    emitter = mi.load_dict(env.mitsuba_emitter())
+    if emitter is None:
+        emitter = mi.load_dict(env.mitsuba_emitter())
     if not init().is_vectorized:
         return np.ascontiguousarray(eval_emitter(emitter, d).T)
     planes = d.T  # (3, M)
@@ -187,39 +201,94 @@ def _node_cells(th: np.ndarray, ph: np.ndarray, d: np.ndarray, hc: int, wc: int)
     return cell.reshape(-1)
 
 
+BAND_NODES = 1 << 17  # grid nodes per band of cell_nodes (1 MiB per float64 array: a band's arrays stay in cache)
+
+
+def _cell_row_span(th: np.ndarray, hc: int) -> tuple[np.ndarray, np.ndarray]:
+    """Per grid row, the lowest and highest cell row its nodes can be binned to (:func:`_node_cells`): ⌊θ H_c/π⌋,
+    or both neighbours of the cell edge for a row within 10⁻⁹ of one (binned node by node there)."""
+    theta = np.arccos(np.clip(np.cos(th), -1.0, 1.0))
+    fr = theta / np.pi * hc
+    row = np.minimum(fr.astype(np.int64), hc - 1)
+    edge = np.abs(fr - np.round(fr)) < 1e-9
+    lo = np.where(edge, np.clip(np.round(fr).astype(np.int64) - 1, 0, hc - 1), row)
+    hi = np.where(edge, np.clip(np.round(fr).astype(np.int64), 0, hc - 1), row)
+    return lo, hi
+
+
+def _bands(th: np.ndarray, cols: int, hc: int) -> list[tuple[int, int]]:
+    """Grid rows [s, e) in bands of about :data:`BAND_NODES` nodes, cut only where no cell has nodes on both sides
+    (every cell row above the cut ends before every cell row below it starts), so each cell's nodes lie in one band,
+    in grid order."""
+    lo, hi = _cell_row_span(th, hc)
+    ok = np.r_[False, np.maximum.accumulate(hi)[:-1] < np.minimum.accumulate(lo[::-1])[::-1][1:]]
+    per = max(1, BAND_NODES // max(cols, 1))
+    bands, s = [], 0
+    for i in np.flatnonzero(ok):
+        if i - s >= per:
+            bands.append((s, int(i)))
+            s = int(i)
+    bands.append((s, th.size))
+    return bands
+
+
 def cell_nodes(env: Environment, cells: int, g: int) -> tuple[np.ndarray, np.ndarray]:
     """(Φ_c (M, 3), ω_c (M, 3)) of the quadrature with H_c = ``cells`` and g Gauss points (steps 1–3).
 
-    The per-node products are formed channel by channel on contiguous (M,) rows (the same products and
-    the same node-order bin sums as on the (M, 3) columns: the same bits, without strided passes)."""
-    th, ph, d, w = _node_grid(env, g)
-    lw_c = _mitsuba_radiance_planes(env, d)  # (3, M): L per node and channel, then Φ = L w in place
-    lw_c *= w
+    The grid is evaluated in bands of rows (:func:`_bands`) that never split a cell: every per-cell sum is the
+    same node-order sum as over the whole grid (the same bits), while a band's arrays stay in cache instead of
+    ~10⁸-byte arrays mapped and page-faulted per grid. The per-node products are formed channel by channel on
+    contiguous rows. Step 3's nodes are kept per band for the cells that can still qualify (luminance flux above
+    :data:`REFINE_FRACTION` of the flux so far, a lower bound of the total), then chosen as over the whole grid."""
+    import mitsuba as mi
+
+    th, ph, wth, wph = _grid_axes(env, g)
     hc, wc = cells, 2 * cells
-    cell = _node_cells(th, ph, d, hc, wc)
     n_cells = hc * wc
-    lw = lw_c.T  # (M, 3) view
-    flux = np.stack([np.bincount(cell, lw_c[c], n_cells) for c in range(3)], axis=-1)
-    # Y = 0.2126 R + 0.7152 G + 0.0722 B as latlong.luminance (the same products, summed in the same order: the
-    # same bits) on the contiguous channel planes instead of the strided (M, 3) columns
-    y = lw_c[0] * 0.2126
-    y += lw_c[1] * 0.7152
-    y += lw_c[2] * 0.0722
-    d_c = np.ascontiguousarray(d.T)  # (3, M): _node_grid's planes (no copy)
-    cen = np.stack([np.bincount(cell, y * d_c[k], n_cells) for k in range(3)], axis=-1)
-    cell_y = np.bincount(cell, y, n_cells)
-    counts = np.bincount(cell, None, n_cells)
-    occupied = counts > 0
-    weak = (cell_y <= 0) & occupied  # black cells: the geometric centroid (unoccupied ones are dropped)
-    if weak.any():
-        geo = np.stack([np.bincount(cell, w * d_c[k], n_cells) for k in range(3)], axis=-1)
-        cen[weak] = geo[weak]
+    emitter = mi.load_dict(env.mitsuba_emitter())
+    flux = np.zeros((n_cells, 3))
+    cen = np.zeros((n_cells, 3))
+    cell_y = np.zeros(n_cells)
+    counts = np.zeros(n_cells, dtype=np.int64)
+    running = 0.0
+    cand_cell, cand_flux, cand_dir = [], [], []
+    for s, e in _bands(th, ph.size, hc):
+        d, w = _grid_block(th[s:e], ph, wth[s:e], wph)
+        lw_c = _mitsuba_radiance_planes(env, d, emitter)  # (3, m): L per node and channel, then Φ = L w in place
+        lw_c *= w
+        cell = _node_cells(th[s:e], ph, d, hc, wc)
+        for c in range(3):
+            flux[:, c] += np.bincount(cell, lw_c[c], n_cells)
+        # Y = 0.2126 R + 0.7152 G + 0.0722 B as latlong.luminance (the same products, summed in the same order: the
+        # same bits) on the contiguous channel planes instead of the strided (M, 3) columns
+        y = lw_c[0] * 0.2126
+        y += lw_c[1] * 0.7152
+        y += lw_c[2] * 0.0722
+        d_c = d.T  # (3, m): the block's contiguous planes
+        b_cen = np.stack([np.bincount(cell, y * d_c[k], n_cells) for k in range(3)], axis=-1)
+        b_y = np.bincount(cell, y, n_cells)
+        b_counts = np.bincount(cell, None, n_cells)
+        weak = (b_y <= 0) & (b_counts > 0)  # black cells: the geometric centroid (unoccupied ones are dropped)
+        if weak.any():
+            geo = np.stack([np.bincount(cell, w * d_c[k], n_cells) for k in range(3)], axis=-1)
+            b_cen[weak] = geo[weak]
+        cen += b_cen
+        cell_y += b_y
+        counts += b_counts
+        running += float(b_y.sum())
+        # a lower bound of the final test (1e-9 below: `running` is summed in another order than the total)
+        maybe = (b_y > REFINE_FRACTION * running * (1 - 1e-9)) & (b_counts <= MAX_REFINED_NODES)
+        if maybe.any():
+            at = np.flatnonzero(maybe[cell])
+            cand_cell.append(cell[at])
+            cand_flux.append(lw_c.T[at])
+            cand_dir.append(d[at])
     norm = np.linalg.norm(cen, axis=-1, keepdims=True)
     cen = np.divide(cen, norm, out=np.zeros_like(cen), where=norm > 0)
 
     # step 3: keep the radiance nodes of cells with concentrated flux
     total = cell_y.sum()
-    keep = occupied.copy()
+    keep = counts > 0
     extra_flux, extra_dir = [], []
     if total > 0:
         budget = MAX_REFINED_NODES
@@ -233,11 +302,12 @@ def cell_nodes(env: Environment, cells: int, g: int) -> tuple[np.ndarray, np.nda
         if chosen:  # their nodes, cell by cell in the order chosen, each cell's in node order (one pass)
             rank = np.full(n_cells, -1, dtype=np.int64)
             rank[chosen] = np.arange(len(chosen))
-            node_rank = rank[cell]
+            node_cell = np.concatenate(cand_cell)
+            node_rank = rank[node_cell]
             sel = np.flatnonzero(node_rank >= 0)
             sel = sel[np.argsort(node_rank[sel], kind="stable")]
-            extra_flux.append(lw[sel])
-            extra_dir.append(d[sel])
+            extra_flux.append(np.concatenate(cand_flux)[sel])
+            extra_dir.append(np.concatenate(cand_dir)[sel])
     flux_out = np.concatenate([flux[keep]] + extra_flux)
     dir_out = np.concatenate([cen[keep]] + extra_dir)
     return flux_out, dir_out
