@@ -249,9 +249,22 @@ def loglog_slope(ns: list[int], errs: list[float], n_min: int) -> float:
     return float(np.polyfit(x, y, 1)[0])
 
 
+VISIBLE_FRACTION_ROWS = 2048  # receivers per block of :func:`visible_fraction` (its (N, side², 3) temporaries)
+
+
 def visible_fraction(light: Light, pts: np.ndarray, nrm: np.ndarray, visible: Any, side: int) -> np.ndarray:
     """Reference V(x): fraction of the side×side emitter points in front of x's tangent plane that x sees
-    (NaN where none is in front)."""
+    (NaN where none is in front). Receivers in blocks of :data:`VISIBLE_FRACTION_ROWS`: every receiver's value is
+    its own points' and shadow rays' (the same rays, the same answers), with temporaries a block in size."""
+    out = np.empty(len(pts))
+    for s in range(0, len(pts), VISIBLE_FRACTION_ROWS):
+        e = s + VISIBLE_FRACTION_ROWS
+        out[s:e] = _visible_fraction_block(light, pts[s:e], nrm[s:e], visible, side)
+    return out
+
+
+def _visible_fraction_block(light: Light, pts: np.ndarray, nrm: np.ndarray, visible: Any, side: int
+                            ) -> np.ndarray:
     q, _, _ = emitter_points(light.as_mapping(), pts, side, 0.5)
     k = q.shape[1]
     front = np.einsum("nk,nmk->nm", nrm, q - pts[:, None, :]) > 0
