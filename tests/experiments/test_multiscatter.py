@@ -242,3 +242,25 @@ def test_furnace_memo_reuses_only_calls_that_read_the_same_parameters():
     rec = c._ReadKeys({"alpha": 0.5, "ks": 1.0})
     assert rec.get("alpha") == 0.5 and "eta" not in rec and rec.read == {"alpha", "eta"}
     assert dict(rec) == {"alpha": 0.5, "ks": 1.0} and rec.read == {"alpha", "eta", "ks"}
+
+
+def test_furnace_geometry_is_built_once_read_only_and_gives_the_per_call_values():
+    """_furnace_eval's arrays are those formed per call before (n = +z, the quadrature tiled per μ, v at azimuth 0),
+    shared between calls and read-only; a technique on them returns what it returns on fresh writable copies."""
+    import importlib
+
+    c = importlib.import_module("validate.experiments.multiscatter.compute")
+    mus, nodes = (0.3, 0.9), 16
+    n, l, v, w = c._furnace_geometry(mus, nodes)
+    assert c._furnace_geometry(mus, nodes)[1] is l
+    assert not any(a.flags.writeable for a in (n, l, v, w))
+    dirs, w0 = bs.hemisphere_quadrature(nodes, 2 * nodes)
+    k = len(dirs)
+    assert np.array_equal(w, w0) and np.array_equal(l, np.tile(dirs, (2, 1)))
+    assert np.array_equal(n, np.tile([0.0, 0.0, 1.0], (2 * k, 1)))
+    assert np.array_equal(v, np.concatenate([np.tile([np.sqrt(1.0 - mu * mu), 0.0, mu], (k, 1)) for mu in mus]))
+    for name in ("cook_torrance", "ggx_metalness_fdez_aguera"):
+        tech = family("brdf")[name]
+        fresh = family("brdf").call(tech, c._f1(0.5, 0.5), n.copy(), l.copy(), v.copy())
+        for _ in range(2):  # the second call on the same read-only arrays reuses their packed drjit input
+            assert np.array_equal(family("brdf").call(tech, c._f1(0.5, 0.5), n, l, v), fresh)

@@ -109,11 +109,12 @@ def _inv_c1(u: Any) -> Any:
     return dr.clip(2.0 * u - 1.0, -1.0, 1.0)
 
 
-def shadowing_height(w: Any, h: Any, alpha: Any) -> Any:
-    """G¹(ω, h) = C¹(h)^Λ(ω): probability that a ray leaving height h along ω (upward) escapes [1 eq. 23]."""
+def shadowing_height(w: Any, h: Any, alpha: Any, lam: Any = None) -> Any:
+    """G¹(ω, h) = C¹(h)^Λ(ω): probability that a ray leaving height h along ω (upward) escapes [1 eq. 23];
+    ``lam``: Λ(ω) when the caller has it (:func:`lambda_ggx`, e.g. formed once outside a loop)."""
     import drjit as dr
 
-    g = dr.power(_c1(h), lambda_ggx(w, alpha))
+    g = dr.power(_c1(h), lambda_ggx(w, alpha) if lam is None else lam)
     return dr.select(w.z > 0.9999, 1.0, dr.select(w.z <= 0.0, 0.0, g))
 
 
@@ -241,12 +242,15 @@ def walk_eval_state(wi: Any, wo: Any, alpha: Any, f0: Any, rng: Any, walks: int,
     zero = dr.zeros(mi.Float, n)
     start = -wi + mi.Vector3f(zero, zero, zero)
     valid = (wi.z > 0.0) & (wo.z > 0.0)
+    # the loop invariants of the next-event shadowing, formed once outside the loop (the same values)
+    g_distant = shadowing_distant(wo, alpha) if distant_g1 else None
+    lam_o = None if distant_g1 else lambda_ggx(wo, alpha)
 
     def body(wr: Any, hr: Any, energy: Any, order: Any, acc: Any, s1: Any, s2: Any, k: Any,
              rng: Any) -> tuple[Any, ...]:
         h, esc = sample_height(wr, hr, rng.next_float32(), alpha)
         esc = esc | (order >= max_order)
-        g = shadowing_distant(wo, alpha) if distant_g1 else shadowing_height(wo, h, alpha)
+        g = g_distant if distant_g1 else shadowing_height(wo, h, alpha, lam_o)
         nee = energy * phase_conductor(-wr, wo, alpha, f0) * g
         acc = acc + dr.select((esc ^ True) & (order >= 1), nee, 0.0)
         m = sample_vndf(-wr, alpha, rng.next_float32(), rng.next_float32())

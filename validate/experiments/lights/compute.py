@@ -64,6 +64,15 @@ def light_mapping(light: ls.Light, s: Settings, spot_exponent: float) -> dict[st
     return m
 
 
+def _canonical(value: Any) -> str:
+    """A light-mapping value as an exact string (arrays: dtype, shape and every element's repr)."""
+    if isinstance(value, np.ndarray):
+        return f"{value.dtype}{value.shape}{[repr(x) for x in value.ravel().tolist()]}"
+    if isinstance(value, (list, tuple)):
+        return f"{type(value).__name__}{[_canonical(x) for x in value]}"
+    return repr(value)
+
+
 class Frame:
     """One render's valid pixels: G-buffer, reference and the shadow-ray test of its geometry."""
 
@@ -74,6 +83,18 @@ class Frame:
         self.radiance, self.uncertainty = ref.radiance[v], ref.uncertainty[v]
         self.passes = ref.pass_images[:, v]  # (P, N, 3)
         self.visible = lr.shadow_tester(scene)
+        self._irradiance: dict[tuple[str, tuple[tuple[str, str], ...]], np.ndarray] = {}
+
+    def irradiance(self, tech: Any, light_map: dict[str, Any]) -> np.ndarray:
+        """``tech`` (a light technique or its name) on this frame's G-buffer with its shadow rays, memoised: a
+        technique is a deterministic function of its light mapping, the receivers and the scene, so a second call
+        with an equal mapping (the technique table and the grid sweep both evaluate the shadowed grid at the
+        technique's n) returns the first call's E (a copy) instead of tracing its shadow rays again."""
+        name = tech if isinstance(tech, str) else tech.name
+        key = (name, tuple(sorted((k, _canonical(v)) for k, v in light_map.items())))
+        if key not in self._irradiance:
+            self._irradiance[key] = family.call(tech, light_map, self.position, self.normal, visible=self.visible)
+        return self._irradiance[key].copy()
 
     def shade(self, irradiance: np.ndarray) -> np.ndarray:
         return self.albedo / math.pi * irradiance[:, None]
@@ -111,8 +132,7 @@ def evaluate_techniques(frames: dict[str, Frame], s: Settings, m: Measurements) 
         entry, meas = {}, {}
         for kind in kinds:
             f = frames[kind]
-            e = family.call(tech, light_mapping(f.scene.lights[0], s, spot_f), f.position, f.normal,
-                            visible=f.visible)
+            e = f.irradiance(tech, light_mapping(f.scene.lights[0], s, spot_f))
             approx = f.shade(e)
             errs = lm.measured(f.radiance, f.uncertainty, approx)
             meas.update({f"{kind}.{k}": v for k, v in errs.items()})
@@ -169,8 +189,7 @@ def grid_shadowed(frames: dict[str, Frame], s: Settings) -> dict[str, Any]:
         v_ref = sw.visible_fraction(light, f.position, f.normal, f.visible, s.visibility_side)
         rows: dict[str, list[float]] = {"lit": [], "penumbra": [], "umbra": [], "total": []}
         for n in out["n"]:
-            e = family.call("area_grid_shadowed", dict(light.as_mapping(), grid=n), f.position, f.normal,
-                            visible=f.visible)
+            e = f.irradiance("area_grid_shadowed", dict(light.as_mapping(), grid=n))
             err = se.shadow_errors(ref_img, np.zeros_like(ref_img), f.shade(e), np.nan_to_num(v_ref), v_ref)
             for reg in ("lit", "penumbra", "umbra"):
                 rows[reg].append(err.regions[reg].mean)

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -62,12 +63,14 @@ def standin_receivers(light: Light, distance: float, polar_deg: tuple[float, ...
     for p in polar_deg:
         a = math.radians(p)
         w = math.cos(a) * fwd + math.sin(a) * left
+        to_light = -w
+        side = np.cross(to_light, up)  # per polar angle: the tilts share it (formed once, the same values)
+        side_unit = side / max(np.linalg.norm(side), 1e-12)
+        point = np.asarray(light.position) + distance * w
         for t in tilt_deg:
             b = math.radians(t)
-            to_light = -w
-            nrm.append(math.cos(b) * to_light + math.sin(b) * np.cross(to_light, up) / max(
-                np.linalg.norm(np.cross(to_light, up)), 1e-12))
-            pts.append(np.asarray(light.position) + distance * w)
+            nrm.append(math.cos(b) * to_light + math.sin(b) * side_unit)
+            pts.append(point)
     n = np.array(nrm)
     return np.array(pts), n / np.linalg.norm(n, axis=1, keepdims=True)
 
@@ -184,6 +187,18 @@ def independent_crossing(light: Light, c: crossing.Crossing, ratios: np.ndarray,
                                                                                      / ref[ok]))}
 
 
+@lru_cache(maxsize=4)
+def _leggauss_cached(n: int) -> tuple[np.ndarray, np.ndarray]:
+    return np.polynomial.legendre.leggauss(n)
+
+
+def _leggauss(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """``numpy.polynomial.legendre.leggauss(n)`` (nodes, weights), computed once per n (an eigenvalue problem; the
+    crossing searches call :func:`quadrature_irradiance` dozens of times); copies."""
+    x, w = _leggauss_cached(int(n))
+    return x.copy(), w.copy()
+
+
 def quadrature_irradiance(light: Light, pts: np.ndarray, nrm: np.ndarray) -> np.ndarray:
     """An independent float64 E(x) = L ∫ cos θ cos θ' / r² dA: rectangle, a 48×48 Gauss–Legendre tensor rule over
     (s, t) ∈ [−1, 1]²; disc, 48-point Gauss–Legendre in the radius (weight ρ) × a 96-point trapezoid in the azimuth
@@ -195,7 +210,7 @@ def quadrature_irradiance(light: Light, pts: np.ndarray, nrm: np.ndarray) -> np.
     m = light.as_mapping()
     if light.kind == "sphere":
         return sphere_irradiance(light, pts, nrm, lambda c, s2: sphere_cap.cap_irradiance_quadrature(c, s2, 32))
-    xg, wg = np.polynomial.legendre.leggauss(48)
+    xg, wg = _leggauss(48)
     if light.kind == "rectangle":
         a, b = m["axes"]
         s, t = np.meshgrid(xg, xg, indexing="ij")
@@ -234,9 +249,22 @@ def loglog_slope(ns: list[int], errs: list[float], n_min: int) -> float:
     return float(np.polyfit(x, y, 1)[0])
 
 
+VISIBLE_FRACTION_ROWS = 2048  # receivers per block of :func:`visible_fraction` (its (N, side², 3) temporaries)
+
+
 def visible_fraction(light: Light, pts: np.ndarray, nrm: np.ndarray, visible: Any, side: int) -> np.ndarray:
     """Reference V(x): fraction of the side×side emitter points in front of x's tangent plane that x sees
-    (NaN where none is in front)."""
+    (NaN where none is in front). Receivers in blocks of :data:`VISIBLE_FRACTION_ROWS`: every receiver's value is
+    its own points' and shadow rays' (the same rays, the same answers), with temporaries a block in size."""
+    out = np.empty(len(pts))
+    for s in range(0, len(pts), VISIBLE_FRACTION_ROWS):
+        e = s + VISIBLE_FRACTION_ROWS
+        out[s:e] = _visible_fraction_block(light, pts[s:e], nrm[s:e], visible, side)
+    return out
+
+
+def _visible_fraction_block(light: Light, pts: np.ndarray, nrm: np.ndarray, visible: Any, side: int
+                            ) -> np.ndarray:
     q, _, _ = emitter_points(light.as_mapping(), pts, side, 0.5)
     k = q.shape[1]
     front = np.einsum("nk,nmk->nm", nrm, q - pts[:, None, :]) > 0

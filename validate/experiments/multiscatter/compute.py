@@ -115,13 +115,40 @@ def _furnace(tech: Technique, params: dict[str, Any], mus: tuple[float, ...], no
     return out.copy()
 
 
+# _furnace_geometry's arrays per (μ's, nodes): the same for every technique and parameter set of a grid
+_GEOMETRY: dict[tuple[tuple[float, ...], int], tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = {}
+
+
+def _frozen_copy(a: np.ndarray) -> np.ndarray:
+    """A read-only copy with no base (so :mod:`validate.local_models.brdf.common` may treat it as immutable)."""
+    out = np.array(a, dtype=np.float64, copy=True)
+    out.flags.writeable = False
+    return out
+
+
+def _furnace_geometry(mus: tuple[float, ...], nodes: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(normals, lights, views, weights) of :func:`_furnace_eval`: the hemisphere quadrature
+    (:func:`validate.scenes.brdf_scenes.hemisphere_quadrature`, nodes × 2·nodes) tiled once per μ_v, n = +z, v at
+    azimuth 0. Built once per (μ's, nodes) and read-only: the grids call every technique thousands of times on the
+    same arrays, and the brdf family converts read-only inputs it has seen to drjit once
+    (``common._packed_directions``); the values are those formed per call before."""
+    key = (tuple(mus), int(nodes))
+    hit = _GEOMETRY.get(key)
+    if hit is None:
+        dirs, w = bs.hemisphere_quadrature(nodes, 2 * nodes)
+        k = len(dirs)
+        n = np.tile([0.0, 0.0, 1.0], (k * len(mus), 1))
+        v = np.concatenate([np.tile([np.sqrt(1.0 - mu * mu), 0.0, mu], (k, 1)) for mu in mus])
+        hit = _GEOMETRY[key] = (_frozen_copy(n), _frozen_copy(np.tile(dirs, (len(mus), 1))), _frozen_copy(v),
+                                _frozen_copy(w))
+    return hit
+
+
 def _furnace_eval(tech: Technique, params: Mapping[str, Any], mus: tuple[float, ...], nodes: int) -> np.ndarray:
     """:func:`_furnace` without the memo."""
-    dirs, w = bs.hemisphere_quadrature(nodes, 2 * nodes)
-    k = len(dirs)
-    n = np.tile([0.0, 0.0, 1.0], (k * len(mus), 1))
-    v = np.concatenate([np.tile([np.sqrt(1.0 - mu * mu), 0.0, mu], (k, 1)) for mu in mus])
-    q = family("brdf").call(tech, params, n, np.tile(dirs, (len(mus), 1)), v)
+    n, l, v, w = _furnace_geometry(mus, nodes)
+    k = len(w)
+    q = family("brdf").call(tech, params, n, l, v)
     return np.asarray([float(np.sum(w * luminance(q[i * k:(i + 1) * k]))) for i in range(len(mus))])
 
 
