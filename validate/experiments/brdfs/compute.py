@@ -425,31 +425,39 @@ def env_radiance_local(fn: Any, radiance: np.ndarray, normals: np.ndarray, views
 def env_radiance_many(fns: dict[str, Any], radiance: np.ndarray, normals: np.ndarray, views: np.ndarray,
                       nodes: int) -> dict[str, np.ndarray]:
     """:func:`env_radiance_local` of every ``fns[name]`` at once: each chunk's directions and map lookups are made
-    once and shared by the techniques (they depend on the normals only), the sums as in the single form."""
+    once and shared by the techniques (they depend on the normals only), the sums as in the single form.
+
+    A chunk's (pixel, direction) pairs are laid out direction-major (row j·k + i = direction j of pixel i): the
+    techniques are evaluated per pair, so each pair's q is the same number in any order, and the sum over the
+    directions is then numpy's reduction over the leading axis of a C-contiguous (m, k, 3) array, which adds the
+    rows one after the other in order j = 0, 1, …, m − 1 — the same additions, in the same order, as the sum over
+    axis 1 of the pixel-major (k, m, 3) form (a reduction over a middle axis is also sequential; there the inner
+    loop runs over 3 numbers, here over 3k)."""
     local, w = bs.hemisphere_quadrature(nodes, 2 * nodes)
     t, b = _frames(normals)
     out = {name: np.zeros((len(normals), 3)) for name in fns}
-    per = max(1, ENV_CHUNK // len(local))
+    m = len(local)
+    per = max(1, ENV_CHUNK // m)
     for s0 in range(0, len(normals), per):
         sl = slice(s0, s0 + per)
-        d_full = (local[None, :, :1] * t[sl, None] + local[None, :, 1:2] * b[sl, None]
-                  + local[None, :, 2:3] * normals[sl, None])
-        nrep, vrep = np.repeat(normals[sl], len(local), 0), np.repeat(views[sl], len(local), 0)
+        k = len(normals[sl])
+        d_full = (local[:, None, :1] * t[None, sl] + local[:, None, 1:2] * b[None, sl]
+                  + local[:, None, 2:3] * normals[None, sl])
+        nrep, vrep = np.tile(normals[sl], (m, 1)), np.tile(views[sl], (m, 1))
         # shared by the techniques: none may write into them (frozen with their base, so that the brdf techniques'
         # GeometryDr converts them to drjit once per chunk: common._packed_directions)
         for a in (nrep, d_full, vrep):
             a.setflags(write=False)
         d = d_full.reshape(-1, 3)
-        k = len(d) // len(local)
-        lrad = latlong.bilinear_lookup(radiance, d).reshape(k, len(local), 3)
-        # w·(q·L) summed over the directions (numpy's sum over axis 1 adds them in order): the products formed into
-        # one scratch array per chunk, reused by every technique (no fresh (k, m, 3) temporaries per call)
-        scratch = np.empty((k, len(local), 3))
+        lrad = latlong.bilinear_lookup(radiance, d).reshape(m, k, 3)
+        # w·(q·L) summed over the directions: the products formed into one scratch array per chunk, reused by every
+        # technique (no fresh (m, k, 3) temporaries per call)
+        scratch = np.empty((m, k, 3))
         for name, fn in fns.items():
             q = fn(nrep, d, vrep)
-            np.multiply(q.reshape(k, len(local), 3), lrad, out=scratch)
-            np.multiply(w[None, :, None], scratch, out=scratch)
-            out[name][sl] = np.sum(scratch, axis=1)
+            np.multiply(q.reshape(m, k, 3), lrad, out=scratch)
+            np.multiply(w[:, None, None], scratch, out=scratch)
+            out[name][sl] = np.sum(scratch, axis=0)
     return out
 
 
