@@ -32,6 +32,8 @@ Power (every metric): the technique's output × 1.02, a 2 % bias (``Measured.per
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from functools import lru_cache, partial
 from typing import Any
@@ -461,16 +463,19 @@ def env_radiance_many(fns: dict[str, Any], radiance: np.ndarray, normals: np.nda
     return out
 
 
-def env_analysis(m: Measurements, mats: list[bs.Material]) -> None:
-    """Every technique on a sphere under ``two_tone`` vs Mitsuba's path-traced sphere, per material."""
+def env_analysis(m: Measurements, mats: list[bs.Material], render_threads: int | None = None) -> None:
+    """Every technique on a sphere under ``two_tone`` vs Mitsuba's path-traced sphere, per material; the renders
+    on ``render_threads`` drjit threads when given (:func:`drjit_threads`)."""
     from ...reference import ibl_render as ir
     s = m.settings
     env = procedural.two_tone()
     cam = ir.camera_towards(np.array([0.0, 0.3, 1.0]), 0.0, s.env_image)
     out: dict[str, Any] = {}
     env_mats = [x for x in mats if x.name in ENV_MATERIALS]
-    renders = {mat.name: ir.render(env, ir.RenderSpec("sphere", mat.bsdf, cam, spp=s.env_spp, passes=4, seed=11))
-               for mat in env_mats}
+    with drjit_threads(render_threads):
+        renders = {mat.name: ir.render(env, ir.RenderSpec("sphere", mat.bsdf, cam, spp=s.env_spp, passes=4,
+                                                          seed=11))
+                   for mat in env_mats}
 
     def pixels(name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         r = renders[name]
@@ -580,30 +585,63 @@ def plane_analysis(m: Measurements, mats: list[bs.Material]) -> None:
 LIGHT_DIR = (0.5, 0.6, 0.62)  # the sphere images' light direction (world, viewer at +z)
 
 
+@contextmanager
+def drjit_threads(count: int | None) -> Iterator[None]:
+    """drjit's thread pool at ``count`` threads meanwhile (None: as it is), restored after.
+
+    The experiment's drjit work runs on one thread (:func:`compute`): its kernels (the techniques, Mitsuba's BSDF
+    evaluations and ray queries of the V-groove tracer) are elementwise, each output lane computed by the same
+    instructions whatever thread runs it, so the numbers do not depend on the count; on this suite's CPU-bound
+    runs (both cores busy with the experiment lanes) a second pool thread adds CPU time (its launches, hand-offs
+    and idle waiting: measured, the environment quadrature's techniques 39.6 s of CPU on two threads, 28.6 s on
+    one, the same arrays) without finishing sooner. Mitsuba's path-traced renders accumulate samples into pixels by
+    atomic adds, whose float sums may follow the threads' order, so they keep the process's count
+    (:func:`env_analysis`)."""
+    import drjit as dr
+
+    if count is None:
+        yield
+        return
+    before = dr.thread_count()
+    dr.set_thread_count(count)
+    try:
+        yield
+    finally:
+        dr.set_thread_count(before)
+
+
 def compute(ctx: Context, s: Settings) -> Measurements:
     """Every technique on every Mitsuba material (grid and furnace), the term-by-term Cook–Torrance path,
-    the energy sweep, the V-groove surfaces and the sphere images."""
-    m = Measurements(s, list(family("brdf")))
-    mats = materials(s)
-    m.materials = [x.name for x in mats]
-    for metrics, furnace in ctx.map(partial(_material_metrics, s, m.techniques), mats, "brdfs: Mitsuba materials"):
-        for name, values in metrics.items():  # tasks return their numbers (they may run on Dask workers)
-            m.metrics.setdefault(name, {}).update(values)
-        m.furnace.update(furnace)
-    term_analysis(m, mats)
-    energy_sweep(m)
-    vgroove_metrics(m, ctx.seed)
-    gouraud_analysis(m, LIGHT_DIR)
-    env_analysis(m, mats)
-    plane_analysis(m, mats)
-    for mat in mats[:1] + [x for x in mats if x.name.startswith("diffuse")]:
-        m.images[mat.name] = sphere_images(m, mat, LIGHT_DIR)
+    the energy sweep, the V-groove surfaces and the sphere images (drjit on one thread, :func:`drjit_threads`; the
+    path-traced environment renders on the process's threads)."""
+    import drjit as dr
+
+    threads = dr.thread_count()
+    with drjit_threads(1):
+        m = Measurements(s, list(family("brdf")))
+        mats = materials(s)
+        m.materials = [x.name for x in mats]
+        for metrics, furnace in ctx.map(partial(_material_metrics, s, m.techniques), mats,
+                                        "brdfs: Mitsuba materials"):
+            for name, values in metrics.items():  # tasks return their numbers (they may run on Dask workers)
+                m.metrics.setdefault(name, {}).update(values)
+            m.furnace.update(furnace)
+        term_analysis(m, mats)
+        energy_sweep(m)
+        vgroove_metrics(m, ctx.seed)
+        gouraud_analysis(m, LIGHT_DIR)
+        env_analysis(m, mats, render_threads=threads)
+        plane_analysis(m, mats)
+        for mat in mats[:1] + [x for x in mats if x.name.startswith("diffuse")]:
+            m.images[mat.name] = sphere_images(m, mat, LIGHT_DIR)
     return m
 
 
 def _material_metrics(s: Settings, techniques: list[Technique], mat: Any) -> tuple[dict, dict]:
-    """One material's grid and furnace metrics of every technique (a task: returns, never mutates)."""
+    """One material's grid and furnace metrics of every technique (a task: returns, never mutates; drjit on one
+    thread, as in :func:`compute`)."""
     scratch = Measurements(s, techniques)
-    grid_metrics(scratch, mat)
-    furnace_metrics(scratch, mat)
+    with drjit_threads(1):
+        grid_metrics(scratch, mat)
+        furnace_metrics(scratch, mat)
     return scratch.metrics, scratch.furnace
