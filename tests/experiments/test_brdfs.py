@@ -234,10 +234,16 @@ def test_environment_quadrature_matches_per_pixel_sums() -> None:
     fns = {t: (lambda nn, ll, vv, t=t: family("brdf").call(t, {**mat.params, "sigma": 0.3}, nn, ll, vv))
            for t in techs}
     local, w = bs.hemisphere_quadrature(4, 8)
+    frozen: list[bool] = []
+
+    def record(nn: np.ndarray, ll: np.ndarray, vv: np.ndarray) -> np.ndarray:
+        frozen.append(all(brdf_common._frozen(a) for a in (nn, ll, vv)))  # what the shared conversions key on
+        return fns["lambert"](nn, ll, vv)
+
     old = bm.ENV_CHUNK
     bm.ENV_CHUNK = 2 * len(local)  # 2 pixels per chunk: 3 chunks, the last one short
     try:
-        many = bm.env_radiance_many(fns, env.radiance, n, v, 4)
+        many = bm.env_radiance_many({**fns, "record": record}, env.radiance, n, v, 4)
     finally:
         bm.ENV_CHUNK = old
     t_, b_ = bm._frames(n)
@@ -251,6 +257,7 @@ def test_environment_quadrature_matches_per_pixel_sums() -> None:
             for row in terms[1:]:
                 acc += row
             assert np.array_equal(many[t][i], acc), (t, i)
+    assert frozen == [True] * 3 and np.array_equal(many["record"], many["lambert"])
 
 
 def test_frozen_geometry_is_shared_with_the_same_numbers() -> None:

@@ -445,12 +445,13 @@ def env_radiance_many(fns: dict[str, Any], radiance: np.ndarray, normals: np.nda
         k = len(normals[sl])
         d_full = (local[:, None, :1] * t[None, sl] + local[:, None, 1:2] * b[None, sl]
                   + local[:, None, 2:3] * normals[None, sl])
-        nrep, vrep = np.tile(normals[sl], (m, 1)), np.tile(views[sl], (m, 1))
+        nrep, vrep = np.empty((m, k, 3)), np.empty((m, k, 3))
+        nrep[...], vrep[...] = normals[None, sl], views[None, sl]  # row j·k + i: pixel i's normal and view
         # shared by the techniques: none may write into them (frozen with their base, so that the brdf techniques'
         # GeometryDr converts them to drjit once per chunk: common._packed_directions)
         for a in (nrep, d_full, vrep):
             a.setflags(write=False)
-        d = d_full.reshape(-1, 3)
+        nrep, d, vrep = nrep.reshape(-1, 3), d_full.reshape(-1, 3), vrep.reshape(-1, 3)
         lrad = latlong.bilinear_lookup(radiance, d).reshape(m, k, 3)
         # w·(q·L) summed over the directions: the products formed into one scratch array per chunk, reused by every
         # technique (no fresh (m, k, 3) temporaries per call)
