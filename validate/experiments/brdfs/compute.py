@@ -121,12 +121,23 @@ def _entry(value: float, unc: float, perturbed: float) -> dict[str, float]:
     return {"value": float(value), "uncertainty": float(unc), "perturbed": float(perturbed)}
 
 
+def _frozen_copy(a: np.ndarray) -> np.ndarray:
+    """A read-only float64 copy of ``a`` with no base: techniques called one after another on the same frozen
+    (lights, views) share their drjit conversion and geometry (common._packed_directions, GeometryDr)."""
+    out = np.array(a, dtype=np.float64, copy=True)
+    out.setflags(write=False)
+    return out
+
+
 def grid_metrics(m: Measurements, mat: bs.Material) -> None:
-    """rel_l1 and max_rel of every technique for one Mitsuba material (grid n and n/2)."""
+    """rel_l1 and max_rel of every technique for one Mitsuba material (grid n and n/2; every technique on one grid,
+    then on the other: the frozen grid arrays shared by consecutive calls)."""
     grids = [bs.brdf_grid(m.settings.grid, m.settings.grid), bs.brdf_grid(m.settings.grid // 2, m.settings.grid // 2)]
+    grids = [(_frozen_copy(g[0]), _frozen_copy(g[1]), g[2]) for g in grids]
     refs = [br.eval_bsdf(mat.bsdf, g[0], g[1]) for g in grids]
+    per_grid = [{tech.name: call(tech, mat.params, g[0], g[1]) for tech in m.techniques} for g in grids]
     for tech in m.techniques:
-        q = [call(tech, mat.params, g[0], g[1]) for g in grids]
+        q = [x[tech.name] for x in per_grid]
         e = [rel_l1(qq, r, g[2]) for qq, r, g in zip(q, refs, grids, strict=True)]
         mx = max_rel(q[0], refs[0])
         d = m.metrics.setdefault(tech.name, {})
@@ -139,11 +150,22 @@ def furnace_albedo(fn: Any, views_deg: tuple[float, ...], nodes: tuple[int, int]
     every view (the quadrature tiled; q is per sample, so each view's block is what a call of its own returns —
     fewer, larger calls: each has a fixed cost, a GL listing's draw and read-back), each view's sum over its own
     block as before."""
+    return furnace_albedo_many({"": fn}, views_deg, nodes)[""]
+
+
+def furnace_albedo_many(fns: dict[str, Any], views_deg: tuple[float, ...],
+                        nodes: tuple[int, int]) -> dict[str, np.ndarray]:
+    """:func:`furnace_albedo` of every ``fns[name]``, one after another on the same (frozen) lights and views."""
     dirs, w = bs.hemisphere_quadrature(*nodes)
-    views = np.concatenate([np.tile(bs.direction(np.radians(t), 0.0), (len(dirs), 1)) for t in views_deg])
-    q = fn(np.tile(dirs, (len(views_deg), 1)), views)
+    views = _frozen_copy(np.concatenate([np.tile(bs.direction(np.radians(t), 0.0), (len(dirs), 1))
+                                         for t in views_deg]))
+    lights = _frozen_copy(np.tile(dirs, (len(views_deg), 1)))
     k = len(dirs)
-    return np.asarray([float(np.sum(w * luminance(q[i * k:(i + 1) * k]))) for i in range(len(views_deg))])
+    out = {}
+    for name, fn in fns.items():
+        q = fn(lights, views)
+        out[name] = np.asarray([float(np.sum(w * luminance(q[i * k:(i + 1) * k]))) for i in range(len(views_deg))])
+    return out
 
 
 def furnace_metrics(m: Measurements, mat: bs.Material) -> None:
@@ -153,9 +175,10 @@ def furnace_metrics(m: Measurements, mat: bs.Material) -> None:
     ref = [furnace_albedo(lambda lt, vw: br.eval_bsdf(mat.bsdf, lt, vw), s.furnace_views_deg, n)
            for n in (s.furnace, half)]
     entry: dict[str, Any] = {"mitsuba": ref[0].tolist()}
+    fns = {tech.name: partial(call, tech, mat.params) for tech in m.techniques}
+    both = [furnace_albedo_many(fns, s.furnace_views_deg, n) for n in (s.furnace, half)]
     for tech in m.techniques:
-        w = [furnace_albedo(lambda lt, vw, t=tech: call(t, mat.params, lt, vw), s.furnace_views_deg, n)
-             for n in (s.furnace, half)]
+        w = [x[tech.name] for x in both]
         entry[tech.name] = w[0].tolist()
         err, err_half = np.max(np.abs(w[0] - ref[0])), np.max(np.abs(w[1] - ref[1]))
         m.metrics[tech.name][f"albedo_error.{mat.name}"] = _entry(err, abs(err - err_half),
@@ -176,9 +199,9 @@ def energy_sweep(m: Measurements) -> None:
         params = {**mat.params, "ks": 1.0}
         out["mitsuba"].append(furnace_albedo(lambda lt, vw, b=mat.bsdf: br.eval_bsdf(b, lt, vw), views,
                                              s.furnace).tolist())
+        per = furnace_albedo_many({t.name: partial(call, t, params) for t in m.techniques}, views, s.furnace)
         for tech in m.techniques:
-            out["techniques"][tech.name].append(
-                furnace_albedo(lambda lt, vw, t=tech, p=params: call(t, p, lt, vw), views, s.furnace).tolist())
+            out["techniques"][tech.name].append(per[tech.name].tolist())
     m.sweep = out
 
 
