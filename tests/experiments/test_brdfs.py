@@ -214,3 +214,90 @@ def test_shared_work_gives_each_call_its_own_numbers() -> None:
     d, w = bs.hemisphere_quadrature(8, 16)
     d[:] = 0.0
     assert np.abs(bs.hemisphere_quadrature(8, 16)[0]).sum() > 0
+
+
+def test_environment_quadrature_matches_per_pixel_sums() -> None:
+    """env_radiance_many (direction-major chunks, the techniques' evaluated geometry shared on frozen inputs)
+    equals, bit for bit, each pixel on its own: the technique on fresh writable (l, v) rows of that pixel and
+    L_o = Σ_j w_j (q_j L_j) added in direction order; several chunks (ENV_CHUNK lowered) and one technique after
+    another on the same chunk."""
+    from validate.scenes import latlong, procedural
+
+    env = procedural.two_tone()
+    rng = np.random.default_rng(3)
+    n = rng.normal(size=(5, 3))
+    n /= np.linalg.norm(n, axis=-1, keepdims=True)
+    v = n + 0.5 * rng.normal(size=(5, 3))
+    v /= np.linalg.norm(v, axis=-1, keepdims=True)
+    mat = bs.conductor(0.3)
+    techs = ("cook_torrance", "oren_nayar_full", "lambert")
+    fns = {t: (lambda nn, ll, vv, t=t: family("brdf").call(t, {**mat.params, "sigma": 0.3}, nn, ll, vv))
+           for t in techs}
+    local, w = bs.hemisphere_quadrature(4, 8)
+    frozen: list[bool] = []
+
+    def record(nn: np.ndarray, ll: np.ndarray, vv: np.ndarray) -> np.ndarray:
+        frozen.append(all(brdf_common._frozen(a) for a in (nn, ll, vv)))  # what the shared conversions key on
+        return fns["lambert"](nn, ll, vv)
+
+    old = bm.ENV_CHUNK
+    bm.ENV_CHUNK = 2 * len(local)  # 2 pixels per chunk: 3 chunks, the last one short
+    try:
+        many = bm.env_radiance_many({**fns, "record": record}, env.radiance, n, v, 4)
+    finally:
+        bm.ENV_CHUNK = old
+    t_, b_ = bm._frames(n)
+    for i in range(len(n)):
+        d = local[:, :1] * t_[i] + local[:, 1:2] * b_[i] + local[:, 2:3] * n[i]
+        lrad = latlong.bilinear_lookup(env.radiance, d)
+        for t, fn in fns.items():
+            q = fn(np.tile(n[i], (len(d), 1)), d.copy(), np.tile(v[i], (len(d), 1)))
+            terms = w[:, None] * (q * lrad)
+            acc = terms[0].copy()
+            for row in terms[1:]:
+                acc += row
+            assert np.array_equal(many[t][i], acc), (t, i)
+    assert frozen == [True] * 3 and np.array_equal(many["record"], many["lambert"])
+
+
+def test_frozen_geometry_is_shared_with_the_same_numbers() -> None:
+    """GeometryDr on read-only inputs reuses the evaluated fields of the last such inputs; every field equals the
+    one formed from writable copies, and new arrays (even with equal values) are not mistaken for the old."""
+    import drjit as dr
+
+    rng = np.random.default_rng(4)
+    arrays = [rng.normal(size=(64, 3)) for _ in range(3)]
+    for a in arrays:
+        a.setflags(write=False)
+    with precision.family_precision("float32"):
+        first = brdf_common.GeometryDr(*arrays)
+        again = brdf_common.GeometryDr(*arrays)
+        fresh = brdf_common.GeometryDr(*(a.copy() for a in arrays))
+        for name in brdf_common._GEOMETRY_FIELDS:
+            assert getattr(again, name) is getattr(first, name)
+            assert np.array_equal(np.array(getattr(again, name)), np.array(getattr(fresh, name))), name
+        other = [a.copy() for a in arrays]
+        other[1][0] = -other[1][0]
+        for a in other:
+            a.setflags(write=False)
+        changed = brdf_common.GeometryDr(*other)
+        assert not dr.all(changed.cl == first.cl)
+
+
+def test_drjit_threads_restores_the_pool_and_keeps_the_numbers() -> None:
+    """drjit_threads(1) runs the techniques on one thread with the same numbers, and restores the count after
+    (also on an error); None leaves it as it is."""
+    import drjit as dr
+
+    before = dr.thread_count()
+    lights, views, _ = bs.brdf_grid(6, 6)
+    ref = bm.call("cook_torrance", bs.conductor(0.3).params, lights, views)
+    with bm.drjit_threads(1):
+        assert dr.thread_count() == 1
+        one = bm.call("cook_torrance", bs.conductor(0.3).params, lights, views)
+    assert dr.thread_count() == before and np.array_equal(ref, one)
+    with pytest.raises(RuntimeError), bm.drjit_threads(1):
+        raise RuntimeError("x")
+    assert dr.thread_count() == before
+    with bm.drjit_threads(None):
+        assert dr.thread_count() == before

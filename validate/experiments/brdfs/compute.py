@@ -32,6 +32,8 @@ Power (every metric): the technique's output × 1.02, a 2 % bias (``Measured.per
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from functools import lru_cache, partial
 from typing import Any
@@ -119,12 +121,23 @@ def _entry(value: float, unc: float, perturbed: float) -> dict[str, float]:
     return {"value": float(value), "uncertainty": float(unc), "perturbed": float(perturbed)}
 
 
+def _frozen_copy(a: np.ndarray) -> np.ndarray:
+    """A read-only float64 copy of ``a`` with no base: techniques called one after another on the same frozen
+    (lights, views) share their drjit conversion and geometry (common._packed_directions, GeometryDr)."""
+    out = np.array(a, dtype=np.float64, copy=True)
+    out.setflags(write=False)
+    return out
+
+
 def grid_metrics(m: Measurements, mat: bs.Material) -> None:
-    """rel_l1 and max_rel of every technique for one Mitsuba material (grid n and n/2)."""
+    """rel_l1 and max_rel of every technique for one Mitsuba material (grid n and n/2; every technique on one grid,
+    then on the other: the frozen grid arrays shared by consecutive calls)."""
     grids = [bs.brdf_grid(m.settings.grid, m.settings.grid), bs.brdf_grid(m.settings.grid // 2, m.settings.grid // 2)]
+    grids = [(_frozen_copy(g[0]), _frozen_copy(g[1]), g[2]) for g in grids]
     refs = [br.eval_bsdf(mat.bsdf, g[0], g[1]) for g in grids]
+    per_grid = [{tech.name: call(tech, mat.params, g[0], g[1]) for tech in m.techniques} for g in grids]
     for tech in m.techniques:
-        q = [call(tech, mat.params, g[0], g[1]) for g in grids]
+        q = [x[tech.name] for x in per_grid]
         e = [rel_l1(qq, r, g[2]) for qq, r, g in zip(q, refs, grids, strict=True)]
         mx = max_rel(q[0], refs[0])
         d = m.metrics.setdefault(tech.name, {})
@@ -137,11 +150,22 @@ def furnace_albedo(fn: Any, views_deg: tuple[float, ...], nodes: tuple[int, int]
     every view (the quadrature tiled; q is per sample, so each view's block is what a call of its own returns —
     fewer, larger calls: each has a fixed cost, a GL listing's draw and read-back), each view's sum over its own
     block as before."""
+    return furnace_albedo_many({"": fn}, views_deg, nodes)[""]
+
+
+def furnace_albedo_many(fns: dict[str, Any], views_deg: tuple[float, ...],
+                        nodes: tuple[int, int]) -> dict[str, np.ndarray]:
+    """:func:`furnace_albedo` of every ``fns[name]``, one after another on the same (frozen) lights and views."""
     dirs, w = bs.hemisphere_quadrature(*nodes)
-    views = np.concatenate([np.tile(bs.direction(np.radians(t), 0.0), (len(dirs), 1)) for t in views_deg])
-    q = fn(np.tile(dirs, (len(views_deg), 1)), views)
+    views = _frozen_copy(np.concatenate([np.tile(bs.direction(np.radians(t), 0.0), (len(dirs), 1))
+                                         for t in views_deg]))
+    lights = _frozen_copy(np.tile(dirs, (len(views_deg), 1)))
     k = len(dirs)
-    return np.asarray([float(np.sum(w * luminance(q[i * k:(i + 1) * k]))) for i in range(len(views_deg))])
+    out = {}
+    for name, fn in fns.items():
+        q = fn(lights, views)
+        out[name] = np.asarray([float(np.sum(w * luminance(q[i * k:(i + 1) * k]))) for i in range(len(views_deg))])
+    return out
 
 
 def furnace_metrics(m: Measurements, mat: bs.Material) -> None:
@@ -151,9 +175,10 @@ def furnace_metrics(m: Measurements, mat: bs.Material) -> None:
     ref = [furnace_albedo(lambda lt, vw: br.eval_bsdf(mat.bsdf, lt, vw), s.furnace_views_deg, n)
            for n in (s.furnace, half)]
     entry: dict[str, Any] = {"mitsuba": ref[0].tolist()}
+    fns = {tech.name: partial(call, tech, mat.params) for tech in m.techniques}
+    both = [furnace_albedo_many(fns, s.furnace_views_deg, n) for n in (s.furnace, half)]
     for tech in m.techniques:
-        w = [furnace_albedo(lambda lt, vw, t=tech: call(t, mat.params, lt, vw), s.furnace_views_deg, n)
-             for n in (s.furnace, half)]
+        w = [x[tech.name] for x in both]
         entry[tech.name] = w[0].tolist()
         err, err_half = np.max(np.abs(w[0] - ref[0])), np.max(np.abs(w[1] - ref[1]))
         m.metrics[tech.name][f"albedo_error.{mat.name}"] = _entry(err, abs(err - err_half),
@@ -174,9 +199,9 @@ def energy_sweep(m: Measurements) -> None:
         params = {**mat.params, "ks": 1.0}
         out["mitsuba"].append(furnace_albedo(lambda lt, vw, b=mat.bsdf: br.eval_bsdf(b, lt, vw), views,
                                              s.furnace).tolist())
+        per = furnace_albedo_many({t.name: partial(call, t, params) for t in m.techniques}, views, s.furnace)
         for tech in m.techniques:
-            out["techniques"][tech.name].append(
-                furnace_albedo(lambda lt, vw, t=tech, p=params: call(t, p, lt, vw), views, s.furnace).tolist())
+            out["techniques"][tech.name].append(per[tech.name].tolist())
     m.sweep = out
 
 
@@ -425,44 +450,56 @@ def env_radiance_local(fn: Any, radiance: np.ndarray, normals: np.ndarray, views
 def env_radiance_many(fns: dict[str, Any], radiance: np.ndarray, normals: np.ndarray, views: np.ndarray,
                       nodes: int) -> dict[str, np.ndarray]:
     """:func:`env_radiance_local` of every ``fns[name]`` at once: each chunk's directions and map lookups are made
-    once and shared by the techniques (they depend on the normals only), the sums as in the single form."""
+    once and shared by the techniques (they depend on the normals only), the sums as in the single form.
+
+    A chunk's (pixel, direction) pairs are laid out direction-major (row j·k + i = direction j of pixel i): the
+    techniques are evaluated per pair, so each pair's q is the same number in any order, and the sum over the
+    directions is then numpy's reduction over the leading axis of a C-contiguous (m, k, 3) array, which adds the
+    rows one after the other in order j = 0, 1, …, m − 1 — the same additions, in the same order, as the sum over
+    axis 1 of the pixel-major (k, m, 3) form (a reduction over a middle axis is also sequential; there the inner
+    loop runs over 3 numbers, here over 3k)."""
     local, w = bs.hemisphere_quadrature(nodes, 2 * nodes)
     t, b = _frames(normals)
     out = {name: np.zeros((len(normals), 3)) for name in fns}
-    per = max(1, ENV_CHUNK // len(local))
+    m = len(local)
+    per = max(1, ENV_CHUNK // m)
     for s0 in range(0, len(normals), per):
         sl = slice(s0, s0 + per)
-        d_full = (local[None, :, :1] * t[sl, None] + local[None, :, 1:2] * b[sl, None]
-                  + local[None, :, 2:3] * normals[sl, None])
-        nrep, vrep = np.repeat(normals[sl], len(local), 0), np.repeat(views[sl], len(local), 0)
+        k = len(normals[sl])
+        d_full = (local[:, None, :1] * t[None, sl] + local[:, None, 1:2] * b[None, sl]
+                  + local[:, None, 2:3] * normals[None, sl])
+        nrep, vrep = np.empty((m, k, 3)), np.empty((m, k, 3))
+        nrep[...], vrep[...] = normals[None, sl], views[None, sl]  # row j·k + i: pixel i's normal and view
         # shared by the techniques: none may write into them (frozen with their base, so that the brdf techniques'
         # GeometryDr converts them to drjit once per chunk: common._packed_directions)
         for a in (nrep, d_full, vrep):
             a.setflags(write=False)
-        d = d_full.reshape(-1, 3)
-        k = len(d) // len(local)
-        lrad = latlong.bilinear_lookup(radiance, d).reshape(k, len(local), 3)
-        # w·(q·L) summed over the directions (numpy's sum over axis 1 adds them in order): the products formed into
-        # one scratch array per chunk, reused by every technique (no fresh (k, m, 3) temporaries per call)
-        scratch = np.empty((k, len(local), 3))
+        nrep, d, vrep = nrep.reshape(-1, 3), d_full.reshape(-1, 3), vrep.reshape(-1, 3)
+        lrad = latlong.bilinear_lookup(radiance, d).reshape(m, k, 3)
+        # w·(q·L) summed over the directions: the products formed into one scratch array per chunk, reused by every
+        # technique (no fresh (m, k, 3) temporaries per call)
+        scratch = np.empty((m, k, 3))
         for name, fn in fns.items():
             q = fn(nrep, d, vrep)
-            np.multiply(q.reshape(k, len(local), 3), lrad, out=scratch)
-            np.multiply(w[None, :, None], scratch, out=scratch)
-            out[name][sl] = np.sum(scratch, axis=1)
+            np.multiply(q.reshape(m, k, 3), lrad, out=scratch)
+            np.multiply(w[:, None, None], scratch, out=scratch)
+            out[name][sl] = np.sum(scratch, axis=0)
     return out
 
 
-def env_analysis(m: Measurements, mats: list[bs.Material]) -> None:
-    """Every technique on a sphere under ``two_tone`` vs Mitsuba's path-traced sphere, per material."""
+def env_analysis(m: Measurements, mats: list[bs.Material], render_threads: int | None = None) -> None:
+    """Every technique on a sphere under ``two_tone`` vs Mitsuba's path-traced sphere, per material; the renders
+    on ``render_threads`` drjit threads when given (:func:`drjit_threads`)."""
     from ...reference import ibl_render as ir
     s = m.settings
     env = procedural.two_tone()
     cam = ir.camera_towards(np.array([0.0, 0.3, 1.0]), 0.0, s.env_image)
     out: dict[str, Any] = {}
     env_mats = [x for x in mats if x.name in ENV_MATERIALS]
-    renders = {mat.name: ir.render(env, ir.RenderSpec("sphere", mat.bsdf, cam, spp=s.env_spp, passes=4, seed=11))
-               for mat in env_mats}
+    with drjit_threads(render_threads):
+        renders = {mat.name: ir.render(env, ir.RenderSpec("sphere", mat.bsdf, cam, spp=s.env_spp, passes=4,
+                                                          seed=11))
+                   for mat in env_mats}
 
     def pixels(name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         r = renders[name]
@@ -572,30 +609,63 @@ def plane_analysis(m: Measurements, mats: list[bs.Material]) -> None:
 LIGHT_DIR = (0.5, 0.6, 0.62)  # the sphere images' light direction (world, viewer at +z)
 
 
+@contextmanager
+def drjit_threads(count: int | None) -> Iterator[None]:
+    """drjit's thread pool at ``count`` threads meanwhile (None: as it is), restored after.
+
+    The experiment's drjit work runs on one thread (:func:`compute`): its kernels (the techniques, Mitsuba's BSDF
+    evaluations and ray queries of the V-groove tracer) are elementwise, each output lane computed by the same
+    instructions whatever thread runs it, so the numbers do not depend on the count; on this suite's CPU-bound
+    runs (both cores busy with the experiment lanes) a second pool thread adds CPU time (its launches, hand-offs
+    and idle waiting: measured, the environment quadrature's techniques 39.6 s of CPU on two threads, 28.6 s on
+    one, the same arrays) without finishing sooner. Mitsuba's path-traced renders accumulate samples into pixels by
+    atomic adds, whose float sums may follow the threads' order, so they keep the process's count
+    (:func:`env_analysis`)."""
+    import drjit as dr
+
+    if count is None:
+        yield
+        return
+    before = dr.thread_count()
+    dr.set_thread_count(count)
+    try:
+        yield
+    finally:
+        dr.set_thread_count(before)
+
+
 def compute(ctx: Context, s: Settings) -> Measurements:
     """Every technique on every Mitsuba material (grid and furnace), the term-by-term Cook–Torrance path,
-    the energy sweep, the V-groove surfaces and the sphere images."""
-    m = Measurements(s, list(family("brdf")))
-    mats = materials(s)
-    m.materials = [x.name for x in mats]
-    for metrics, furnace in ctx.map(partial(_material_metrics, s, m.techniques), mats, "brdfs: Mitsuba materials"):
-        for name, values in metrics.items():  # tasks return their numbers (they may run on Dask workers)
-            m.metrics.setdefault(name, {}).update(values)
-        m.furnace.update(furnace)
-    term_analysis(m, mats)
-    energy_sweep(m)
-    vgroove_metrics(m, ctx.seed)
-    gouraud_analysis(m, LIGHT_DIR)
-    env_analysis(m, mats)
-    plane_analysis(m, mats)
-    for mat in mats[:1] + [x for x in mats if x.name.startswith("diffuse")]:
-        m.images[mat.name] = sphere_images(m, mat, LIGHT_DIR)
+    the energy sweep, the V-groove surfaces and the sphere images (drjit on one thread, :func:`drjit_threads`; the
+    path-traced environment renders on the process's threads)."""
+    import drjit as dr
+
+    threads = dr.thread_count()
+    with drjit_threads(1):
+        m = Measurements(s, list(family("brdf")))
+        mats = materials(s)
+        m.materials = [x.name for x in mats]
+        for metrics, furnace in ctx.map(partial(_material_metrics, s, m.techniques), mats,
+                                        "brdfs: Mitsuba materials"):
+            for name, values in metrics.items():  # tasks return their numbers (they may run on Dask workers)
+                m.metrics.setdefault(name, {}).update(values)
+            m.furnace.update(furnace)
+        term_analysis(m, mats)
+        energy_sweep(m)
+        vgroove_metrics(m, ctx.seed)
+        gouraud_analysis(m, LIGHT_DIR)
+        env_analysis(m, mats, render_threads=threads)
+        plane_analysis(m, mats)
+        for mat in mats[:1] + [x for x in mats if x.name.startswith("diffuse")]:
+            m.images[mat.name] = sphere_images(m, mat, LIGHT_DIR)
     return m
 
 
 def _material_metrics(s: Settings, techniques: list[Technique], mat: Any) -> tuple[dict, dict]:
-    """One material's grid and furnace metrics of every technique (a task: returns, never mutates)."""
+    """One material's grid and furnace metrics of every technique (a task: returns, never mutates; drjit on one
+    thread, as in :func:`compute`)."""
     scratch = Measurements(s, techniques)
-    grid_metrics(scratch, mat)
-    furnace_metrics(scratch, mat)
+    with drjit_threads(1):
+        grid_metrics(scratch, mat)
+        furnace_metrics(scratch, mat)
     return scratch.metrics, scratch.furnace

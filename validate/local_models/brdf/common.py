@@ -437,6 +437,23 @@ def _packed_directions(normals: np.ndarray, lights: np.ndarray, views: np.ndarra
     return [dr.gather(float_type(), packed, idx + j) for j in range(9)]
 
 
+_GEOMETRY_FIELDS = ("cl", "cv", "ch", "vh", "rv", "front", "cos_dphi", "theta_l", "theta_v")
+_EVALUATED: list[Any] = [None]  # the last frozen (normals, lights, views) and their evaluated GeometryDr fields
+
+
+def _evaluated_geometry(normals: np.ndarray, lights: np.ndarray, views: np.ndarray) -> dict[str, Any] | None:
+    """The evaluated :class:`GeometryDr` fields of the last read-only (normals, lights, views) (:func:`_frozen`, held
+    by weak reference, keyed by the active dtype and backend as :func:`_packed_directions`), or None."""
+    from ..precision import active, active_backend  # noqa: PLC0415
+
+    hit = _EVALUATED[0]
+    arrays = (normals, lights, views)
+    if hit is not None and hit[0] == (active(), active_backend()) and all(
+            r() is a for r, a in zip(hit[1], arrays, strict=True)):
+        return hit[2]
+    return None
+
+
 class GeometryDr:
     """:class:`Geometry` on drjit arrays of the active dtype: the same per-sample cosines (n·l, n·v, n·h, v·h, r·v),
     horizon mask, cos Δφ and polar angles, from (N, 3) numpy directions converted once
@@ -448,9 +465,14 @@ class GeometryDr:
         # nine separate inputs the LLVM kernel's hash follows the order drjit happens to number them in, and a
         # column-major offset k·N is a literal of the size, so identical calls or a new N missed the kernel cache
         size = len(np.asarray(normals).reshape(-1, 3))
+        self.size = size
+        known = _evaluated_geometry(normals, lights, views)
+        if known is not None:
+            for name, value in known.items():
+                setattr(self, name, value)
+            return
         c = _packed_directions(normals, lights, views)
         n, l, v = (_unit((c[3 * i], c[3 * i + 1], c[3 * i + 2])) for i in range(3))
-        self.size = size
         self.cl, self.cv = _dot(n, l), _dot(n, v)
         h = _unit((l[0] + v[0], l[1] + v[1], l[2] + v[2]))
         self.ch = dr.clip(_dot(n, h), 0.0, 1.0)
@@ -463,6 +485,15 @@ class GeometryDr:
         norm = dr.sqrt(_dot(lt, lt)) * dr.sqrt(_dot(vt, vt))
         self.cos_dphi = dr.select(norm > 1e-12, _dot(lt, vt) / dr.maximum(norm, _tiny()), 0.0)
         self.theta_l, self.theta_v = acos_dr(self.cl), acos_dr(self.cv)
+        if all(isinstance(a, np.ndarray) and _frozen(a) for a in (normals, lights, views)):
+            import weakref  # noqa: PLC0415
+
+            from ..precision import active, active_backend  # noqa: PLC0415
+
+            fields = {name: getattr(self, name) for name in _GEOMETRY_FIELDS}
+            dr.eval(*fields.values())
+            _EVALUATED[0] = ((active(), active_backend()), tuple(weakref.ref(a) for a in (normals, lights, views)),
+                             fields)
 
     def finish(self, f_cos: Any) -> np.ndarray:
         """(N, 3) float64 numpy, max(0, ·) and zero where l or v is below the horizon."""
