@@ -430,7 +430,8 @@ def _run_in(args: argparse.Namespace, exps: dict, todo: list[str], staging: Path
             print(f"  {n}: {res.wall_time_s:.1f} s, {sum(c.passed for c in res.claims)}/{len(res.claims)} "
                   "claims pass", flush=True)
 
-        done = {n: res.to_json() for n, res in run_experiments(ctx, exps, todo, started, finished).items()}
+        done = {n: res.to_json() for n, res in run_experiments(ctx, exps, todo, started, finished,
+                                                                seconds=_previous_seconds(out)).items()}
         experiments = dict(previous.get("experiments", {}))
         experiments.update(done)
         experiments = {k: experiments[k] for k in list(exps) + [k for k in experiments if k not in exps]
@@ -456,6 +457,19 @@ def _run_in(args: argparse.Namespace, exps: dict, todo: list[str], staging: Path
         ctx.close()
         runtime.close_all()
     return results, held
+
+
+def _previous_seconds(out: Path) -> dict[str, float]:
+    """Each experiment's wall time in the report already in ``out`` (none when there is none or it cannot be read:
+    it only orders the two lanes' work, :func:`~validate.experiments.schedule.longest_first`)."""
+    import json
+
+    try:
+        exps = json.loads((out / "results.json").read_text()).get("experiments", {})
+        return {n: float(e["wall_time_s"]) for n, e in exps.items()
+                if isinstance(e, dict) and isinstance(e.get("wall_time_s"), (int, float))}
+    except (OSError, ValueError, AttributeError):
+        return {}
 
 
 def _commit(out: Path, staging: Path, done: dict, results: dict) -> Path:

@@ -143,3 +143,31 @@ def test_the_child_interpreter_returns_this_processs_numbers(tmp_path: Path) -> 
         runtime.close_all()  # forget the child's GL runtimes noted in this process
     assert lane._proc.returncode == 0
     assert _numbers(there) == _numbers(here) and there.claims and all(c.passed for c in there.claims)
+
+
+def test_two_lanes_take_the_experiments_longest_first_by_the_previous_report(tmp_path: Path) -> None:
+    """With the previous report's wall times the lanes take the longest first (unknown ones before them, in
+    order); the results still come back in the order asked, and a serial run keeps its order."""
+    from validate.experiments.schedule import longest_first
+
+    seconds = {"a": 5.0, "b": 90.0, "c": 30.0, "renders": 160.0}
+    assert longest_first(["a", "b", "new", "c"], seconds) == ["new", "b", "c", "a"]
+    assert longest_first(["a", "b"], {}) == ["a", "b"]
+    log: Log = []
+    main_done = threading.Event()
+    exps = {n: _exp(n, log) for n in ("a", "b", "c")}
+    exps["renders"] = _exp("renders", log, wait=main_done)  # the second lane is busy until this lane has taken all
+
+    def finished(n: str, res: ExperimentResult) -> None:
+        if n == "a":
+            main_done.set()
+
+    ctx = Context(out_dir=tmp_path, workers=2)
+    out = run_experiments(ctx, exps, ["a", "renders", "b", "c"], lambda n, b: None, finished,
+                          second=_thread_lane(exps, ctx, []), seconds=seconds)
+    assert list(out) == ["a", "renders", "b", "c"]
+    assert [n for n, th in log if th != "validate-lane-2"] == ["b", "c", "a"]  # longest first
+    log.clear()
+    run_experiments(Context(out_dir=tmp_path), exps, ["a", "b", "c"], lambda n, b: None, lambda n, r: None,
+                    seconds=seconds)
+    assert [n for n, _ in log] == ["a", "b", "c"]

@@ -8,7 +8,9 @@ run in **two lanes**: this process is one, a child interpreter (:class:`~validat
 the other. The second lane starts with the :data:`BESIDE` experiments, this one with the first of the others, and
 each lane, when its experiment ends, takes the next one not yet started, in the order of ``todo``. What one lane
 leaves idle (a core while its tasks queue on the workers, the gaps between tasks, the browser's waits), the other
-fills. Numbers do not depend on the lane: every task and reference is seeded by its inputs, never by timing.
+fills. When the output folder holds a previous report, the lanes take the experiments longest first by its wall
+times (:func:`longest_first`), so that the short ones end the run together. Numbers do not depend on the lane or
+the order: every task and reference is seeded by its inputs, never by timing.
 
 Everything runs in one lane, in order, when the run is serial, when it has one experiment, or when a GLSL
 technique on the ``webgl2`` runtime is registered (a plug-in): the browser it shares with ``renders`` would be
@@ -48,16 +50,27 @@ def beside(ctx: Context, todo: list[str]) -> list[str]:
 Runner = Callable[[str], ExperimentResult]
 
 
+def longest_first(todo: list[str], seconds: dict[str, float]) -> list[str]:
+    """``todo`` in the order the two lanes take it: experiments without a duration first (in ``todo``'s order: one
+    may be long), then the others longest first by ``seconds`` (the previous report's wall times). Greedy
+    longest-first list scheduling ends the lanes within the last experiment's duration of each other [Graham 1969,
+    "Bounds on multiprocessing timing anomalies", SIAM J. Appl. Math. 17(2)], so the short ones fill the end."""
+    known = sorted((n for n in todo if n in seconds), key=lambda n: -seconds[n])
+    return [n for n in todo if n not in seconds] + known
+
+
 def run_experiments(ctx: Context, exps: dict[str, Experiment], todo: list[str],
                     started: Callable[[str, bool], None], finished: Callable[[str, ExperimentResult], None],
-                    second: Callable[[], tuple[Runner, Callable[[bool], None]]] | None = None
-                    ) -> dict[str, ExperimentResult]:
+                    second: Callable[[], tuple[Runner, Callable[[bool], None]]] | None = None,
+                    seconds: dict[str, float] | None = None) -> dict[str, ExperimentResult]:
     """Run ``todo`` (names of ``exps``) in :func:`lanes` lanes; ``started(name, second)`` (second: on the second
     lane) and ``finished(name, result)`` report progress; the results come back in the order of ``todo``.
     ``second()`` makes the second lane's (run, close) (default: a :class:`~validate.experiments.lane.ProcessLane`;
-    ``close(False)`` when this lane failed: the other's experiment is abandoned)."""
+    ``close(False)`` when this lane failed: the other's experiment is abandoned). With two lanes and ``seconds``
+    (each experiment's wall time in the previous report), the lanes take the experiments :func:`longest_first`."""
     first = beside(ctx, todo)
-    queue = deque(n for n in todo if n not in first)
+    rest = [n for n in todo if n not in first]
+    queue = deque(longest_first(rest, seconds) if seconds and lanes(ctx, todo) == 2 else rest)
     lock = threading.Lock()
     done: dict[str, ExperimentResult] = {}
     other: list[Background[None]] = []
