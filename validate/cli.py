@@ -462,14 +462,16 @@ def _run_in(args: argparse.Namespace, exps: dict, todo: list[str], staging: Path
 def _previous_seconds(out: Path) -> dict[str, float]:
     """Each experiment's wall time in the report already in ``out`` (none when there is none or it cannot be read:
     it only orders the two lanes' work, :func:`~validate.experiments.schedule.longest_first`)."""
-    import json
+    from .report.html import load_results
 
     try:
-        exps = json.loads((out / "results.json").read_text()).get("experiments", {})
-        return {n: float(e["wall_time_s"]) for n, e in exps.items()
-                if isinstance(e, dict) and isinstance(e.get("wall_time_s"), (int, float))}
-    except (OSError, ValueError, AttributeError):
+        exps = load_results(out).get("experiments", {})
+    except ValidateError:
         return {}
+    if not isinstance(exps, dict):
+        return {}
+    return {n: float(e["wall_time_s"]) for n, e in exps.items()
+            if isinstance(e, dict) and isinstance(e.get("wall_time_s"), (int, float))}
 
 
 def _commit(out: Path, staging: Path, done: dict, results: dict) -> Path:
