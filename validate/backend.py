@@ -15,9 +15,11 @@ the same code runs on CUDA, LLVM and (slowly) scalar dynamic arrays.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import subprocess
 import sys
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -166,6 +168,28 @@ def load_scene(description: dict[str, Any]) -> Any:
 
     init()
     return mi.load_dict(description, optimize=False)
+
+
+@contextlib.contextmanager
+def bitmap_io_threads() -> Iterator[None]:
+    """At least two Dr.Jit pool threads while Mitsuba reads or writes an image file, then the count as it was.
+
+    Mitsuba's OpenEXR (and RGBE) I/O hands its work to Dr.Jit's thread pool and waits for it; with a pool of one
+    thread (``dr.set_thread_count(1)``, as worstcase's search and brdfs' elementwise kernels run) nothing runs
+    that work and the call never returns (measured: ``mi.Bitmap("….exr")`` and ``Bitmap.write("….exr")`` still
+    waiting after 40 s, OpenEXR's ``TaskGroup`` destructor on its semaphore; the same calls on two threads: a few
+    milliseconds)."""
+    import drjit as dr
+
+    before = dr.thread_count()
+    if before >= 2:
+        yield
+        return
+    dr.set_thread_count(2)
+    try:
+        yield
+    finally:
+        dr.set_thread_count(before)
 
 
 RAY_PACKET = 64  # rays: every array handed to a Mitsuba scene query is padded to a multiple of this (see below)

@@ -313,3 +313,28 @@ def test_sh9_matches_sources_md(probes_dir: Path, load_probe, stem: str) -> None
     assert rel_diff(sh.project_environment(provided.radiance, 2), printed[stem]) < ROW_CONVENTION_TOL
     ours = sh.project_environment(load_probe(f"{stem}.hdr").radiance, 2)
     assert rel_diff(ours, printed[stem]) < ANGULAR_CONVERSION_TOL
+
+
+def test_exr_io_returns_with_a_one_thread_drjit_pool(tmp_path: Path) -> None:
+    """Mitsuba's EXR reader and writer wait on Dr.Jit's pool, which has no thread to run their work after
+    ``dr.set_thread_count(1)`` (worstcase's search, brdfs); the suite's reader and probe writer give it two meanwhile
+    and restore one. Run in a child with a timeout: without the guard the call never returns."""
+    import subprocess
+    import sys
+
+    script = (
+        "import drjit as dr, numpy as np\n"
+        "from pathlib import Path\n"
+        "from validate.backend import init\n"
+        "init()\n"
+        "from validate.scenes.loaders import read_image\n"
+        "from validate.experiments.worstcase.lighting import write_probe\n"
+        "dr.set_thread_count(1)\n"
+        f"p = Path({str(tmp_path / 'one.exr')!r})\n"
+        "write_probe(p, np.full((16, 32, 3), 0.5, np.float32))\n"
+        "a = read_image(p)\n"
+        "assert a.shape == (16, 32, 3) and np.all(a == 0.5) and dr.thread_count() == 1\n"
+        "print('ok')\n")
+    proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120,
+                          cwd=Path(__file__).resolve().parents[2])
+    assert proc.returncode == 0 and proc.stdout.strip().endswith("ok"), proc.stderr[-500:]

@@ -64,7 +64,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..backend import init
+from ..backend import bitmap_io_threads, init
 from ..errors import ValidateError
 from . import latlong
 from .environment import Environment
@@ -187,13 +187,14 @@ def read_image(path: Path) -> np.ndarray:
     if size is not None:
         check_memory(path, *size)
     try:
-        bmp = mi.Bitmap(str(path))
-        channels = bmp.channel_count()
-        fmt = mi.Bitmap.PixelFormat.Y if channels == 1 else mi.Bitmap.PixelFormat.RGB
-        if bmp.pixel_format() == fmt and bmp.component_format() == mi.Struct.Type.Float32:
-            conv = bmp  # already float32 RGB (or Y): no converted copy of a large map
-        else:
-            conv = bmp.convert(fmt, mi.Struct.Type.Float32, srgb_gamma=False)
+        with bitmap_io_threads():
+            bmp = mi.Bitmap(str(path))
+            channels = bmp.channel_count()
+            fmt = mi.Bitmap.PixelFormat.Y if channels == 1 else mi.Bitmap.PixelFormat.RGB
+            if bmp.pixel_format() == fmt and bmp.component_format() == mi.Struct.Type.Float32:
+                conv = bmp  # already float32 RGB (or Y): no converted copy of a large map
+            else:
+                conv = bmp.convert(fmt, mi.Struct.Type.Float32, srgb_gamma=False)
         del bmp  # the file's own pixels are no longer needed
         arr = np.asarray(conv)  # a view: no third copy
         if channels == 1:

@@ -199,8 +199,9 @@ def write_probe(path: Any, radiance: np.ndarray) -> None:
     import mitsuba as mi
 
     from ...atomic import atomic_path
+    from ...backend import bitmap_io_threads
 
-    with atomic_path(path, ".exr") as tmp:
+    with atomic_path(path, ".exr") as tmp, bitmap_io_threads():
         mi.Bitmap(np.ascontiguousarray(radiance, dtype=np.float32)).write(str(tmp))
 
 
