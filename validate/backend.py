@@ -171,8 +171,23 @@ def load_scene(description: dict[str, Any]) -> Any:
 
 
 @contextlib.contextmanager
-def bitmap_io_threads() -> Iterator[None]:
-    """At least two Dr.Jit pool threads while Mitsuba reads or writes an image file, then the count as it was.
+def drjit_threads(count: int | None) -> Iterator[None]:
+    """Dr.Jit's thread pool at ``count`` threads meanwhile (None: as it is), the count as it was after."""
+    import drjit as dr
+
+    if count is None:
+        yield
+        return
+    before = dr.thread_count()
+    dr.set_thread_count(count)
+    try:
+        yield
+    finally:
+        dr.set_thread_count(before)
+
+
+def bitmap_io_threads() -> contextlib.AbstractContextManager[None]:
+    """At least two Dr.Jit pool threads while Mitsuba reads or writes an image file (:func:`drjit_threads`).
 
     Mitsuba's OpenEXR (and RGBE) I/O hands its work to Dr.Jit's thread pool and waits for it; with a pool of one
     thread (``dr.set_thread_count(1)``, as worstcase's search and brdfs' elementwise kernels run) nothing runs
@@ -181,15 +196,7 @@ def bitmap_io_threads() -> Iterator[None]:
     milliseconds)."""
     import drjit as dr
 
-    before = dr.thread_count()
-    if before >= 2:
-        yield
-        return
-    dr.set_thread_count(2)
-    try:
-        yield
-    finally:
-        dr.set_thread_count(before)
+    return drjit_threads(None if dr.thread_count() >= 2 else 2)
 
 
 RAY_PACKET = 64  # rays: every array handed to a Mitsuba scene query is padded to a multiple of this (see below)

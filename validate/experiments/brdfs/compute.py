@@ -32,14 +32,13 @@ Power (every metric): the technique's output × 1.02, a 2 % bias (``Measured.per
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-from contextlib import contextmanager
 from dataclasses import dataclass, field
 from functools import lru_cache, partial
 from typing import Any
 
 import numpy as np
 
+from ...backend import drjit_threads
 from ...local_models import family
 from ...local_models.brdf.common import (
     Geometry,
@@ -489,7 +488,7 @@ def env_radiance_many(fns: dict[str, Any], radiance: np.ndarray, normals: np.nda
 
 def env_analysis(m: Measurements, mats: list[bs.Material], render_threads: int | None = None) -> None:
     """Every technique on a sphere under ``two_tone`` vs Mitsuba's path-traced sphere, per material; the renders
-    on ``render_threads`` drjit threads when given (:func:`drjit_threads`)."""
+    on ``render_threads`` drjit threads when given (:func:`~validate.backend.drjit_threads`)."""
     from ...reference import ibl_render as ir
     s = m.settings
     env = procedural.two_tone()
@@ -609,35 +608,18 @@ def plane_analysis(m: Measurements, mats: list[bs.Material]) -> None:
 LIGHT_DIR = (0.5, 0.6, 0.62)  # the sphere images' light direction (world, viewer at +z)
 
 
-@contextmanager
-def drjit_threads(count: int | None) -> Iterator[None]:
-    """drjit's thread pool at ``count`` threads meanwhile (None: as it is), restored after.
-
-    The experiment's drjit work runs on one thread (:func:`compute`): its kernels (the techniques, Mitsuba's BSDF
-    evaluations and ray queries of the V-groove tracer) are elementwise, each output lane computed by the same
-    instructions whatever thread runs it, so the numbers do not depend on the count; on this suite's CPU-bound
-    runs (both cores busy with the experiment lanes) a second pool thread adds CPU time (its launches, hand-offs
-    and idle waiting: measured, the environment quadrature's techniques 39.6 s of CPU on two threads, 28.6 s on
-    one, the same arrays) without finishing sooner. Mitsuba's path-traced renders accumulate samples into pixels by
-    atomic adds, whose float sums may follow the threads' order, so they keep the process's count
-    (:func:`env_analysis`)."""
-    import drjit as dr
-
-    if count is None:
-        yield
-        return
-    before = dr.thread_count()
-    dr.set_thread_count(count)
-    try:
-        yield
-    finally:
-        dr.set_thread_count(before)
-
-
 def compute(ctx: Context, s: Settings) -> Measurements:
     """Every technique on every Mitsuba material (grid and furnace), the term-by-term Cook–Torrance path,
-    the energy sweep, the V-groove surfaces and the sphere images (drjit on one thread, :func:`drjit_threads`; the
-    path-traced environment renders on the process's threads)."""
+    the energy sweep, the V-groove surfaces and the sphere images.
+
+    drjit runs on one thread meanwhile (:func:`~validate.backend.drjit_threads`): the kernels here (the techniques,
+    Mitsuba's BSDF evaluations and ray queries of the V-groove tracer) are elementwise, each output lane computed by
+    the same instructions whatever thread runs it, so the numbers do not depend on the count; on this suite's
+    CPU-bound runs (both cores busy with the experiment lanes) a second pool thread adds CPU time (its launches,
+    hand-offs and idle waiting: measured, the environment quadrature's techniques 39.6 s of CPU on two threads,
+    28.6 s on one, the same arrays) without finishing sooner. Mitsuba's path-traced renders accumulate samples into
+    pixels by atomic adds, whose float sums may follow the threads' order, so they keep the process's count
+    (:func:`env_analysis`)."""
     import drjit as dr
 
     threads = dr.thread_count()

@@ -276,14 +276,10 @@ def search(name: str, s: SearchSettings, metric: str = "flux_luminance.max", fn:
     drjit runs on one thread meanwhile: the adjoint of a gather is an atomic scatter-add, whose float sums
     depend on the threads' order; one thread makes the gradients, hence the restarts, reproducible (measured:
     a 120-step restart of zh3_hallucinated ended at 23.5 %, 23.9 % or 24.9 % on two threads)."""
-    import drjit as dr
+    from ...backend import drjit_threads
 
-    threads = dr.thread_count()
-    dr.set_thread_count(1)
-    try:
+    with drjit_threads(1):
         return _search(name, s, metric, fn, with_random)
-    finally:
-        dr.set_thread_count(threads)
 
 
 def _search(name: str, s: SearchSettings, metric: str, fn: Technique | None, with_random: bool) -> SearchResult:
