@@ -217,27 +217,33 @@ def test_standin_crossing_is_a_root_to_its_tolerance():
 
 
 def test_shadow_rays_are_segment_visible_bit_for_bit():
-    """The lights' shadow test (light_render.segment_visible_rows: contiguous blocks) forms the rays of
-    shadow_render.segment_visible (strided columns) bit for bit, and answers the same; a ragged count and a block
-    boundary inside the rays."""
+    """The shadow test's rays (shadow_render.segment_rays, formed on contiguous blocks) are the per-column float64
+    formula's bit for bit, and segment_visible answers as rays built from those columns do; a ragged count and a
+    block boundary inside the rays."""
+    import mitsuba as mi
+
     from validate.backend import padded_count
     from validate.reference import shadow_render as sr
 
     rng = np.random.default_rng(7)
-    m = lr.RAY_BLOCK + 1234
+    m = sr.RAY_BLOCK + 1234
     x = rng.uniform(-2.0, 2.0, (m, 3)) * [1.0, 0.0, 1.0]
     n = np.tile([0.0, 1.0, 0.0], (m, 1))
     t = rng.uniform(-2.0, 2.0, (m, 3)) + [0.0, 3.0, 0.0]
     t[:5] = x[:5]  # zero-length segments (ω = 0/10⁻³⁰ side)
-    buf = lr.segment_rays(x, n, t, padded_count(m))
+    buf = sr.segment_rays(x, n, t, padded_count(m))
     o = [x[:, k] + sr.RAY_OFFSET * n[:, k] for k in range(3)]
     d = [t[:, k] - o[k] for k in range(3)]
     dist = np.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+    cols = []
     for k, col in enumerate([*o, *(c / np.maximum(dist, 1e-30) for c in d), dist]):
         want = np.full(buf.shape[1], np.float32(col[-1]))
         want[:m] = col
         assert np.array_equal(buf[k].view(np.uint32), want.view(np.uint32)), k
+        cols.append(want)
     geometry = lr.load(ls.light_scene(("rectangle",), 16, 12), "block", with_sensor=False)
-    free = lr.segment_visible_rows(geometry, x, n, t)
-    assert np.array_equal(free, sr.segment_visible(geometry, x, n, t))
+    free = sr.segment_visible(geometry, x, n, t)
+    ray = mi.Ray3f(mi.Point3f(*(mi.Float(c) for c in cols[:3])), mi.Vector3f(*(mi.Float(c) for c in cols[3:6])))
+    ray.maxt = mi.Float(cols[6])
+    assert np.array_equal(free, ~np.array(geometry.ray_test(ray))[:m])
     assert 0 < free.sum() < m  # the sphere and the box block some of them

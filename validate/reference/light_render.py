@@ -45,12 +45,12 @@ from typing import Any
 
 import numpy as np
 
-from ..backend import init, padded_count
+from ..backend import init
 from ..errors import ValidateError
 from ..scenes.light_scenes import Light, LightScene
 from ..stats import mean_and_stderr
 from .cache import cached
-from .shadow_render import CHUNK_RAYS, RAY_OFFSET, pixel_centre_positions, render_gbuffer
+from .shadow_render import pixel_centre_positions, render_gbuffer, segment_visible
 
 CODE_VERSION = "light_render/3"
 PASS_SEED_STRIDE = 7919
@@ -142,53 +142,8 @@ def shadow_tester(scene: LightScene, light_index: int = 0) -> Callable[[np.ndarr
         t = np.ascontiguousarray(targets, dtype=np.float64).reshape(-1, 3)
         if not (o.shape == n.shape == t.shape):
             raise ValidateError(f"shadow test: {o.shape[0]} origins, {n.shape[0]} normals, {t.shape[0]} targets")
-        return segment_visible_rows(geometry, o, n, t) if o.size else np.zeros(0, dtype=bool)
+        return segment_visible(geometry, o, n, t) if o.size else np.zeros(0, dtype=bool)
     return visible
-
-
-RAY_BLOCK = 1 << 16  # rows per numpy block of :func:`segment_rays` (its float64 temporaries stay in cache)
-
-
-def segment_rays(origins: np.ndarray, normals: np.ndarray, targets: np.ndarray, count: int) -> np.ndarray:
-    """(7, ``count``) float32 rows o_x, o_y, o_z, ω_x, ω_y, ω_z, maxt of the shadow segments (M ≤ ``count`` rows of
-    (M, 3) float64 inputs): the values of :func:`validate.reference.shadow_render.segment_visible`, bit for bit —
-    o = x + RAY_OFFSET·n, d = t − o, |d| = √((d_x² + d_y²) + d_z²), ω = d / max(|d|, 10⁻³⁰), the same float64
-    operations per component, each rounded once to float32, the last ray repeated past M — formed on contiguous
-    (M, 3) blocks rather than strided columns, one block of :data:`RAY_BLOCK` rows at a time."""
-    m = origins.shape[0]
-    buf = np.empty((7, count), dtype=np.float32)
-    for s in range(0, m, RAY_BLOCK):
-        e = min(s + RAY_BLOCK, m)
-        o = normals[s:e] * RAY_OFFSET
-        o += origins[s:e]
-        d = targets[s:e] - o
-        sq = d * d
-        dist = sq[:, 0] + sq[:, 1]
-        dist += sq[:, 2]
-        np.sqrt(dist, out=dist)
-        d /= np.maximum(dist, 1e-30)[:, None]
-        buf[0:3, s:e] = o.T
-        buf[3:6, s:e] = d.T
-        buf[6, s:e] = dist
-    buf[:, m:] = buf[:, m - 1:m] if m else 0.0
-    return buf
-
-
-def segment_visible_rows(geometry: Any, origins: np.ndarray, normals: np.ndarray, targets: np.ndarray
-                         ) -> np.ndarray:
-    """:func:`validate.reference.shadow_render.segment_visible` (the same rays, :func:`segment_rays`, in the same
-    chunks of CHUNK_RAYS padded to :func:`~validate.backend.padded_count` lanes): whether each segment is free."""
-    import mitsuba as mi
-
-    out = np.empty(origins.shape[0], dtype=bool)
-    for s in range(0, origins.shape[0], CHUNK_RAYS):
-        e = min(s + CHUNK_RAYS, origins.shape[0])
-        buf = segment_rays(origins[s:e], normals[s:e], targets[s:e], padded_count(e - s))
-        ray = mi.Ray3f(mi.Point3f(*(mi.Float(buf[k]) for k in range(3))),
-                       mi.Vector3f(*(mi.Float(buf[k]) for k in range(3, 6))))
-        ray.maxt = mi.Float(buf[6])
-        out[s:e] = ~np.array(geometry.ray_test(ray))[:e - s]
-    return out
 
 
 def rectangle_corners(light: Light) -> np.ndarray:

@@ -168,38 +168,48 @@ def disc_irradiance_quadrature(light: Any, position: np.ndarray, normal: np.ndar
     return out
 
 
-def _padded_f32(values: np.ndarray, count: int) -> Any:
-    """``values`` (M,) float64 → mi.Float of ``count`` ≥ M lanes: rounded to float32 (as ``astype``), the last value
-    repeated past M (0 when M = 0) — :func:`~validate.backend.pad_rows` for one column."""
-    import mitsuba as mi
+RAY_BLOCK = 1 << 16  # rows per numpy block of :func:`segment_rays` (its float64 temporaries stay in cache)
 
-    buf = np.empty(count, dtype=np.float32)
-    m = values.shape[0]
-    buf[:m] = values
-    buf[m:] = buf[m - 1] if m else 0.0
-    return mi.Float(buf)
+
+def segment_rays(origins: np.ndarray, normals: np.ndarray, targets: np.ndarray, count: int) -> np.ndarray:
+    """(7, ``count``) float32 rows o_x, o_y, o_z, ω_x, ω_y, ω_z, maxt of the shadow segments of M ≤ ``count`` rows of
+    (M, 3) float64 inputs. Per component, in float64: o = x + RAY_OFFSET·n, d = t − o, |d| = √((d_x² + d_y²) + d_z²)
+    (the sum in that order, as ``np.linalg.norm(d, axis=1)`` forms it), ω = d / max(|d|, 10⁻³⁰); each rounded once
+    to float32, the last ray repeated past M (zeros when M = 0). Formed on contiguous (M, 3) blocks of
+    :data:`RAY_BLOCK` rows (the same operations as on the strided columns, the same bits)."""
+    m = origins.shape[0]
+    buf = np.empty((7, count), dtype=np.float32)
+    for s in range(0, m, RAY_BLOCK):
+        e = min(s + RAY_BLOCK, m)
+        o = normals[s:e] * RAY_OFFSET
+        o += origins[s:e]
+        d = targets[s:e] - o
+        sq = d * d
+        dist = sq[:, 0] + sq[:, 1]
+        dist += sq[:, 2]
+        np.sqrt(dist, out=dist)
+        d /= np.maximum(dist, 1e-30)[:, None]
+        buf[0:3, s:e] = o.T
+        buf[3:6, s:e] = d.T
+        buf[6, s:e] = dist
+    buf[:, m:] = buf[:, m - 1:m] if m else 0.0
+    return buf
 
 
 def segment_visible(geometry: Any, origins: np.ndarray, normals: np.ndarray, targets: np.ndarray) -> np.ndarray:
-    """Whether the segment from each origin (lifted by RAY_OFFSET along its normal) to its target is free.
-
-    Per component, in float64: o = x + RAY_OFFSET·n, d = t − o, |d| = √(d_x² + d_y² + d_z²) (the sum in that order,
-    as ``np.linalg.norm(d, axis=1)`` forms it), ω = d / max(|d|, 10⁻³⁰); each rounded once to float32 into the ray
-    arrays, padded to :func:`~validate.backend.padded_count` lanes (the last ray repeated)."""
+    """Whether the segment from each origin (lifted by RAY_OFFSET along its normal) to its target is free: the rays of
+    :func:`segment_rays` in chunks of :data:`CHUNK_RAYS`, each padded to :func:`~validate.backend.padded_count` lanes
+    (Mitsuba's query reads past a ragged end)."""
     import mitsuba as mi
 
     out = np.empty(origins.shape[0], dtype=bool)
     for s in range(0, origins.shape[0], CHUNK_RAYS):
-        x, n, t = origins[s:s + CHUNK_RAYS], normals[s:s + CHUNK_RAYS], targets[s:s + CHUNK_RAYS]
-        m, count = x.shape[0], padded_count(x.shape[0])  # padded: Mitsuba's query reads past a ragged end
-        o = [x[:, k] + RAY_OFFSET * n[:, k] for k in range(3)]
-        d = [t[:, k] - o[k] for k in range(3)]
-        dist = np.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
-        safe = np.maximum(dist, 1e-30)
-        ray = mi.Ray3f(mi.Point3f(*(_padded_f32(c, count) for c in o)),
-                       mi.Vector3f(*(_padded_f32(c / safe, count) for c in d)))
-        ray.maxt = _padded_f32(dist, count)
-        out[s:s + CHUNK_RAYS] = ~np.array(geometry.ray_test(ray))[:m]
+        e = min(s + CHUNK_RAYS, origins.shape[0])
+        buf = segment_rays(origins[s:e], normals[s:e], targets[s:e], padded_count(e - s))
+        ray = mi.Ray3f(mi.Point3f(*(mi.Float(buf[k]) for k in range(3))),
+                       mi.Vector3f(*(mi.Float(buf[k]) for k in range(3, 6))))
+        ray.maxt = mi.Float(buf[6])
+        out[s:e] = ~np.array(geometry.ray_test(ray))[:e - s]
     return out
 
 
