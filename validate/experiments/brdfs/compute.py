@@ -45,6 +45,7 @@ from ...local_models.brdf.common import (
     cook_torrance_printed_terms,
     fresnel_exact,
     fresnel_schlick,
+    frozen_copy,
     oren_nayar_full_terms,
 )
 from ...local_models.registry import Technique
@@ -120,19 +121,11 @@ def _entry(value: float, unc: float, perturbed: float) -> dict[str, float]:
     return {"value": float(value), "uncertainty": float(unc), "perturbed": float(perturbed)}
 
 
-def _frozen_copy(a: np.ndarray) -> np.ndarray:
-    """A read-only float64 copy of ``a`` with no base: techniques called one after another on the same frozen
-    (lights, views) share their drjit conversion and geometry (common._packed_directions, GeometryDr)."""
-    out = np.array(a, dtype=np.float64, copy=True)
-    out.setflags(write=False)
-    return out
-
-
 def grid_metrics(m: Measurements, mat: bs.Material) -> None:
     """rel_l1 and max_rel of every technique for one Mitsuba material (grid n and n/2; every technique on one grid,
     then on the other: the frozen grid arrays shared by consecutive calls)."""
     grids = [bs.brdf_grid(m.settings.grid, m.settings.grid), bs.brdf_grid(m.settings.grid // 2, m.settings.grid // 2)]
-    grids = [(_frozen_copy(g[0]), _frozen_copy(g[1]), g[2]) for g in grids]
+    grids = [(frozen_copy(g[0]), frozen_copy(g[1]), g[2]) for g in grids]
     refs = [br.eval_bsdf(mat.bsdf, g[0], g[1]) for g in grids]
     per_grid = [{tech.name: call(tech, mat.params, g[0], g[1]) for tech in m.techniques} for g in grids]
     for tech in m.techniques:
@@ -156,9 +149,9 @@ def furnace_albedo_many(fns: dict[str, Any], views_deg: tuple[float, ...],
                         nodes: tuple[int, int]) -> dict[str, np.ndarray]:
     """:func:`furnace_albedo` of every ``fns[name]``, one after another on the same (frozen) lights and views."""
     dirs, w = bs.hemisphere_quadrature(*nodes)
-    views = _frozen_copy(np.concatenate([np.tile(bs.direction(np.radians(t), 0.0), (len(dirs), 1))
+    views = frozen_copy(np.concatenate([np.tile(bs.direction(np.radians(t), 0.0), (len(dirs), 1))
                                          for t in views_deg]))
-    lights = _frozen_copy(np.tile(dirs, (len(views_deg), 1)))
+    lights = frozen_copy(np.tile(dirs, (len(views_deg), 1)))
     k = len(dirs)
     out = {}
     for name, fn in fns.items():

@@ -12,7 +12,7 @@ import numpy as np
 from ...backend import init
 from ...local_models import family
 from ...local_models.brdf.brdf_multiscatter import tables
-from ...local_models.brdf.common import ggx_d
+from ...local_models.brdf.common import frozen_copy, ggx_d
 from ...local_models.registry import Technique
 from ...reference import microsurface_bsdf as mbsdf
 from ...reference import microsurface_walk as mw
@@ -119,13 +119,6 @@ def _furnace(tech: Technique, params: dict[str, Any], mus: tuple[float, ...], no
 _GEOMETRY: dict[tuple[tuple[float, ...], int], tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = {}
 
 
-def _frozen_copy(a: np.ndarray) -> np.ndarray:
-    """A read-only copy with no base (so :mod:`validate.local_models.brdf.common` may treat it as immutable)."""
-    out = np.array(a, dtype=np.float64, copy=True)
-    out.flags.writeable = False
-    return out
-
-
 def _furnace_geometry(mus: tuple[float, ...], nodes: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(normals, lights, views, weights) of :func:`_furnace_eval`: the hemisphere quadrature
     (:func:`validate.scenes.brdf_scenes.hemisphere_quadrature`, nodes × 2·nodes) tiled once per μ_v, n = +z, v at
@@ -139,8 +132,8 @@ def _furnace_geometry(mus: tuple[float, ...], nodes: int) -> tuple[np.ndarray, n
         k = len(dirs)
         n = np.tile([0.0, 0.0, 1.0], (k * len(mus), 1))
         v = np.concatenate([np.tile([np.sqrt(1.0 - mu * mu), 0.0, mu], (k, 1)) for mu in mus])
-        hit = _GEOMETRY[key] = (_frozen_copy(n), _frozen_copy(np.tile(dirs, (len(mus), 1))), _frozen_copy(v),
-                                _frozen_copy(w))
+        hit = _GEOMETRY[key] = (frozen_copy(n), frozen_copy(np.tile(dirs, (len(mus), 1))), frozen_copy(v),
+                                frozen_copy(w))
     return hit
 
 

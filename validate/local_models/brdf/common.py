@@ -398,6 +398,15 @@ def power_dr(x: Any, s: float) -> Any:
 _PACKED: list[Any] = [None]  # the last read-only (normals, lights, views) and their packed drjit input
 
 
+def frozen_copy(a: np.ndarray) -> np.ndarray:
+    """A read-only float64 copy of ``a`` with no base (:func:`_frozen`): callers that pass the same such arrays to
+    technique after technique share their drjit conversion and geometry (:func:`_packed_directions`,
+    :class:`GeometryDr`)."""
+    out = np.array(a, dtype=np.float64, copy=True)
+    out.setflags(write=False)
+    return out
+
+
 def _frozen(a: Any) -> bool:
     """A numpy array that nothing can write into: it and every base below it read-only."""
     while isinstance(a, np.ndarray):
