@@ -1,6 +1,8 @@
 # Two entry points (see README): `make report` and `make test`. Both set up .venv first.
 PROBES ?= $(if $(VALIDATE_PROBES),$(VALIDATE_PROBES),../shared/probes)
+# a checkout alone (no ../shared beside it) runs on the built-in environments: nothing points at a missing folder
 PROBES_ARG := $(if $(wildcard $(PROBES)),--probes $(PROBES),)
+PROBES_ENV := $(if $(wildcard $(PROBES)),VALIDATE_PROBES=$(PROBES),)
 
 .PHONY: setup report quick test test-slow lint bench
 
@@ -21,10 +23,10 @@ quick: setup
 # while a test waits on a subprocess, Node or the browser; a crashed worker ends the run (no restart: after a
 # restart pytest-xdist's loadfile scheduler was seen to wait forever for the crashed file's tests)
 test: setup
-	VALIDATE_PROBES=$(PROBES) .venv/bin/python -m pytest -q -n 2 --dist loadfile --max-worker-restart 0
+	$(PROBES_ENV) .venv/bin/python -m pytest -q -n 2 --dist loadfile --max-worker-restart 0
 
 test-slow: setup
-	VALIDATE_PROBES=$(PROBES) .venv/bin/python -m pytest -q -m slow
+	$(PROBES_ENV) .venv/bin/python -m pytest -q -m slow
 
 lint:
 	.venv/bin/ruff check validate tests

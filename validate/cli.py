@@ -133,6 +133,16 @@ def _parser() -> argparse.ArgumentParser:
                    help="map heights (rows; width 2H) measured in child processes (default: 1k to 8k)")
     b.add_argument("--only", default=None, metavar="SECTION,...",
                    help="run only these sections of kernels, gl, sizes, fits, render (default: all)")
+    s = sub.add_parser("setup", help="install and check what the suite runs besides Python (npm engines, GL, ...)",
+                       description="Install what is missing, then print every piece with its version: drjit's "
+                                   "LLVM backend, the GL runtime, Chromium, Node.js and the npm engines "
+                                   "(pinned, into the per-user folder $VALIDATE_HOME, default "
+                                   "~/.local/share/validate). System packages come from apt as root.")
+    s.add_argument("--engines", action="append_const", const="engines", dest="groups",
+                   help="only Node.js and the npm engines (three.js, Babylon.js, Filament)")
+    s.add_argument("--system", action="append_const", const="system", dest="groups",
+                   help="only the system packages (libLLVM, Mesa GL, Chromium, Node.js)")
+    s.add_argument("--check", action="store_true", help="install nothing; exit 1 when a piece is missing")
     d = sub.add_parser("docs", help="rewrite the measured-figure blocks of docs/ from a results.json")
     d.add_argument("--results", type=Path, default=Path("reports") / "results.json", metavar="FILE",
                    help="results to render (default: reports/results.json)")
@@ -590,6 +600,10 @@ def main(argv: list[str] | None = None) -> int:
             return run_bench(args.out, sizes, only)
         if args.command == "docs":
             return _cmd_docs(args.results, args.docs, args.check)
+        if args.command == "setup":
+            from .setup.install import setup
+
+            return setup(tuple(args.groups or ()), check=args.check)
     except (Exception, Interrupted, KeyboardInterrupt) as exc:
         return _failure(exc)
     finally:

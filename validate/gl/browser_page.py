@@ -3,7 +3,7 @@
 :mod:`validate.gl.webgl` starts the browser (SwiftShader WebGL2) with an ``about:blank`` page holding a
 raw WebGL2 canvas; engines (three.js, Babylon.js) need ES-module imports, so this module serves two
 folders over a loopback HTTP server started once per process — ``/node_modules/`` (the project's
-pinned ``package.json`` packages) and ``/pages/`` (the engine scripts of
+pinned npm engines of :func:`validate.setup.paths.node_modules`) and ``/pages/`` (the engine scripts of
 :mod:`validate.local_models.render`) — and opens one extra tab per page in the *same* browser
 (:func:`validate.gl.runtime.get` ``("webgl2")``), so a run still starts one browser.
 
@@ -22,12 +22,11 @@ from typing import Any
 
 import numpy as np
 
+from ..setup import paths
 from . import runtime
 from .egl import GLUnavailable
 
-ROOT = Path(__file__).resolve().parents[2]
-NODE_MODULES = ROOT / "node_modules"
-PAGES = ROOT / "validate" / "local_models" / "render"
+PAGES = Path(__file__).resolve().parents[1] / "local_models" / "render"
 
 _server: dict[str, Any] = {}
 _pages: dict[str, Any] = {}
@@ -36,7 +35,7 @@ _lock = threading.RLock()
 
 
 class _Handler(http.server.SimpleHTTPRequestHandler):
-    """Static files from ROOT, only under /node_modules/ and /validate/local_models/render/; quiet."""
+    """Static files of the served root, only under /node_modules/ and /validate/local_models/render/; quiet."""
 
     extensions_map = {**http.server.SimpleHTTPRequestHandler.extensions_map, ".js": "text/javascript",
                       ".mjs": "text/javascript"}
@@ -59,7 +58,7 @@ def served_root() -> Path:
 
             root = Path(tempfile.mkdtemp(prefix="validate-pages-"))
             atexit.register(shutil.rmtree, root, True)
-            (root / "node_modules").symlink_to(NODE_MODULES)
+            (root / "node_modules").symlink_to(paths.node_modules())
             (root / "validate" / "local_models").mkdir(parents=True)
             (root / "validate" / "local_models" / "render").symlink_to(PAGES)
             (root / "data").mkdir()
@@ -81,8 +80,9 @@ def base_url() -> str:
     """``http://127.0.0.1:PORT`` of the static server (started on first call, a daemon thread)."""
     with _lock:
         if "url" not in _server:
-            if not (NODE_MODULES / "three").exists():
-                raise GLUnavailable(f"{NODE_MODULES}: three not installed (run `npm ci`)")
+            if not (paths.node_modules() / "three").exists():
+                raise GLUnavailable(f"{paths.node_modules()}: npm engines not installed "
+                                    "(run `python -m validate setup --engines`)")
             handler = functools.partial(_Handler, directory=str(served_root()))
             srv = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
             threading.Thread(target=srv.serve_forever, daemon=True).start()
@@ -159,5 +159,4 @@ def encode_f32(a: np.ndarray) -> str:
     return base64.b64encode(np.ascontiguousarray(a, dtype=np.float32).tobytes()).decode("ascii")
 
 
-__all__ = ["base_url", "publish", "served_root", "preload", "open_page", "call", "decode_f32", "encode_f32", "PAGES",
-           "NODE_MODULES"]
+__all__ = ["base_url", "publish", "served_root", "preload", "open_page", "call", "decode_f32", "encode_f32", "PAGES"]

@@ -5,7 +5,7 @@ engine per run, registered as ``irradiance`` techniques ``three_sh``, ``babylon_
 ``babylon_polynomial``). Per environment each engine's error under every metric of
 :mod:`validate.metrics.irradiance_error` sits beside the suite's own ``sh9``
 (:mod:`.compute`); claims (:mod:`.claims`); findings, tables and plots (:mod:`.report`). Without Node or
-without ``npm ci`` the experiment is skipped with the reason (nothing is registered then, and no other
+without the npm engines (``python -m validate setup --engines``) the experiment is skipped with the reason (nothing is registered then, and no other
 experiment changes): only the cube faces the engines would receive are checked.
 """
 

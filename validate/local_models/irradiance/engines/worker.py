@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from ....errors import ValidateError
+from ....setup import paths
 from .cube_faces import render_faces
 
 HERE = Path(__file__).resolve().parent
@@ -51,21 +52,19 @@ def node_executable() -> str | None:
 
 
 def package_dir(engine: str) -> Path | None:
-    """Where Node would resolve the engine's package from runner.mjs (node_modules of a parent folder)."""
-    for parent in [HERE, *HERE.parents]:
-        p = parent.joinpath("node_modules", *ENGINES[engine])
-        if (p / "package.json").is_file():
-            return p
-    return None
+    """The engine's npm package in the per-user engines folder (:func:`validate.setup.paths.node_modules`)."""
+    p = paths.node_modules().joinpath(*ENGINES[engine])
+    return p if (p / "package.json").is_file() else None
 
 
 def unavailable_reason() -> str | None:
     """Why the engines cannot run here (one line), or None when Node and both packages are present."""
     if node_executable() is None:
-        return "Node.js not found on PATH (scripts/setup.sh installs Debian's nodejs and runs npm ci)"
+        return "Node.js not found on PATH (`python -m validate setup --engines` installs it and the engines)"
     missing = [" / ".join(ENGINES[e]).replace(" / ", "/") for e in ENGINES if package_dir(e) is None]
     if missing:
-        return f"npm package(s) {', '.join(missing)} not installed: run `npm ci` at the repository root"
+        return (f"npm package(s) {', '.join(missing)} not installed in {paths.node_modules()}: "
+                "run `python -m validate setup --engines`")
     return None
 
 
@@ -88,8 +87,10 @@ class NodeWorker:
         exe = node_executable()
         if exe is None:
             raise ValidateError(f"engine {self.engine}: {unavailable_reason()}")
-        self.proc = subprocess.Popen([exe, str(RUNNER), self.engine], stdin=subprocess.PIPE,
-                                     stdout=subprocess.PIPE, stderr=self._stderr, cwd=str(HERE))
+        # the scripts run from a copy beside the installed node_modules, so `import 'three'` resolves there
+        scripts = paths.node_scripts(HERE)
+        self.proc = subprocess.Popen([exe, str(scripts / RUNNER.name), self.engine], stdin=subprocess.PIPE,
+                                     stdout=subprocess.PIPE, stderr=self._stderr, cwd=str(scripts))
         self.keys.clear()
 
     def _stderr_tail(self) -> str:

@@ -1,0 +1,86 @@
+"""Where the suite's runtimes outside Python live: one per-user data folder, the same for a checkout and a wheel.
+
+``home()`` is ``$VALIDATE_HOME``, else ``$XDG_DATA_HOME/validate``, else ``~/.local/share/validate``. Under it:
+
+* ``engines/`` — the npm engines: ``package.json`` and ``package-lock.json`` copied from this package
+  (:data:`ENGINE_LOCK`, the pinned versions) and ``node_modules/`` written by ``npm ci``;
+  ``engines/scripts-<hash>/`` holds copies of the package's Node scripts, so that Node resolves their bare
+  imports (``import 'three'``) from ``engines/node_modules`` wherever the package itself is installed.
+
+Nothing here installs anything (:mod:`validate.setup.install` does); it only says where things are.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import shutil
+from pathlib import Path
+
+ENGINE_LOCK = Path(__file__).resolve().parent / "engines"  # package.json + package-lock.json, shipped
+
+
+def home() -> Path:
+    """The per-user data folder (not created)."""
+    if os.environ.get("VALIDATE_HOME"):
+        return Path(os.environ["VALIDATE_HOME"]).expanduser()
+    base = os.environ.get("XDG_DATA_HOME") or str(Path.home() / ".local" / "share")
+    return Path(base) / "validate"
+
+
+def engines_dir() -> Path:
+    return home() / "engines"
+
+
+def node_modules() -> Path:
+    """Where ``npm ci`` puts the engines (``python -m validate setup --engines``)."""
+    return engines_dir() / "node_modules"
+
+
+def lock_digest() -> str:
+    """Hash of the shipped package.json + package-lock.json: an install is current when its stamp holds it."""
+    h = hashlib.sha256()
+    for name in ("package.json", "package-lock.json"):
+        h.update((ENGINE_LOCK / name).read_bytes())
+    return h.hexdigest()
+
+
+def stamp() -> Path:
+    return node_modules() / ".validate-setup"
+
+
+def pinned_versions() -> dict[str, str]:
+    """Package → the version the lock file pins (the direct dependencies)."""
+    return dict(json.loads((ENGINE_LOCK / "package.json").read_text())["dependencies"])
+
+
+def installed_version(package: str) -> str | None:
+    """The version of ``package`` in :func:`node_modules`, or None when it is not installed."""
+    p = node_modules() / package / "package.json"
+    try:
+        return str(json.loads(p.read_text())["version"])
+    except (OSError, ValueError, KeyError):
+        return None
+
+
+def node_scripts(src: Path) -> Path:
+    """A copy of the ``.mjs`` files of ``src`` inside :func:`engines_dir` (made once per content), so their bare
+    imports resolve from the installed ``node_modules``; returns that folder."""
+    files = sorted(src.glob("*.mjs"))
+    h = hashlib.sha256()
+    for f in files:
+        h.update(f.name.encode() + b"\0" + f.read_bytes())
+    dst = engines_dir() / f"scripts-{src.name}-{h.hexdigest()[:16]}"
+    if not dst.is_dir():
+        engines_dir().mkdir(parents=True, exist_ok=True)
+        tmp = dst.with_name(dst.name + f".part{os.getpid()}")
+        shutil.rmtree(tmp, ignore_errors=True)
+        tmp.mkdir()
+        for f in files:
+            shutil.copyfile(f, tmp / f.name)
+        try:
+            tmp.rename(dst)
+        except OSError:  # another process made it first: the same content
+            shutil.rmtree(tmp, ignore_errors=True)
+    return dst
