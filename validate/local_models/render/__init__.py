@@ -31,8 +31,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ...gl import browser_page
+from ...gl import browser_page, runtime
 from ...scenes.render_scenes import RenderScene
+from ...setup import paths
 
 # engine → (page, entry point, options the page reads); "babylon_lambert" is Babylon with its diffuse model set to
 # Lambert (MATERIAL_DIFFUSE_MODEL_LAMBERT = 2) instead of its default energy-preserving Oren–Nayar; "three_probe" is
@@ -47,6 +48,8 @@ ENGINES = {"three": ("three.html", "renderThree", {}), "babylon": ("babylon.html
 ENGINES.update({f"babylon_cdf{n}_{v}": ("babylon.html", "renderBabylon",
                                         {"diffuseModel": 2, "irradiance": "cdf", "cubeSize": n, "supersample": v})
                 for n in (32, 64, 128, 256, 512) for v in ("shipped", "pre16247")})
+# what each engine is, for a person: the product whose pixels are judged
+PRODUCTS = {"three": "three.js", "babylon": "Babylon.js", "filament": "Filament"}
 HALF_FLOAT_RTOL = 2.0**-11  # IEEE binary16: 10 explicit mantissa bits, unit roundoff 2⁻¹¹
 SWIFTSHADER_TRIG_ATOL = 2e-4  # measured sin/cos error (validate.gl.webgl docstring)
 
@@ -59,6 +62,34 @@ class EngineRender:
     version: str
     info: dict = field(default_factory=dict)  # what the page reports besides pixels (e.g. three's light.power)
     stderr: float = 0.0  # the readback's own standard uncertainty per value (radiance; 0 for a float target)
+
+
+def product(engine: str) -> str:
+    """The product an engine name renders with (``babylon_cdf64_shipped`` → Babylon.js)."""
+    return next((v for k, v in PRODUCTS.items() if engine.startswith(k)), engine)
+
+
+@dataclass(frozen=True)
+class Missing:
+    """A runtime the engines need that this machine lacks: what it is, why, and the command that installs it."""
+
+    piece: str
+    why: str
+    fix: str
+
+
+def missing_runtime() -> Missing | None:
+    """Why no engine can render here (the npm engines not installed, or no headless Chromium with WebGL2), or None.
+    Checks the cheap one first; the browser check starts the run's browser, which the renders use next."""
+    absent = [p for p, v in paths.pinned_versions().items() if paths.installed_version(p) != v]
+    if absent:
+        return Missing("npm engines", f"{', '.join(absent)} not installed in {paths.node_modules()}",
+                       "python -m validate setup --engines")
+    ok, why = runtime.available("webgl2")
+    if not ok:
+        return Missing("Chromium (WebGL2)", why.splitlines()[0][:200] if why else "unavailable",
+                       "python -m validate setup --system")
+    return None
 
 
 def render(engine: str, scene: RenderScene) -> EngineRender:
