@@ -13,7 +13,7 @@ import time
 
 import numpy as np
 
-from validate.experiments.renders.cdf_compute import energy_ratio
+from validate.experiments.renders.cdf.compute import energy_ratio
 from validate.gl import browser_page
 from validate.local_models import render as engines
 from validate.metrics.pixel_z import interior_mask

@@ -1,10 +1,13 @@
-"""Every experiment is a package with one anatomy (issue 19).
+"""Every experiment is a package with one anatomy (issues 19, 33).
 
 Each package under ``validate/experiments/`` satisfies :class:`validate.experiments.base.ExperimentModule`
-(NAME, TITLE, DESCRIPTION, ORDER, QUICK, FULL, compute, claims, findings, sections, run), exports exactly
-that in ``__all__``, has the same stage modules (``settings``, ``compute``, ``claims``, ``report``), keeps
-``QUICK`` and ``FULL`` as two instances of one frozen dataclass, and registers a ``run`` that only wires the
-stages. Static and import-only: no experiment is run here (fast).
+(NAME, TITLE, DESCRIPTION, ORDER, QUICK, FULL, compute, claims, findings, sections, plus the optional hooks of
+``base.HOOKS``), exports exactly that in ``__all__``, has the same stage modules (``settings``, ``compute``,
+``claims``, ``report``), keeps ``QUICK`` and ``FULL`` as two instances of one frozen dataclass, and only declares:
+its ``__init__`` defines no function (the one generic ``base.run`` wires every experiment) and is registered by
+``discover()`` with no edit elsewhere, its page and README row present. Sub-experiments (``PARTS``) are sub-packages
+satisfying :class:`~validate.experiments.base.PartModule` with the same stage modules. Static and import-only: no
+experiment is run here (fast).
 """
 
 from __future__ import annotations
@@ -19,39 +22,54 @@ from pathlib import Path
 import pytest
 
 import validate.experiments as experiments
-from validate.experiments.base import EXPERIMENT_INTERFACE, EXPERIMENTS, ExperimentModule
+from validate.experiments import discover
+from validate.experiments.base import (
+    EXPERIMENT_INTERFACE,
+    HOOKS,
+    PART_INTERFACE,
+    ExperimentModule,
+    PartModule,
+    settings_json,
+)
 
 PACKAGE_DIR = Path(experiments.__file__).parent
+REPO = PACKAGE_DIR.parents[1]
 NAMES = sorted(m.name for m in pkgutil.iter_modules([str(PACKAGE_DIR)]) if m.ispkg)
 STAGES = ("__init__", "settings", "compute", "claims", "report")
-# A thin ``run``: choose QUICK/FULL, compute, then hand the stages' outputs to ExperimentResult. The longest
-# today is 9 lines; 25 leaves room for a longer argument list, not for logic.
-RUN_MAX_LINES = 25
+PART_STAGES = ("__init__", "compute", "claims", "report")
+# An __init__ declares: a docstring, imports, NAME/TITLE/DESCRIPTION/ORDER/PARTS and __all__ — a few lines of code.
+DECLARED = {"NAME", "TITLE", "DESCRIPTION", "ORDER", "PARTS", "__all__"}
+INIT_MAX_CODE_LINES = 25
 # The brief's function-length rule for experiments/ (the before-stop hook's AST scan): no function over 60 lines.
 FUNCTION_MAX_LINES = 60
-# Names a thin run may call: the stage functions, the report's payload helpers, the result type.
-RUN_CALLS = {"compute", "claims", "findings", "sections", "ExperimentResult", "data", "techniques", "summary",
-             "settings_json", "to_json"}
 
 
 def test_every_experiment_is_a_package() -> None:
     assert set(NAMES) >= {"arealights", "brdfs", "engines", "hemisphere", "ibl", "lights", "multiscatter", "sh9",
-                          "shadows", "uberlight"}
+                          "shadows", "uberlight", "renders", "listings", "worstcase"}
     flat = [m.name for m in pkgutil.iter_modules([str(PACKAGE_DIR)]) if not m.ispkg]
     # shared by the experiments, not experiments
     assert sorted(flat) == ["base", "formatting", "inputs", "lane", "schedule", "techniques"]
+
+
+def test_every_package_is_discovered_and_registered() -> None:
+    assert set(discover()) >= set(NAMES)
 
 
 @pytest.mark.parametrize("name", NAMES)
 def test_package_satisfies_the_protocol_and_exports_exactly_it(name: str) -> None:
     mod = importlib.import_module(f"validate.experiments.{name}")
     assert isinstance(mod, ExperimentModule)
-    assert sorted(mod.__all__) == sorted(EXPERIMENT_INTERFACE)
+    hooks = set(mod.__all__) - set(EXPERIMENT_INTERFACE)
+    assert set(EXPERIMENT_INTERFACE) <= set(mod.__all__) and hooks <= set(HOOKS), sorted(hooks - set(HOOKS))
+    assert not {h for h in HOOKS if hasattr(mod, h)} - hooks  # a hook the package has is exported
     assert mod.NAME == name and isinstance(mod.TITLE, str) and isinstance(mod.DESCRIPTION, str)
     assert isinstance(mod.ORDER, int)
-    for fn, arity in (("compute", 2), ("claims", 1), ("findings", 1), ("sections", 2), ("run", 1)):
-        assert callable(getattr(mod, fn)) and len(inspect.signature(getattr(mod, fn)).parameters) == arity, fn
-    reg = EXPERIMENTS[name]
+    arity = {"compute": 2, "claims": 1, "findings": 1, "sections": 2, "summary": 1, "data": 1, "techniques": 1,
+             "reported_settings": 3}
+    for fn in set(arity) & set(mod.__all__):
+        assert callable(getattr(mod, fn)) and len(inspect.signature(getattr(mod, fn)).parameters) == arity[fn], fn
+    reg = discover()[name]
     assert (reg.title, reg.description, reg.order) == (mod.TITLE, mod.DESCRIPTION, mod.ORDER)
 
 
@@ -71,24 +89,58 @@ def test_quick_and_full_are_two_instances_of_one_frozen_dataclass(name: str) -> 
     assert (mod.QUICK, mod.FULL) == (s.QUICK, s.FULL)
 
 
-def _run_node(name: str) -> ast.FunctionDef:
+@pytest.mark.parametrize("name", NAMES)
+def test_init_only_declares(name: str) -> None:
     tree = ast.parse((PACKAGE_DIR / name / "__init__.py").read_text())
-    (run,) = [n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name == "run"]
-    return run
+    body = [n for n in tree.body if not (isinstance(n, ast.Expr) and isinstance(n.value, ast.Constant))]
+    assert all(isinstance(n, (ast.ImportFrom, ast.Import, ast.Assign)) for n in body), name  # no def, no logic
+    assigned = {t.id for n in body if isinstance(n, ast.Assign) for t in n.targets if isinstance(t, ast.Name)}
+    assert assigned <= DECLARED, sorted(assigned - DECLARED)
+    code = sum(n.end_lineno - n.lineno + 1 for n in body)
+    assert code <= INIT_MAX_CODE_LINES, code
 
 
 @pytest.mark.parametrize("name", NAMES)
-def test_run_only_wires_the_stages(name: str) -> None:
-    run = _run_node(name)
-    assert run.end_lineno - run.lineno + 1 <= RUN_MAX_LINES
-    body = [n for stmt in run.body for n in ast.walk(stmt)]  # the decorator (register_experiment) aside
-    assert not [n for n in body if isinstance(n, (ast.For, ast.While, ast.If, ast.comprehension))]
-    called = {n.func.id if isinstance(n.func, ast.Name) else n.func.attr
-              for n in body if isinstance(n, ast.Call) and isinstance(n.func, (ast.Name, ast.Attribute))}
-    assert called <= RUN_CALLS, sorted(called - RUN_CALLS)
-    tree = ast.parse((PACKAGE_DIR / name / "__init__.py").read_text())
-    defs = [n.name for n in tree.body if isinstance(n, (ast.FunctionDef, ast.ClassDef))]
-    assert defs == ["run"]  # the interface, nothing else
+def test_every_experiment_has_its_page_and_readme_row(name: str) -> None:
+    assert (REPO / "docs" / "experiments" / f"{name}.md").is_file()
+    readme = (REPO / "README.md").read_text(encoding="utf-8")
+    assert f"| `{name}` |" in readme and f"(docs/experiments/{name}.md)" in readme, name
+
+
+PARTS = [(name, part) for name in NAMES for part in getattr(importlib.import_module(f"validate.experiments.{name}"),
+                                                            "PARTS", ())]
+
+
+def test_the_sub_experiments_are_parts() -> None:
+    assert {p.__name__.removeprefix("validate.experiments.") for _, p in PARTS} == {
+        "arealights.specular", "renders.shadows", "renders.cdf"}
+
+
+@pytest.mark.parametrize(("name", "part"), PARTS, ids=[p.__name__ for _, p in PARTS])
+def test_part_is_a_sub_package_with_the_stages(name: str, part: object) -> None:
+    assert isinstance(part, PartModule)
+    assert part.__name__.startswith(f"validate.experiments.{name}.")
+    assert set(PART_INTERFACE) <= set(part.__all__)
+    files = {p.stem for p in Path(part.__file__).parent.glob("*.py")}
+    assert set(PART_STAGES) <= files, sorted(set(PART_STAGES) - files)
+
+
+def test_settings_json_is_one_conversion_for_every_shape() -> None:
+    @dataclasses.dataclass(frozen=True)
+    class Inner:
+        xs: tuple[float, ...] = (1.0, 2.0)
+
+    @dataclasses.dataclass(frozen=True)
+    class Outer:
+        a: int
+        pairs: tuple[tuple[int, int], ...]
+        inner: Inner = Inner()
+        hidden: str = "x"
+
+    s = Outer(1, ((1, 2), (3, 4)))
+    assert settings_json(s) == {"a": 1, "pairs": [[1, 2], [3, 4]], "inner": {"xs": [1.0, 2.0]}, "hidden": "x"}
+    assert settings_json(s, omit=("hidden", "inner"), extra=[1]) == {"a": 1, "pairs": [[1, 2], [3, 4]], "extra": [1]}
+    assert settings_json({"k": (1,), "d": {"t": (2, 3)}}) == {"k": [1], "d": {"t": [2, 3]}}
 
 
 def test_no_function_in_experiments_is_over_the_limit() -> None:
@@ -111,9 +163,9 @@ def _body_key(fn: ast.FunctionDef) -> str:
 
 def test_no_helper_is_defined_twice_in_experiments() -> None:
     """Number formatting lives in experiments/formatting.py only, and no module-level function of the
-    experiments layer repeats another's code (every package's thin ``run`` and report payload functions aside: the
-    same wiring, or one call of a shared helper)."""
-    per_package = {"run", "summary", "data", "techniques", "settings_json"}
+    experiments layer repeats another's code (every package's report payload hooks aside: one call of a shared
+    helper)."""
+    per_package = {"summary", "data", "techniques", "reported_settings"}
     fmt = {"pm", "_pm", "pct", "_pct", "pct_fixed", "percent", "_percent", "pm_entry"}
     by_body: dict[str, list[str]] = {}
     for path in PACKAGE_DIR.rglob("*.py"):

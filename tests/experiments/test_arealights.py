@@ -18,7 +18,7 @@ import pytest
 from scipy.optimize import brentq
 
 from validate.errors import ValidateError
-from validate.experiments import Context
+from validate.experiments import Context, run_experiment
 from validate.experiments import arealights as exp
 from validate.experiments.arealights import check as chk
 from validate.experiments.base import Claim
@@ -248,7 +248,7 @@ def test_meter_bounds_zero_hit_and_noise() -> None:
 def quick_result(tmp_path_factory):
     out = tmp_path_factory.mktemp("arealights")
     ctx = Context(out_dir=out, quick=True, show_progress=False, log=lambda _: None)
-    return exp.run(ctx), out
+    return run_experiment("arealights", ctx), out
 
 
 def test_quick_experiment_end_to_end(quick_result) -> None:
@@ -320,16 +320,16 @@ def test_disc_axis_crossing_is_the_closed_form_root():
 def test_batched_specular_reference_equals_one_at_a_time() -> None:
     """``references`` (every α per light, one BSDF.eval per α) returns :func:`area_specular_render.reference`'s
     numbers bit for bit: the same directions, frames and float32 evaluations, each receiver summed alone."""
-    from validate.experiments.arealights import specular as sp
-    from validate.experiments.arealights.settings import SpecularSettings
+    from validate.experiments.arealights.specular.compute import CONFIGS, SHAPES, _receiver, light_for, references
+    from validate.experiments.arealights.specular.settings import SpecularSettings
     from validate.reference import area_specular_render as asr
 
     s = SpecularSettings(alphas=(0.1, 0.6), sigmas_deg=(5.0, 30.0), nodes=24, render_pixels=8, render_spp=8)
-    configs = sp.CONFIGS[:2] + sp.CONFIGS[-1:]  # overhead, mirror, a light crossing the horizon
-    refs = sp.references(s, configs=configs)
-    assert len(refs) == 2 * 2 * len(configs) * (len(sp.SHAPES) + 1)
+    configs = CONFIGS[:2] + CONFIGS[-1:]  # overhead, mirror, a light crossing the horizon
+    refs = references(s, configs=configs)
+    assert len(refs) == 2 * 2 * len(configs) * (len(SHAPES) + 1)
     for (shape, a, sg, cfg, ax), got in refs.items():
-        p, n, v = sp._receiver(cfg[0])
-        ref, unc = asr.reference(sp.light_for(shape, cfg[1], cfg[2], sg, ax), a, p, n, v, s.nodes)
+        p, n, v = _receiver(cfg[0])
+        ref, unc = asr.reference(light_for(shape, cfg[1], cfg[2], sg, ax), a, p, n, v, s.nodes)
         assert got == (float(ref[0]), float(unc[0])), (shape, a, sg, cfg, ax)
 

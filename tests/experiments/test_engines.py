@@ -237,14 +237,14 @@ def test_missing_packages_are_named(monkeypatch: pytest.MonkeyPatch) -> None:
 
 
 def test_experiment_skips_with_the_reason(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
-    from validate.experiments import engines
+    from validate.experiments import run_experiment
     from validate.experiments.base import Context
 
     compute = importlib.import_module("validate.experiments.engines.compute")  # the package's `compute` is the function
     monkeypatch.setattr(compute, "UNAVAILABLE", "Node.js not found on PATH")
     ctx = Context(out_dir=tmp_path, quick=True, show_progress=False)
     ctx._env_cache["envs"] = ([procedural.two_tone(64), procedural.near_directional(256)], [])
-    res = engines.run(ctx)
+    res = run_experiment("engines", ctx)
     assert res.data["skipped"] == "Node.js not found on PATH" and "Node.js not found" in res.summary
     assert [c.id for c in res.claims] == ["engines.faces.flux"]  # the faces need no Node
     assert res.claims[0].passed and res.claims[0].power.fails

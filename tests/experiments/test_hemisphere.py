@@ -13,8 +13,7 @@ import numpy as np
 import pytest
 
 from validate.errors import ValidateError
-from validate.experiments import Context
-from validate.experiments import hemisphere as exp
+from validate.experiments import Context, run_experiment
 from validate.experiments.hemisphere.compute import red_book_prediction
 from validate.format import missing_units
 from validate.local_models import irradiance
@@ -162,7 +161,7 @@ def test_red_book_prediction_is_the_weight_difference() -> None:
 def quick_result(tmp_path_factory):
     out = tmp_path_factory.mktemp("hemisphere")
     ctx = Context(out_dir=out, quick=True, show_progress=False, log=lambda _: None)
-    return exp.run(ctx), out
+    return run_experiment("hemisphere", ctx), out
 
 
 def test_quick_experiment_end_to_end(quick_result) -> None:

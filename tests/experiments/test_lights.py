@@ -165,9 +165,10 @@ def test_light_validation():
 
 @pytest.mark.slow
 def test_experiment_quick_claims_pass_with_power(tmp_path):
+    from validate.experiments import run_experiment
     from validate.experiments.base import Context
 
-    res = exp.run(Context(out_dir=tmp_path, quick=True, show_progress=False))
+    res = run_experiment("lights", Context(out_dir=tmp_path, quick=True, show_progress=False))
     for c in res.claims:
         assert c.passed, (c.id, c.measured, c.threshold)
         assert c.power is not None and c.power.fails, c.id

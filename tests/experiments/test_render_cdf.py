@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from validate.experiments.renders.cdf_claims import cdf_claims
-from validate.experiments.renders.cdf_compute import CdfResult, CdfScene, energy_ratio
+from validate.experiments.renders.cdf.claims import cdf_claims
+from validate.experiments.renders.cdf.compute import CdfResult, CdfScene, energy_ratio
 from validate.metrics.pixel_z import judge
 from validate.scenes import render_cdf_scenes as rcs
 
@@ -60,7 +60,7 @@ def test_claims_pass_on_the_pr_s_defect_and_their_power_checks_fail(tmp_path: Pa
                        "renders.babylon.cdf_irradiance.supersample"}
     for c in cs.values():
         assert c.passed and c.power is not None and c.power.fails, c.id
-    from validate.experiments.renders.cdf_report import cdf_data, cdf_findings, cdf_sections, cdf_table
+    from validate.experiments.renders.cdf.report import cdf_data, cdf_findings, cdf_sections, cdf_table
 
     assert len(cdf_table(sc).rows) == 6 and len(cdf_findings([sc])) == 2
     assert cdf_data([sc])["cdf_lambert"]["results"]["64 pre16247"]["ratio"] == pytest.approx(0.31)
@@ -110,15 +110,19 @@ def test_babylon_cdf_without_supersampling_is_darker_at_64(probes_dir: Path) -> 
 
 
 def test_the_experiment_hooks_carry_the_cdf_scene() -> None:
-    from validate.experiments.renders import claims, findings, report
+    from validate.experiments import renders
+    from validate.experiments.base import part_measurements, settings_json
     from validate.experiments.renders.compute import Measurements
     from validate.experiments.renders.settings import FULL, QUICK
 
     sc = _scene({(64, "shipped"): 0.76, (64, "pre16247"): 0.31, (256, "shipped"): 0.79, (256, "pre16247"): 0.79})
     m = Measurements(FULL, [], cdf=[sc])
-    assert "cdf_lambert" in report.data(m)["cdf_irradiance"]
-    assert report.settings_json(m)["cdf_sizes"] == [64, 128, 256]
-    assert {c.id for c in claims(m)} >= {"renders.babylon.cdf_irradiance.pre16247.regression"}
-    assert any("PR 16247" in f for f in findings(m))
-    # quick renders no Babylon: no CDF work, and its settings block is unchanged
-    assert QUICK.cdf_sizes == () and "cdf_sizes" not in report.settings_json(Measurements(QUICK, []))
+    (cdf,) = [p for p in renders.PARTS if p.KEY == "cdf"]  # a part of renders: base.run appends its stages
+    pm = part_measurements(m, cdf.KEY)
+    assert "cdf_lambert" in cdf.data(pm)["cdf_irradiance"]
+    assert settings_json(renders.reported_settings(FULL, m, None))["cdf_sizes"] == [64, 128, 256]
+    assert {c.id for c in cdf.claims(pm)} >= {"renders.babylon.cdf_irradiance.pre16247.regression"}
+    assert any("PR 16247" in f for f in cdf.findings(pm))
+    # quick renders no Babylon: no CDF work (no data key), and its settings block is unchanged
+    assert QUICK.cdf_sizes == () and cdf.data([]) == {}
+    assert "cdf_sizes" not in renders.reported_settings(QUICK, Measurements(QUICK, []), None)

@@ -9,6 +9,8 @@ skipped without Chromium). three.js and Babylon.js are ``slow``.
 
 from __future__ import annotations
 
+import importlib
+
 import numpy as np
 import pytest
 
@@ -83,7 +85,7 @@ def test_geometric_visibility_is_mitsubas_shadow_factor(shadow_ref) -> None:
 
 
 def test_penumbra_width_metric_and_its_power() -> None:
-    from validate.experiments.renders.shadow_compute import transition_px
+    from validate.experiments.renders.shadows.compute import transition_px
 
     x = np.linspace(-1, 1, 64)
     ramp = lambda w: np.broadcast_to(np.clip(0.5 + x / w, 0, 1), (8, 64))  # noqa: E731 - a linear edge of width w
@@ -123,7 +125,7 @@ def _engine_or_skip(engine: str, scene):
 def test_engine_shadow_lit_umbra_and_penumbra(engine: str, shadow_type: str) -> None:
     """Each engine's shadow map at 32²: the lit plane equals Mitsuba, the PCF umbra is dark (Babylon's PCSS leaks:
     issue 23551's kind), the PCF penumbra is narrower than the path tracer's and PCSS's wider."""
-    from validate.experiments.renders.shadow_compute import transition_px
+    from validate.experiments.renders.shadows.compute import transition_px
     from validate.reference.render_reference import render_reference
 
     scene = rss.sun_shadow_scene(32)
@@ -144,7 +146,7 @@ def test_engine_shadow_lit_umbra_and_penumbra(engine: str, shadow_type: str) -> 
 
 def _synthetic(scene, ref, image: np.ndarray):
     """A ShadowSceneResult of the 16² reference with one made-up engine image (no browser)."""
-    from validate.experiments.renders import shadow_compute as sc
+    sc = importlib.import_module("validate.experiments.renders.shadows.compute")
     from validate.metrics.pixel_z import interior_mask
 
     mask = interior_mask(ref.hit, np.ones(ref.hit.shape))
@@ -161,7 +163,7 @@ def _synthetic(scene, ref, image: np.ndarray):
 
 def test_shadow_claims_accept_the_truth_and_catch_a_hard_or_leaking_shadow() -> None:
     """On the directional scene (at 16² the spot's small umbra lies on the judged border)."""
-    from validate.experiments.renders import shadow_claims as scl
+    scl = importlib.import_module("validate.experiments.renders.shadows.claims")
     from validate.reference.render_reference import render_reference
 
     scene = rss.sun_shadow_scene(SMALL)
@@ -180,7 +182,7 @@ def test_shadow_claims_accept_the_truth_and_catch_a_hard_or_leaking_shadow() -> 
 
 def test_readback_uncertainty_is_a_known_term_of_the_budget() -> None:
     """judged_budget folds σ_q into b so that judge's σ² = s² + (b/z*)² + σ_q² (∞ dof), and leaves b alone at 0."""
-    from validate.experiments.renders import shadow_compute as sc
+    sc = importlib.import_module("validate.experiments.renders.shadows.compute")
     from validate.metrics.pixel_z import ALPHA, sidak_critical
 
     sr = sc.ShadowSceneResult(rss.sun_shadow_scene(SMALL), np.ones((4, 4, 3)), np.zeros((4, 4, 3)), 7,
@@ -192,8 +194,8 @@ def test_readback_uncertainty_is_a_known_term_of_the_budget() -> None:
 
 
 def test_regressions_keyed_by_scene_apply_to_that_scene_only() -> None:
-    from validate.experiments.renders import shadow_claims as scl
-    from validate.experiments.renders.shadow_compute import ShadowEngineResult, ShadowSceneResult
+    scl = importlib.import_module("validate.experiments.renders.shadows.claims")
+    from validate.experiments.renders.shadows.compute import ShadowEngineResult, ShadowSceneResult
 
     r = ShadowEngineResult("filament", "pcf", "pcf", np.zeros((1, 1, 3)), 0.0, 0.0)
     srs = {sc.name: ShadowSceneResult(sc, *(np.zeros(1),) * 2, 7, np.zeros(1), {}, 0.0, (0.0, 0.0))
@@ -207,8 +209,8 @@ def test_filament_pcf_shadows_against_the_path_tracer(which: str) -> None:
     """Filament 1.53's PCF at 32², through the experiment's own judgement and claims: the lit plane equals Mitsuba
     (its power: × 1.02 fails); directional — the umbra is dark (power: a 2 % leak fails) and the penumbra is narrower
     than the path tracer's; spot — the known regression, no shadow from the out-of-view box (the umbra lit)."""
-    from validate.experiments.renders import shadow_claims as scl
-    from validate.experiments.renders import shadow_compute as sc
+    scl = importlib.import_module("validate.experiments.renders.shadows.claims")
+    sc = importlib.import_module("validate.experiments.renders.shadows.compute")
     from validate.metrics.pixel_z import interior_mask
     from validate.reference.render_reference import render_reference
 

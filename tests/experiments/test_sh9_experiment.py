@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from validate.errors import ValidateError
-from validate.experiments import Context
+from validate.experiments import Context, run_experiment
 from validate.experiments import sh9 as sh9_exp
 from validate.experiments.sh9 import report as sh9_report
 from validate.experiments.sh9.claims import BANDLIMITED_EXACT, CONVERGENCE, PAPER_MAX, PAPER_MEAN
@@ -57,7 +57,7 @@ def quick_result(tmp_path_factory: pytest.TempPathFactory):
                    source="R&H 2001: order-2 lighting is represented exactly")
     try:
         ctx = Context(out_dir=tmp_path_factory.mktemp("sh9"), quick=True, show_progress=False, log=lambda _: None)
-        yield sh9_exp.run(ctx), ctx
+        yield run_experiment("sh9", ctx), ctx
     finally:
         irradiance.unregister(PLUGIN_BOUND)
         irradiance.unregister(PLUGIN_EXACT)

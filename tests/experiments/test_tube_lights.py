@@ -3,6 +3,7 @@ Mitsuba's render, Karis's tube representative point's contract, and the tube cla
 
 from __future__ import annotations
 
+import importlib
 import math
 import os
 import subprocess
@@ -13,10 +14,14 @@ import numpy as np
 import pytest
 
 from validate.errors import ValidateError
-from validate.experiments.arealights import specular as asp
+from validate.experiments.arealights.specular import report as spr
 from validate.local_models import family
 from validate.local_models.specular_arealight.representative_point import tube_solid_angle
 from validate.reference import area_specular_render as asr
+
+# the package re-exports compute() and claims(): the modules by name
+spm = importlib.import_module("validate.experiments.arealights.specular.compute")
+spc = importlib.import_module("validate.experiments.arealights.specular.claims")
 
 # A Fibonacci lattice of 600² directions over 4π counts a smooth region to ≈ its boundary length × the lattice
 # spacing (measured 0.2 % of Ω for the tubes below); 1 % still fails when a cap is dropped (the caps are 7–30 % of
@@ -33,10 +38,11 @@ RENDER_Z = 3.29  # two-sided z at 10⁻³ for the single render test
 # and 9/40 renders), each such load a different estimate: 2 × 20 renders all agreeing had a chance ≈ (11/12)⁴⁰ ≈ 3 %.
 LOAD_REPEATS, RENDER_REPEATS = 3, 20
 _RENDER_REPEATED = """
-from validate.experiments.arealights import specular as asp
+import importlib
+spm = importlib.import_module("validate.experiments.arealights.specular.compute")
 from validate.reference import area_specular_render as asr
-light = asp.light_for("tube", 0.0, 0.0, 15.0)
-p, n, v = asp._receiver(0.0)
+light = spm.light_for("tube", 0.0, 0.0, 15.0)
+p, n, v = spm._receiver(0.0)
 for _ in range({repeats}):
     print(repr(asr.render(light, 0.6, p[0], n[0], v[0], 8, 8, seed=33)[0]))
 """
@@ -79,8 +85,8 @@ def test_capsule_quadrature_solid_angle_equals_ray_casting(tube):
 @pytest.mark.parametrize("length", [0.0, 1e-5])
 def test_short_tube_reference_equals_sphere_reference(length):
     """ℓ → 0: the capsule's reference (cylinder + hemispherical caps) equals the sphere's (its subtended cone)."""
-    p, n, v = asp._receiver(40.0)
-    c = tuple(asp._dir(40.0, 180.0))
+    p, n, v = spm._receiver(40.0)
+    c = tuple(spm._dir(40.0, 180.0))
     tube = {"shape": "tube", "center": c, "axis": (0.0, 0.0, 1.0), "length": length, "radius": 0.2, "radiance": 1.0}
     sphere = {"shape": "sphere", "center": c, "radius": 0.2, "radiance": 1.0}
     for alpha in (0.1, 0.5):
@@ -92,8 +98,8 @@ def test_short_tube_reference_equals_sphere_reference(length):
 def test_tube_reference_agrees_with_mitsuba_render():
     """Mitsuba's ``cylinder`` + hemispherical mesh caps with area emitters, direct integrator: agrees with the
     quadrature, and would reject it scaled by 1.02."""
-    light = asp.light_for("tube", 40.0, 180.0, 15.0, "along")
-    p, n, v = asp._receiver(40.0)
+    light = spm.light_for("tube", 40.0, 180.0, 15.0, "along")
+    p, n, v = spm._receiver(40.0)
     mean, se = asr.render(light, 0.3, p[0], n[0], v[0], 64, 64, seed=11)
     ref, unc = asr.reference(light, 0.3, p, n, v, 64)
     assert abs(mean - ref[0]) / math.hypot(se, unc[0]) < RENDER_Z
@@ -108,7 +114,7 @@ def test_load_scene_keeps_the_dicts_order(tmp_path):
 
     from validate.backend import load_scene
 
-    light = asp.light_for("tube", 0.0, 0.0, 15.0)
+    light = spm.light_for("tube", 0.0, 0.0, 15.0)
     panel = {"type": "area", "radiance": {"type": "rgb", "value": 1.0}}
     d = {"type": "scene", **asr.emitter_shapes(light, str(tmp_path)),
          **{f"panel{k}": {"type": "rectangle", "to_world": mi.ScalarTransform4f().translate([3.0 * k, 0.0, -2.0]),
@@ -136,14 +142,14 @@ def test_tube_render_is_identical_across_processes_and_loads():
 def test_technique_contract():
     fam = family("specular_arealight")
     brdf = {"alpha": 0.3, "f0": 1.0}
-    p, n, v = asp._receiver(40.0)
-    c = tuple(asp._dir(40.0, 180.0))
+    p, n, v = spm._receiver(40.0)
+    c = tuple(spm._dir(40.0, 180.0))
     sphere = {"shape": "sphere", "center": c, "radius": 0.1, "radiance": 2.0}
     point_tube = {"shape": "tube", "center": c, "axis": (0.0, 0.0, 1.0), "length": 0.0, "radius": 0.1, "radiance": 2.0}
     # ℓ = 0: exactly Karis's sphere (same representative point, E_⊥ = L_e πR²/d², (α/α′)²)
     assert np.allclose(fam.call("representative_point_tube", point_tube, brdf, p, n, v),
                        fam.call("representative_point", sphere, brdf, p, n, v), rtol=1e-12, atol=0.0)
-    tube = asp.light_for("tube", 40.0, 180.0, 15.0, "across")
+    tube = spm.light_for("tube", 40.0, 180.0, 15.0, "across")
     lo = fam.call("representative_point_tube", tube, brdf, p, n, v)
     hi = fam.call("representative_point_tube_unnormalized", tube, brdf, p, n, v)
     ell, r = tube["length"], tube["radius"]
@@ -163,17 +169,17 @@ def test_technique_contract():
 
 def test_tube_claims_pass_and_fail_under_their_perturbations():
     techs = [t for t in family("specular_arealight") if t.name.startswith("representative_point_tube")]
-    rows = [{"shape": "tube", "alpha": a, "sigma_deg": 15.0, **asp.measure_config("tube", a, 15.0, cfg, 32, techs, ax)}
-            for a in (0.1, 0.6) for cfg in asp.CONFIGS for ax in asp.TUBE_AXES]
+    rows = [{"shape": "tube", "alpha": a, "sigma_deg": 15.0, **spm.measure_config("tube", a, 15.0, cfg, 32, techs, ax)}
+            for a in (0.1, 0.6) for cfg in spm.CONFIGS for ax in spm.TUBE_AXES]
     m = {"rows": rows, "settings": {"alphas": [0.1, 0.6], "sigmas_deg": [15.0]}}
-    claims = asp.tube_claims(m)
+    claims = spc.tube_claims(m)
     assert {c.id.rsplit(".", 1)[1] for c in claims} == {"normalisation", "line_normalisation", "line_not_squared"}
     for c in claims:
         assert c.passed and c.power is not None and c.power.fails, c
     # the technique replaced by its unnormalised counterpart: the normalisation claim must fail
-    bad = [dict(r, techniques={**r["techniques"], asp.TUBE: r["techniques"][asp.TUBE_UNNORMALIZED]}) for r in rows]
-    assert not next(c for c in asp.tube_claims({**m, "rows": bad}) if c.id.endswith(".normalisation")).passed
+    bad = [dict(r, techniques={**r["techniques"], spc.TUBE: r["techniques"][spc.TUBE_UNNORMALIZED]}) for r in rows]
+    assert not next(c for c in spc.tube_claims({**m, "rows": bad}) if c.id.endswith(".normalisation")).passed
     # … by its squared-line variant: the 'not squared' claim must fail
-    sq = [dict(r, techniques={**r["techniques"], asp.TUBE: r["tube_variants"]["line_squared"]}) for r in rows]
-    assert not next(c for c in asp.tube_claims({**m, "rows": sq}) if c.id.endswith(".line_not_squared")).passed
-    assert any("Tube lights" in f for f in asp.tube_findings(m))
+    sq = [dict(r, techniques={**r["techniques"], spc.TUBE: r["tube_variants"]["line_squared"]}) for r in rows]
+    assert not next(c for c in spc.tube_claims({**m, "rows": sq}) if c.id.endswith(".line_not_squared")).passed
+    assert any("Tube lights" in f for f in spr.tube_findings(m))

@@ -1,6 +1,6 @@
-"""Experiments: one package per experiment, discovered automatically (drop a package in this folder whose
-``__init__`` exposes the :class:`~.base.ExperimentModule` interface and registers its ``run`` with
-:func:`register_experiment`).
+"""Experiments: one package per experiment, discovered automatically: a package in this folder whose ``__init__``
+declares the :class:`~.base.ExperimentModule` interface is registered by :func:`discover` and run by the one
+generic :func:`~.base.run` (no edit elsewhere).
 
 Every package has the same stages: ``settings.py`` (``QUICK``, ``FULL``) → ``compute.py`` (``compute(ctx, s)``,
 numbers only) → ``claims.py`` (``claims(m)``) → ``report.py`` (``findings(m)``, ``sections(m, ctx)``), plus
@@ -24,17 +24,21 @@ from .base import (
     Section,
     Table,
     register_experiment,
+    register_module,
 )
 
 __all__ = ["EXPERIMENTS", "Claim", "Context", "Experiment", "ExperimentModule", "ExperimentResult", "Figure",
-           "Section", "Table", "register_experiment", "discover", "run_experiment"]
+           "Section", "Table", "register_experiment", "register_module", "discover", "run_experiment"]
 
 
 def discover() -> dict[str, Experiment]:
-    """Import every experiment package of this folder so their experiments register; sorted by order."""
-    for mod in pkgutil.iter_modules(__path__):
-        if mod.ispkg:
-            importlib.import_module(f"{__name__}.{mod.name}")
+    """Import and register every experiment package of this folder (and whatever else registered itself, e.g. a
+    plug-in's :func:`register_experiment`); sorted by order."""
+    for info in pkgutil.iter_modules(__path__):
+        if info.ispkg:
+            mod = importlib.import_module(f"{__name__}.{info.name}")
+            if getattr(mod, "NAME", None) not in EXPERIMENTS:
+                register_module(mod)
     return dict(sorted(EXPERIMENTS.items(), key=lambda kv: (kv[1].order, kv[0])))
 
 

@@ -11,10 +11,11 @@ measured + uncertainty < threshold; for ``">"`` iff measured − uncertainty > t
 
 from __future__ import annotations
 
+import functools
 import threading
 import time
-from collections.abc import Callable, Iterable, Iterator
-from dataclasses import asdict, dataclass, field
+from collections.abc import Callable, Iterable, Iterator, Mapping
+from dataclasses import asdict, dataclass, field, fields, is_dataclass
 from pathlib import Path
 from typing import Any, ClassVar, Generic, Protocol, TypeVar, runtime_checkable
 
@@ -43,9 +44,21 @@ class Power:
                 "uncertainty": finite_or_none(self.uncertainty), "fails": bool(self.fails)}
 
 
-def fields_json(obj: Any) -> dict[str, Any]:
-    """A (settings) dataclass's fields as a JSON-able dict, tuples as lists (one level deep)."""
-    return {k: list(v) if isinstance(v, tuple) else v for k, v in vars(obj).items()}
+def settings_json(obj: Any, omit: Iterable[str] = (), **extra: Any) -> Any:
+    """Settings as JSON: a dataclass as a dict of its fields (less ``omit``, plus ``extra``), recursively, tuples and
+    lists as lists, mappings with their values converted; anything else as it is. The one conversion every
+    experiment's ``settings`` entry of ``results.json`` goes through (:func:`run`)."""
+    if is_dataclass(obj) and not isinstance(obj, type):
+        skip = set(omit)
+        obj = {f.name: getattr(obj, f.name) for f in fields(obj) if f.name not in skip}
+    elif isinstance(obj, Mapping):
+        skip = set(omit)
+        obj = {k: v for k, v in obj.items() if k not in skip}
+    elif isinstance(obj, (tuple, list)):
+        return [settings_json(v) for v in obj]
+    else:
+        return obj
+    return {k: settings_json(v) for k, v in (obj | extra).items()}
 
 
 def finite_or_none(x: float) -> float | None:
@@ -374,13 +387,19 @@ def register_experiment(name: str, title: str, description: str, order: int = 10
 
 @runtime_checkable
 class ExperimentModule(Protocol):
-    """The interface every experiment package exposes (its ``__init__``'s ``__all__``, nothing else).
+    """The interface every experiment package declares in its ``__init__`` (its ``__all__``: these names and the
+    optional hooks below it defines, nothing else); :func:`run` does the wiring.
 
-    The stages run ``settings.py`` (``QUICK``, ``FULL``: two instances of one frozen dataclass) →
-    ``compute.py`` (``compute(ctx, s) -> Measurements``, numbers only) → ``claims.py``
-    (``claims(m) -> list[Claim]``) → ``report.py`` (``findings(m) -> list[str]``,
-    ``sections(m, ctx) -> list[Section]``); ``run(ctx)`` only wires them and is registered through
-    :func:`register_experiment` under ``NAME``, ``TITLE``, ``DESCRIPTION`` and ``ORDER``.
+    The stages: ``settings.py`` (``QUICK``, ``FULL``: two instances of one frozen dataclass) → ``compute.py``
+    (``compute(ctx, s) -> Measurements``, numbers only) → ``claims.py`` (``claims(m) -> list[Claim]``) →
+    ``report.py`` (``findings(m) -> list[str]``, ``sections(m, ctx) -> list[Section]``). ``TITLE`` is the
+    experiment's one title (the page heading, ``results.json``'s ``title``, ``validate list``).
+
+    Optional hooks (:data:`HOOKS`, defaults in :func:`run`): ``summary(m) -> str`` (default ``DESCRIPTION``),
+    ``data(m) -> dict`` (the experiment's own ``results.json`` keys; default none), ``techniques(m) -> dict``
+    (``experiments.<name>.techniques``; default none), ``reported_settings(s, m, ctx)`` (what ``settings``
+    reports, converted by :func:`settings_json`; default ``s``, the run's settings) and ``PARTS`` (sub-experiments,
+    :class:`PartModule`: sub-packages whose claims, findings, sections, data and techniques :func:`run` appends).
     """
 
     NAME: str
@@ -398,8 +417,68 @@ class ExperimentModule(Protocol):
 
     def sections(self, m: Any, ctx: Context) -> list[Section]: ...
 
-    def run(self, ctx: Context) -> ExperimentResult: ...
+
+@runtime_checkable
+class PartModule(Protocol):
+    """A sub-experiment: a sub-package of an experiment with the same anatomy (``compute``, ``claims``, ``report``),
+    listed in the parent's ``PARTS``. The parent's ``compute`` measures it (so its work may overlap the parent's)
+    and keeps its measurements at ``KEY`` (a key of a dict of measurements, else an attribute); :func:`run` gives
+    them to the part's stages and appends what they return to the parent's. Optional: ``data(pm) -> dict``,
+    ``techniques(pm) -> dict`` (default none)."""
+
+    KEY: str
+
+    def claims(self, pm: Any) -> list[Claim]: ...
+
+    def findings(self, pm: Any) -> list[str]: ...
+
+    def sections(self, pm: Any, ctx: Context) -> list[Section]: ...
 
 
 EXPERIMENT_INTERFACE = ("NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings",
-                        "sections", "run")
+                        "sections")
+HOOKS = ("summary", "data", "techniques", "reported_settings", "PARTS")
+PART_INTERFACE = ("KEY", "compute", "claims", "findings", "sections")
+
+
+def part_measurements(m: Any, key: str) -> Any:
+    """A part's measurements inside its parent's: ``m[key]`` for a dict, else ``m.key``."""
+    return m[key] if isinstance(m, Mapping) else getattr(m, key)
+
+
+def run(mod: Any, ctx: Context) -> ExperimentResult:
+    """Run the experiment package ``mod`` (an :class:`ExperimentModule`): the settings of the run (``QUICK`` or
+    ``FULL``), ``compute``, then every stage's output, its parts' appended, into one :class:`ExperimentResult`."""
+    s = mod.QUICK if ctx.quick else mod.FULL
+    m = mod.compute(ctx, s)
+    parts = [(p, part_measurements(m, p.KEY)) for p in getattr(mod, "PARTS", ())]
+    claims = mod.claims(m) + [c for p, pm in parts for c in p.claims(pm)]
+    findings = mod.findings(m) + [f for p, pm in parts for f in p.findings(pm)]
+    sections = mod.sections(m, ctx) + [x for p, pm in parts for x in p.sections(pm, ctx)]
+    data, techniques = _hook(mod, "data", m, {}), _hook(mod, "techniques", m, {})
+    for p, pm in parts:
+        data |= _hook(p, "data", pm, {})
+        techniques |= _hook(p, "techniques", pm, {})
+    summary = mod.summary(m) if hasattr(mod, "summary") else mod.DESCRIPTION
+    reported = mod.reported_settings(s, m, ctx) if hasattr(mod, "reported_settings") else s
+    return ExperimentResult(mod.NAME, mod.TITLE, summary, claims, findings, sections, data,
+                            settings=settings_json(reported), techniques=techniques)
+
+
+def _hook(mod: Any, name: str, m: Any, default: dict[str, Any]) -> dict[str, Any]:
+    return dict(getattr(mod, name)(m)) if hasattr(mod, name) else default
+
+
+def missing_interface(mod: Any, names: Iterable[str] = EXPERIMENT_INTERFACE) -> list[str]:
+    """The names of ``names`` that ``mod`` lacks."""
+    return [n for n in names if not hasattr(mod, n)]
+
+
+def register_module(mod: Any) -> Experiment:
+    """Register the experiment package ``mod`` under its ``NAME``, run by :func:`run` (timed)."""
+    missing = missing_interface(mod)
+    if missing:
+        raise ValidateError(f"experiment package {mod.__name__}: missing {', '.join(missing)} (see "
+                            "validate.experiments.base.ExperimentModule)")
+    register_experiment(mod.NAME, mod.TITLE, mod.DESCRIPTION, mod.ORDER)(functools.partial(run, mod))
+    return EXPERIMENTS[mod.NAME]

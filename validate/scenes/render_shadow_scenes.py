@@ -29,7 +29,8 @@ penumbra and umbra, independently of Mitsuba.
 Engines (the scene JSON's ``shadow`` entry, read by ``three_shadows.mjs`` / ``babylon_shadows.mjs``): the plane
 receives, only the occluder casts (castShadow false on the plane: no receiver self-shadowing, so no bias is needed:
 three's bias 0, Babylon's default 5e-5; three's VSM alone draws the receiver into its map all the same — its
-``receiveShadow`` meshes are rendered under VSM — and self-shadows the lit plane, ``shadow_claims.LIT_REGRESSIONS``),
+``receiveShadow`` meshes are rendered under VSM — and self-shadows the lit plane,
+``renders.shadows.claims.LIT_REGRESSIONS``),
 shadow map ``MAP_SIZE``² (three's default mapSize), the same light frustum in both engines
 (directional: orthographic ±``ORTHO_HALF`` m from ``LIGHT_DISTANCE`` m along −direction; spot: perspective at the
 light), near/far ``SHADOW_NEAR``/``SHADOW_FAR`` m. Shadow types (``SHADOW_TYPES``): three 0.187 Basic, PCF,

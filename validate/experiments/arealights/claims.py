@@ -41,7 +41,6 @@ from typing import Any
 from ...local_models import arealight
 from ..base import Claim
 from ..techniques import Measured, technique_claims
-from . import specular as asp
 from .compute import (
     ALPHA,
     ALPHA20,
@@ -57,8 +56,7 @@ SEED_DIGITS = 1e-5  # one unit in the 6th significant digit of the seed's consta
 
 
 def claims(m: dict[str, Any]) -> list[Claim]:
-    return [*_reference_claims(m), *_range_claims(m), *_technique_claims(m), *_crossing_claims(m),
-            *asp.claims(m["specular"])]
+    return [*_reference_claims(m), *_range_claims(m), *_technique_claims(m), *_crossing_claims(m)]
 
 
 def _reference_claims(m: dict[str, Any]) -> list[Claim]:

@@ -30,9 +30,9 @@ from ...local_models.registry import Technique
 from ...reference import area_irradiance as ai
 from ...scenes import area_lights, procedural
 from ...stats import sidak_alpha, sidak_critical
-from ..base import Context
-from . import specular
+from ..base import Context, settings_json
 from .settings import Settings
+from .specular.compute import compute as specular_compute
 
 ORDERS = (2, 4, 8)
 ALPHA = ai.DEFAULT_ALPHA  # family-wise significance level of every Mitsuba decision
@@ -324,7 +324,7 @@ def compute(ctx: Context, s: Settings) -> dict[str, Any]:
     checks = ctx.map(lambda item: reference_check(item[1][0], item[1][1], s, (seed + item[0]) % 2048),
                      list(enumerate(scenes.items())), "arealights: Mitsuba")  # independent seeds per scene
     th = _thetas(s)
-    return {"settings": s.to_json(), "scenes": scenes, "reference_checks": checks,
+    return {"settings": settings_json(s, omit=("specular",)), "scenes": scenes, "reference_checks": checks,
             "cap_quadrature": {"max": cap_quadrature_check(np.cos(np.radians(th))),
                                "unclipped": cap_quadrature_check(np.cos(np.radians(th)), unclipped=True)},
             "seed_formulas": seed_check(s, ALPHA20),
@@ -334,7 +334,7 @@ def compute(ctx: Context, s: Settings) -> dict[str, Any]:
                        for i, (k, a) in enumerate((("inside", ALPHA_INSIDE), ("outside", ALPHA_OUTSIDE)))},
             "sh_vs_elevation": elevation_sweep(s, (5.0, ALPHA20)),
             "point_lights": distance_sweep(s, th, POINT_THRESHOLD),
-            "specular": specular.compute(s.specular)}
+            "specular": specular_compute(s.specular)}
 
 
 def measure_techniques(scenes: dict, checks: dict, thetas: np.ndarray,

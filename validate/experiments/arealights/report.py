@@ -9,14 +9,13 @@ import numpy as np
 from ...local_models import arealight
 from ...metrics.irradiance_error import WORST_CASE_MAX
 from ...report import plots
-from ..base import Context, Figure, Section, Table
+from ..base import Context, Figure, Section, Table, settings_json
 from ..formatting import col, pm
 from ..formatting import pct as _pct
 from ..techniques import technique_entry
-from . import specular as asp
 from .claims import technique_measured
 from .compute import ALPHA, ALPHA20, ALPHA_INSIDE, ALPHA_OUTSIDE
-from .settings import NAME, SCALE_ERROR
+from .settings import NAME, SCALE_ERROR, Settings
 
 FLOOR = 1e-9  # log-scale floor for exact techniques (float32 rounding shows as ~1e-7)
 
@@ -26,8 +25,7 @@ FLOOR = 1e-9  # log-scale floor for exact techniques (float32 rounding shows as 
 
 
 def sections(m: dict[str, Any], ctx: Context) -> list[Section]:
-    return [_reference_section(m, ctx), _technique_section(m), _alpha_section(m, ctx), _distance_section(m, ctx),
-            asp.section(m["specular"], ctx)]
+    return [_reference_section(m, ctx), _technique_section(m), _alpha_section(m, ctx), _distance_section(m, ctx)]
 
 
 def _reference_section(m: dict[str, Any], ctx: Context) -> Section:
@@ -145,7 +143,7 @@ def findings(m: dict[str, Any]) -> list[str]:
                     "validated, so the judgements below that rest on it are void until this is resolved.")
     f.append(_range_finding(m))
     f += _sweep_findings(m)
-    return f + asp.findings(m["specular"])
+    return f
 
 
 def _reference_finding(c: dict[str, Any]) -> str:
@@ -206,9 +204,6 @@ def _sweep_findings(m: dict[str, Any]) -> list[str]:
     return f
 
 
-HEADING = "Disc and sphere lights vs Mitsuba"
-
-
 def summary(m: dict[str, Any]) -> str:
     return ("Every registered area-light technique — zonal SH of order 2, 4 and 8, the inverse-square and "
             "OpenGL point-light shortcuts, the exact horizon-clipped cap irradiance, and plug-ins — judged by "
@@ -217,15 +212,21 @@ def summary(m: dict[str, Any]) -> str:
 
 
 def data(m: dict[str, Any]) -> dict[str, Any]:
-    """``experiments.arealights``'s own keys: every measurement but the settings and the technique table."""
-    return {k: v for k, v in m.items() if k not in ("settings", "techniques")}
+    """``experiments.arealights``'s own keys: every measurement but the settings, the technique table and the
+    specular part's (its own ``data``)."""
+    return {k: v for k, v in m.items() if k not in ("settings", "techniques", "specular")}
+
+
+def reported_settings(s: Settings, m: dict[str, Any], ctx: Context) -> dict[str, Any]:
+    """``experiments.arealights.settings``: the diffuse part's; the specular part's are in its data."""
+    return settings_json(s, omit=("specular",))
 
 
 def techniques(m: dict[str, Any]) -> dict[str, Any]:
-    """``experiments.arealights.techniques.<name>``: diffuse techniques per scene, then the specular ones."""
+    """``experiments.arealights.techniques.<name>``: the diffuse techniques per scene (the specular part's: its own
+    ``techniques``)."""
     entries = {tech.name: technique_entry(tech, {k: {"value": v.value, "uncertainty": v.uncertainty}
                                                  for k, v in technique_measured(m["techniques"][tech.name]).items()},
                                           scenes=m["techniques"][tech.name])
                for tech in arealight if m["techniques"].get(tech.name)}
-    entries.update(asp.entries(m["specular"]))
     return entries

@@ -3,8 +3,9 @@ effort both share (meter film, projection nodes, the α-range grid, the two Mits
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field
-from typing import Any
+from dataclasses import dataclass, field
+
+from .specular.settings import SpecularSettings
 
 NAME = "arealights"
 SCALE_ERROR = 0.02  # the reference-bias power check of the meter test
@@ -20,20 +21,6 @@ class MeterRun:
     thetas_deg: tuple[float, ...] = tuple(range(0, 181, 30))
     passes: int = 16
     spp: int = 128
-
-
-@dataclass(frozen=True)
-class SpecularSettings:
-    """The specular part (:mod:`.specular`): GGX α, light half-angles σ, quadrature nodes, the render check."""
-
-    alphas: tuple[float, ...]
-    sigmas_deg: tuple[float, ...]
-    nodes: int
-    render_pixels: int
-    render_spp: int
-
-    def to_json(self) -> dict[str, Any]:
-        return {k: list(v) if isinstance(v, tuple) else v for k, v in asdict(self).items()}
 
 
 @dataclass(frozen=True)
@@ -55,14 +42,6 @@ class Settings:
     range_step_deg: float = 0.5  # the fine α grid of the 5 % range (closed form)
     range_deg: tuple[float, float] = (1.0, 60.0)
     decide: MeterRun = field(default_factory=MeterRun)
-
-    def to_json(self) -> dict[str, Any]:
-        d = asdict(self)
-        del d["specular"]
-        d["decide"] = {**d["decide"], "thetas_deg": list(self.decide.thetas_deg)}
-        for k in ("alphas_deg", "meter_thetas_deg"):
-            d[k] = list(d[k])
-        return d
 
 
 QUICK = Settings(alphas_deg=(1, 2, 5, 10, 15, 20, 25, 30, 45, 60), theta_step_deg=0.25, elevation_step_deg=5.0,

@@ -15,30 +15,23 @@ Metrics (:mod:`.compute`): ``rel_l1.<material>``, ``max_rel.<material>``, ``albe
 each ± uncertainty, with the power perturbation "output × 1.02".
 
 Pipeline: :mod:`.settings` (``QUICK``, ``FULL``) → :func:`.compute.compute` → :func:`.claims.claims` →
-:func:`.report.findings`, :func:`.report.sections`; :func:`run` only wires them. :mod:`.check` serves
+:func:`.report.findings`, :func:`.report.sections`; :func:`..base.run` wires them. :mod:`.check` serves
 ``validate.testing.check_brdf``.
 """
 
 from __future__ import annotations
 
-from ..base import Context, ExperimentResult, register_experiment
-from . import report
 from .claims import claims
 from .compute import compute
-from .report import findings, sections
+from .report import data, findings, sections, summary, techniques
 from .settings import FULL, NAME, QUICK
 
-TITLE = "Textbook shading models vs physics (Phong, Blinn–Phong, Cook–Torrance, Oren–Nayar, Minnaert)"
+TITLE = "Textbook shading models vs physics"
 DESCRIPTION = "every brdf technique vs Mitsuba BSDFs and path-traced V-grooves"
 ORDER = 70
 
 
-@register_experiment(NAME, TITLE, DESCRIPTION, order=ORDER)
-def run(ctx: Context) -> ExperimentResult:
-    m = compute(ctx, QUICK if ctx.quick else FULL)
-    return ExperimentResult(name=NAME, title=report.HEADING, summary=report.SUMMARY, claims=claims(m),
-                            findings=findings(m), sections=sections(m, ctx), data=report.data(m),
-                            settings=report.settings_json(m), techniques=report.techniques(m))
 
 
-__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections", "run"]
+__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections",
+           "data", "summary", "techniques"]

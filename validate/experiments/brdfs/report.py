@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 
 from ...report import plots
-from ..base import Context, Figure, Section, Table, fields_json
+from ..base import Context, Figure, Section, Table
 from ..formatting import col, pm_entry
 from ..formatting import pct as _pct
 from ..techniques import technique_entry
@@ -292,7 +292,6 @@ def _vgroove_findings(m: Measurements) -> list[str]:
     return out
 
 
-HEADING = "Textbook shading models vs physics"
 SUMMARY = ("Every registered brdf technique — textbook Phong and Blinn–Phong, their normalised forms, "
            "Cook–Torrance as Ganovelli prints it and in the corrected microfacet form, Oren–Nayar "
            "(qualitative and full), Minnaert, Lambert — against Mitsuba's BSDFs evaluated directly, and the "
@@ -300,6 +299,5 @@ SUMMARY = ("Every registered brdf technique — textbook Phong and Blinn–Phong
            "a path-traced Lambertian V-groove surface; white-furnace albedo of each.")
 
 
-def settings_json(m: Measurements) -> dict[str, Any]:
-    """``experiments.brdfs.settings``: every field, tuples as lists."""
-    return fields_json(m.settings)
+def summary(m: Any) -> str:
+    return SUMMARY

@@ -11,11 +11,9 @@ experiment changes): only the cube faces the engines would receive are checked.
 
 from __future__ import annotations
 
-from ..base import Context, ExperimentResult, register_experiment
-from . import report
 from .claims import claims
 from .compute import compute
-from .report import findings, sections
+from .report import data, findings, sections, summary, techniques
 from .settings import FULL, NAME, QUICK
 
 TITLE = "Shipping engines: three.js and Babylon.js SH irradiance vs Mitsuba"
@@ -24,13 +22,7 @@ DESCRIPTION = ("three.js and Babylon.js SH irradiance (run in Node) beside SH9, 
 ORDER = 15
 
 
-@register_experiment(NAME, TITLE, DESCRIPTION, order=ORDER)
-def run(ctx: Context) -> ExperimentResult:
-    m = compute(ctx, QUICK if ctx.quick else FULL)
-    data = report.data(m)
-    return ExperimentResult(name=NAME, title=TITLE, summary=report.summary(m), claims=claims(m), findings=findings(m),
-                            sections=sections(m, ctx), data=data, settings=m.settings.to_json(),
-                            techniques=report.techniques(m))
 
 
-__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections", "run"]
+__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections",
+           "data", "summary", "techniques"]

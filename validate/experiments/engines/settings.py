@@ -2,8 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
-from typing import Any
+from dataclasses import dataclass
 
 from ...local_models.irradiance.engines import worker
 
@@ -24,9 +23,6 @@ class Settings:
     # (measured: own +62.8 %, suite +0.17 ± 0.025 %), so the power check (the suite's faces) cannot fail there; on
     # the full set it is −15.3 % (rooitou_park_1k). Quick still reports both face sources in the table.
     clamp_claim: bool = True
-
-    def to_json(self) -> dict[str, Any]:
-        return asdict(self)
 
 
 QUICK = Settings(2500, 64, worker.FACE_SIZE, (32, 64, 128), clamp_claim=False)

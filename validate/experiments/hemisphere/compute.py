@@ -38,7 +38,7 @@ from ...reference import area_irradiance as ai
 from ...reference.irradiance import reference_irradiance
 from ...scenes import area_lights, latlong, procedural
 from ...scenes.environment import Environment
-from ..base import Context
+from ..base import Context, settings_json
 from ..techniques import Measured
 from .settings import Settings
 
@@ -173,7 +173,7 @@ def compute(ctx: Context, s: Settings) -> dict[str, Any]:
     two_tone = by_name.get("two_tone") or procedural.two_tone()
     suns = [by_name[f"sunsky_{e:g}deg"] for e in procedural.SUN_ELEVATIONS_DEG if f"sunsky_{e:g}deg" in by_name]
     skies = [two_tone, *suns]
-    return {"settings": s.to_json(), "weights": weight_curves(np.arange(0.0, 180.0 + 1e-9, 0.25)),
+    return {"settings": settings_json(s), "weights": weight_curves(np.arange(0.0, 180.0 + 1e-9, 0.25)),
             "two_tone": two_tone_analysis(two_tone, ctx, s),
             "skies": dict(zip([e.name for e in skies], ctx.map(lambda env: sky_analysis(env, s), skies,
                                                                "hemisphere: skies"), strict=True))}

@@ -128,9 +128,6 @@ def findings(m: dict[str, Any]) -> list[str]:
     return f
 
 
-HEADING = "Hemisphere lighting vs Mitsuba"
-
-
 def summary(m: dict[str, Any]) -> str:
     return ("Hemisphere lighting C = w·C_sky + (1 − w)·C_ground with the cosine weight w = ½(1 + N·U) and with "
             "the Red Book's piecewise-sine weight, against Mitsuba: its irradiance meter and a deterministic "

@@ -2,8 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
-from typing import Any
+from dataclasses import dataclass
 
 from ...scenes import area_lights
 
@@ -21,11 +20,6 @@ class Settings:
     meter_passes: int  # independent meter passes (Student t over passes)
     meter_spp: int  # samples per pixel per pass
     meter_film: int = area_lights.FILM_SIZE  # meter film side (pixels)
-
-    def to_json(self) -> dict[str, Any]:
-        d = asdict(self)
-        d["meter_betas_deg"] = list(self.meter_betas_deg)
-        return d
 
 
 QUICK = Settings(beta_step_deg=10.0, azimuths=8, cells=64, meter_betas_deg=(0, 30, 45, 60, 90, 120, 135, 150, 180),

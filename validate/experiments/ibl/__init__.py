@@ -20,27 +20,19 @@ Errors on rendered pixels are relative luminance errors with the renders' Monte 
 
 from __future__ import annotations
 
-from ..base import Context, ExperimentResult, register_experiment
-from . import report
 from .claims import claims
 from .compute import compute
-from .report import findings, sections
+from .report import data, findings, reported_settings, sections, summary, techniques
 from .settings import FULL, NAME, QUICK
 
-TITLE = "IBL convolution: irradiance maps, Phong-prefiltered and split-sum GGX maps vs Mitsuba"
+TITLE = "IBL convolution vs Mitsuba"
 DESCRIPTION = ("Diffuse irradiance maps (cube 4…256, lat-long, SH), every irradiance and specular technique "
                "(Phong-prefiltered maps, split-sum GGX, plug-ins), the seed's mixing shader, against Mitsuba "
                "path-traced BRDF integrals.")
 ORDER = 40
 
 
-@register_experiment(NAME, TITLE, DESCRIPTION, order=ORDER)
-def run(ctx: Context) -> ExperimentResult:
-    m = compute(ctx, QUICK if ctx.quick else FULL)
-    techniques = report.techniques(m)
-    return ExperimentResult(name=NAME, title=report.HEADING, summary=report.summary(m), claims=claims(m),
-                            findings=findings(m), sections=sections(m, ctx), data=report.data(m),
-                            techniques=techniques, settings=report.settings_json(m, ctx.seed))
 
 
-__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections", "run"]
+__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections",
+           "data", "reported_settings", "summary", "techniques"]

@@ -13,7 +13,7 @@ from ..formatting import pct, pm
 from .claims import technique_results
 from .compute import CRATER_AO, MAP_MAX_ERROR, Comparison, IblMeasurements
 from .scene import ALBEDO, ANGLE_BINS, BLEND_EXPONENT, BLEND_WEIGHT, CAMERA_OFFSET_DEG
-from .settings import NAME
+from .settings import NAME, Settings
 
 SEC_A = "Diffuse irradiance maps: resolution"
 SEC_B = "Diffuse irradiance on a rendered sphere (maps and irradiance techniques)"
@@ -296,9 +296,6 @@ def data(m: IblMeasurements) -> dict[str, Any]:
             **z, "comparisons": [c.row() for c in comps]}
 
 
-HEADING = "IBL convolution vs Mitsuba"
-
-
 def summary(m: IblMeasurements) -> str:
     return ("Diffuse irradiance maps, specular techniques (Phong-prefiltered maps, split-sum GGX, plug-ins), the "
             "seed's mixing shader against the irradiance quadrature and Mitsuba path-traced renders of a sphere "
@@ -310,10 +307,9 @@ def techniques(m: IblMeasurements) -> dict[str, Any]:
     return technique_results(m)[0]
 
 
-def settings_json(m: IblMeasurements, seed: int) -> dict[str, Any]:
+def reported_settings(st: Settings, m: IblMeasurements, ctx: Context) -> dict[str, Any]:
     """``experiments.ibl.settings``: the sweep's effort, the rendered environment and the run's seed."""
-    st = m.st
     return {"quick": st.quick, "environments": list(st.sweep_envs), "render_environment": m.scene.render_env.name,
             "faces": list(st.faces), "heights": list(st.heights), "image": st.size, "spp": st.spp,
             "passes": st.passes, "exponents": list(st.exponents), "alphas": list(st.alphas),
-            "camera_offset_deg": CAMERA_OFFSET_DEG, "seed": seed}
+            "camera_offset_deg": CAMERA_OFFSET_DEG, "seed": ctx.seed}

@@ -27,16 +27,14 @@ Claims (each with a power check that fails):
    (|pooled z| < 4, and max |z| below the Šidák critical value).
 
 Pipeline: :mod:`.settings` (``QUICK``, ``FULL``) → :func:`.compute.compute` → :func:`.claims.claims` →
-:func:`.report.findings`, :func:`.report.sections`; :func:`run` only wires them.
+:func:`.report.findings`, :func:`.report.sections`; :func:`..base.run` wires them.
 """
 
 from __future__ import annotations
 
-from ..base import Context, ExperimentResult, register_experiment
-from . import report
 from .claims import claims
 from .compute import compute
-from .report import findings, sections
+from .report import data, findings, reported_settings, sections, summary, techniques
 from .settings import FULL, NAME, QUICK
 
 TITLE = "The textbooks' classic lights against physics"
@@ -44,12 +42,7 @@ DESCRIPTION = "point, spot, directional and area lights; attenuation sets, point
 ORDER = 70
 
 
-@register_experiment(NAME, TITLE, DESCRIPTION, order=ORDER)
-def run(ctx: Context) -> ExperimentResult:
-    m = compute(ctx, QUICK if ctx.quick else FULL)
-    cl, fi, secs = claims(m), findings(m), sections(m, ctx)
-    return ExperimentResult(NAME, report.HEADING, report.SUMMARY, claims=cl, findings=fi, sections=secs,
-                            settings=report.settings_json(m), data=report.data(m), techniques=report.techniques(m))
 
 
-__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections", "run"]
+__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections",
+           "data", "reported_settings", "summary", "techniques"]

@@ -15,7 +15,7 @@ from ...metrics import shadow_error as se
 from ...reference import light_render as lr
 from ...scenes import light_scenes as ls
 from ...scenes.latlong import luminance
-from ..base import Context
+from ..base import Context, settings_json
 from . import image_metrics as lm
 from . import sweeps as sw
 from .settings import Settings
@@ -271,7 +271,7 @@ def spot_profile() -> dict[str, Any]:
 
 def compute(ctx: Context, s: Settings) -> Measurements:
     """Every reference render, every technique on it, the sweeps and the consistency checks."""
-    m = Measurements(s.to_json())
+    m = Measurements(settings_json(s))
     frames = render_frames(ctx, s)
     m.data["spot"] = spot_profile()
     evaluate_techniques(frames, s, m)

@@ -9,12 +9,12 @@ import numpy as np
 from ...local_models import light as family
 from ...report import plots
 from ...scenes import light_scenes as ls
-from ..base import Context, Figure, Section, Table
+from ..base import Context, Figure, Section, Table, settings_json
 from ..formatting import pct_fixed as _pct
 from ..formatting import pm
 from ..techniques import technique_entry
 from .compute import Measurements
-from .settings import NAME
+from .settings import NAME, Settings
 from .sweeps import lamp_profile, mitsuba_spot_profile
 
 
@@ -295,14 +295,17 @@ def findings(m: Measurements) -> list[str]:
     return out
 
 
-HEADING = "The textbooks' classic lights against physics"
 SUMMARY = ("Directional, point (inverse square and engine attenuations), spot (cos^f and Mitsuba's "
            "profile) and area lights as n×n point grids, against Mitsuba's direct lighting.")
 
 
-def settings_json(m: Any) -> dict[str, Any]:
+def summary(m: Any) -> str:
+    return SUMMARY
+
+
+def reported_settings(s: Settings, m: Any, ctx: Context) -> dict[str, Any]:
     """``experiments.lights.settings``: the settings without the two long sweep grids."""
-    return {k: v for k, v in m.settings.items() if k not in ("ratios", "distances")}
+    return settings_json(s, omit=("ratios", "distances"))
 
 
 def data(m: Any) -> dict[str, Any]:

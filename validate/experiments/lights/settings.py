@@ -2,8 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, replace
-from typing import Any
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -38,10 +37,6 @@ class Settings:
     # (~3·10⁻⁷ of E) moves the root by ~1·10⁻⁴ (the error's slope there is ~3·10⁻³ per unit d/size; measured:
     # Brent on the closed forms and a bisection on the float64 quadrature differ by up to 1.1·10⁻⁴), so 10⁻³.
     standin_xtol: float
-
-    def to_json(self) -> dict[str, Any]:
-        d = asdict(self)
-        return d | {k: list(d[k]) for k in ("grid_ns", "ratios", "distances")}
 
 
 QUICK = Settings(width=64, height=48, delta_spp=1, delta_passes=2, area_spp=16, area_passes=8, sum_spp=64, sum_passes=8,

@@ -10,11 +10,9 @@ rows are skipped (the findings say why) and the Python transcriptions stand in.
 
 from __future__ import annotations
 
-from ..base import Context, ExperimentResult, register_experiment
-from . import report
 from .claims import claims
 from .compute import compute
-from .report import findings, sections
+from .report import data, findings, sections
 from .settings import FULL, QUICK
 
 NAME = "listings"
@@ -24,11 +22,7 @@ DESCRIPTION = ("Every lighting listing of the five seed texts on llvmpipe beside
 ORDER = 92
 
 
-@register_experiment(NAME, TITLE, DESCRIPTION, order=ORDER)
-def run(ctx: Context) -> ExperimentResult:
-    m = compute(ctx, QUICK if ctx.quick else FULL)
-    return ExperimentResult(NAME, TITLE, DESCRIPTION, claims=claims(m), findings=findings(m),
-                            settings=report.settings_json(m), data=report.data(m), sections=sections(m, ctx))
 
 
-__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections", "run"]
+__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections",
+           "data"]

@@ -189,11 +189,6 @@ def sections(m: Measurements, ctx: Context) -> list[Section]:
 __all__ = ["findings", "index_counts", "sections"]
 
 
-def settings_json(m: Measurements) -> dict[str, Any]:
-    """The settings the run used (results.json ``settings``)."""
-    return asdict(m.settings)
-
-
 def data(m: Measurements) -> dict[str, Any]:
     """The measurements as results.json data (the settings go under ``settings``)."""
     return {k: v for k, v in asdict(m).items() if k != "settings"}

@@ -35,30 +35,23 @@ exit density), checked with Mitsuba's own machinery (JIT variants only; skipped,
   × G₂/(G₁G₁), max relative difference < 10⁻⁴. Power: α × 1.01.
 
 Pipeline: :mod:`.settings` (``QUICK``, ``FULL``) → :func:`.compute.compute` → :func:`.claims.claims` →
-:func:`.report.findings`, :func:`.report.sections`; :func:`run` only wires them.
+:func:`.report.findings`, :func:`.report.sections`; :func:`..base.run` wires them.
 """
 
 from __future__ import annotations
 
-from ..base import Context, ExperimentResult, register_experiment
-from . import report
 from .claims import claims
 from .compute import compute
-from .report import findings, sections
+from .report import data, findings, sections, summary, techniques
 from .settings import FULL, NAME, QUICK
 
-TITLE = "Multiple-scattering GGX compensation in the white furnace"
+TITLE = "Multiple-scattering compensation (white furnace)"
 DESCRIPTION = ("every brdf technique's furnace albedo over roughness × view × F₀ × metalness grids against the "
                "closed target 1 (F = 1); the blended-F₀ engine bug as a regression technique")
 ORDER = 72
 
 
-@register_experiment(NAME, TITLE, DESCRIPTION, order=ORDER)
-def run(ctx: Context) -> ExperimentResult:
-    m = compute(ctx, QUICK if ctx.quick else FULL)
-    return ExperimentResult(name=NAME, title=report.HEADING, summary=report.SUMMARY, claims=claims(m),
-                            findings=findings(m), sections=sections(m, ctx), data=report.data(m),
-                            settings=report.settings_json(m), techniques=report.techniques(m))
 
 
-__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections", "run"]
+__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections",
+           "data", "summary", "techniques"]

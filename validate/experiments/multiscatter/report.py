@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 
 from ...report import plots
-from ..base import Context, Figure, Section, Table, fields_json
+from ..base import Context, Figure, Section, Table
 from ..formatting import col
 from ..techniques import technique_entry
 from .compute import Measurements, metric, metrics
@@ -139,18 +139,17 @@ def sections(m: Measurements, ctx: Context) -> list[Section]:
         figures=[Figure(rel, "white-furnace albedo vs α", 480)], tables=tables)]
 
 
-HEADING = "Multiple-scattering compensation (white furnace)"
 SUMMARY = ("Kulla–Conty, Fdez-Agüera and Turquin energy compensation for GGX, the metalness workflow with the "
            "compensation per path, and the three.js/Bevy blended-F₀ bug, against the closed white-furnace "
            "target W = 1 (F = 1).")
 
 
+def summary(m: Any) -> str:
+    return SUMMARY
+
+
 def data(m: Measurements) -> dict[str, Any]:
     return {"w": m.w, "published": m.published, "walk": m.walk, "walk_bsdf": m.bsdf}
-
-
-def settings_json(m: Measurements) -> dict[str, Any]:
-    return fields_json(m.settings)
 
 
 def techniques(m: Measurements) -> dict[str, Any]:

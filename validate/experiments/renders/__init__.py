@@ -12,17 +12,16 @@ Without Chromium or node_modules every engine is skipped with the reason. Filame
 lights (c) (``compute.KIND_SKIP``: no IBL prefilter, no area lights in its npm package); its 8-bit canvas readback
 carries its quantisation as an uncertainty added in quadrature to Mitsuba's.
 (e) Shadows — a directional and a spot light over the plane with a box occluder, each engine's shadow types against
-the path-traced penumbra of a light with a size — live apart: :mod:`validate.scenes.render_shadow_scenes`,
-``shadow_compute`` / ``shadow_claims`` / ``shadow_report`` here.
+the path-traced penumbra of a light with a size — and (b) Babylon's CDF irradiance are parts with their own stages:
+:mod:`.shadows` and :mod:`.cdf` (``PARTS``), measured by :func:`.compute.compute` beside the main scenes.
 """
 
 from __future__ import annotations
 
-from ..base import Context, ExperimentResult, register_experiment
-from . import report
+from . import cdf, shadows
 from .claims import claims
 from .compute import compute
-from .report import findings, sections
+from .report import data, findings, reported_settings, sections, summary
 from .settings import FULL, QUICK
 
 NAME = "renders"
@@ -32,12 +31,8 @@ DESCRIPTION = ("Furnace, probe, directional, point, spot and hemisphere lights r
 ORDER = 95
 
 
-@register_experiment(NAME, TITLE, DESCRIPTION, ORDER)
-def run(ctx: Context) -> ExperimentResult:
-    m = compute(ctx, QUICK if ctx.quick else FULL)
-    return ExperimentResult(NAME, TITLE, report.summary(m), claims(m), findings(m), sections(m, ctx), report.data(m),
-                            settings=report.settings_json(m))
+PARTS = (shadows, cdf)
 
 
 __all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections",
-           "run"]
+           "data", "reported_settings", "summary", "PARTS"]

@@ -521,9 +521,5 @@ def material_claims(m: Measurements) -> list[Claim]:
 
 
 def claims(m: Measurements) -> list[Claim]:
-    from .cdf_claims import cdf_claims  # (b) Babylon's CDF irradiance
-    from .shadow_claims import shadow_claims  # (e)
-
     return (furnace_claims(m) + directional_claims(m) + point_claims(m) + spot_claims(m) + hemisphere_claims(m)
-            + probe_lambert_claims(m) + sharpness_claims(m) + rect_claims(m) + material_claims(m)
-            + shadow_claims(m.shadows) + cdf_claims(m.cdf))
+            + probe_lambert_claims(m) + sharpness_claims(m) + rect_claims(m) + material_claims(m))

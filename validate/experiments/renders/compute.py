@@ -36,12 +36,11 @@ from ...local_models import render as engines
 from ...metrics.pixel_z import PixelJudgement, interior_mask, judge
 from ...reference.render_reference import RenderReference, render_reference
 from ...scenes import render_scenes as rs
+from .budgets import FURNACE_BUDGET, PROBE_BUDGET_REL
+from .cdf.compute import cdf_reference, cdf_scene_list, compute_cdf
 from .settings import Settings
+from .shadows.compute import compute_shadows, shadow_scene_list
 
-# Furnace budget per pixel (radiance units, truth 1): three's PMREM / Babylon's prefiltered cube store half
-# floats (2⁻¹¹ relative per texel) and both engines add a diffuse and a specular lookup → 2·2⁻¹¹; SwiftShader
-# trig 2e-4 absolute (cube-face directions) → b = 2·2⁻¹¹ + 2e-4 ≈ 1.2e-3.
-FURNACE_BUDGET = 2 * engines.HALF_FLOAT_RTOL + engines.SWIFTSHADER_TRIG_ATOL
 # Directional budget, a measured margin: the engines shade a 512×256 tessellated sphere; three's largest
 # |engine − Mitsuba| over the 2336 interior pixels of the 64² image was 1.76e-3 = 0.18 % of the peak ρE/π =
 # 0.955 (rows 9–46, scattered, not at the outline); b = 0.25 % of the peak radiance ρE/π.
@@ -74,8 +73,6 @@ KIND_SKIP = {"rect": {"filament": "Filament has no area lights (LightManager typ
 RECT_LTC_LABEL = ("Babylon's RectAreaLight shader with Heitz's tables (Babylon's own areaLightsLTC.bin is not "
                   "obtainable offline)")
 KIND_NOTE = {"rect": {"babylon": RECT_LTC_LABEL}}
-# (b) probe on metal spheres: the furnace budget per unit radiance (2 half-float lookups + SwiftShader trig), relative
-PROBE_BUDGET_REL = FURNACE_BUDGET
 
 
 @dataclass
@@ -118,8 +115,8 @@ class Measurements:
     startup: dict[str, Any] = field(default_factory=dict)
     probe_note: str = ""  # which probe (b) rendered, or why none
     bsdf_checks: dict[str, Any] = field(default_factory=dict)  # (b) materials: the glTF BSDF's χ² and closed forms
-    shadows: list[Any] = field(default_factory=list)  # (e) shadow_compute.ShadowSceneResult per scene
-    cdf: list[Any] = field(default_factory=list)  # (b) cdf_compute.CdfScene: Babylon's CDF irradiance (PR 16247)
+    shadows: list[Any] = field(default_factory=list)  # (e) shadows.compute.ShadowSceneResult per scene
+    cdf: list[Any] = field(default_factory=list)  # (b) cdf.compute.CdfScene: Babylon's CDF irradiance (PR 16247)
 
 
 def scene_list(s: Settings, probe: np.ndarray | None = None) -> list[tuple[rs.RenderScene, str]]:
@@ -265,9 +262,6 @@ def compute(ctx: Any, s: Settings) -> Measurements:
     from ...gl import browser_page, runtime
 
     probe, probe_note = load_probe(ctx)
-    from .cdf_compute import cdf_reference, cdf_scene_list, compute_cdf
-    from .shadow_compute import compute_shadows, shadow_scene_list
-
     scenes = scene_list(s, probe)
     shadow_scenes = shadow_scene_list(s)
     cdf_scenes = cdf_scene_list(ctx, s)

@@ -9,9 +9,10 @@ import numpy as np
 
 from ...format import pm as fpm
 from ...metrics.pixel_z import PixelJudgement, judge
-from ..base import Figure, Section, Table
+from ..base import Figure, Section, Table, settings_json
 from ..formatting import pct, pm
 from .compute import RECT_LTC_LABEL, Measurements, SceneResult, budget
+from .settings import Settings
 
 FILAMENT_NOTE = ("Filament (npm 1.53.4) renders the punctual lights (c) only: a glTF binary of the geometry through "
                  "gltfio's ubershader and its LightManager lights (Φ = 4π·cd point, π·cd spot), post-processing off, "
@@ -152,12 +153,6 @@ def findings(m: Measurements) -> list[str]:
                            f"{pm(j.max_rel, j.max_rel_unc)}, bias {j.mean_signed_rel:+.3%}.")
     out += punctual_findings(m) + hemisphere_findings(m) + probe_findings(m) + rect_findings(m)
     out += material_findings(m)
-    from .shadow_report import shadow_findings  # (e)
-
-    out += shadow_findings(m.shadows)
-    from .cdf_report import cdf_findings  # (b) Babylon's CDF irradiance
-
-    out += cdf_findings(m.cdf)
     metal = [s for s in m.scenes if "model" in s.reference_energy]
     if metal:
         loss = ", ".join(f"r {s.scene.material.roughness:g}: {s.reference_energy['model'][0]:.4f} ± "
@@ -384,12 +379,6 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
                            figures=[f for f in (scene_figure(s, ctx) for s in rect) if f is not None],
                            tables=[t] if t is not None else []))
     out += material_sections(m, ctx)
-    from .shadow_report import shadow_sections  # (e)
-
-    out += shadow_sections(m.shadows, ctx)
-    from .cdf_report import cdf_sections  # (b) Babylon's CDF irradiance
-
-    out += cdf_sections(m.cdf, ctx)
     out.append(Section("Filament: what it renders", [FILAMENT_NOTE]))
     return out
 
@@ -400,19 +389,7 @@ def data(m: Measurements) -> dict:
         e: {"frame_ms": r.frame_ms, "wall_s": r.wall_s, "version": r.version, "energy": r.energy, "info": r.info,
             "judgements": {k: j.to_json() for k, j in r.judgements.items()}} for e, r in s.engines.items()},
         "reference_energy": s.reference_energy} for s in m.scenes}, "startup": m.startup,
-        "bsdf_checks": m.bsdf_checks, "shadows": _shadow_data(m), **_cdf_data(m)}
-
-
-def _cdf_data(m: Measurements) -> dict:
-    from .cdf_report import cdf_data  # (b) Babylon's CDF irradiance
-
-    return {"cdf_irradiance": cdf_data(m.cdf)} if m.cdf else {}
-
-
-def _shadow_data(m: Measurements) -> dict:
-    from .shadow_report import shadow_data  # (e)
-
-    return shadow_data(m.shadows)
+        "bsdf_checks": m.bsdf_checks}
 
 
 def summary(m: Measurements) -> str:
@@ -424,16 +401,11 @@ def summary(m: Measurements) -> str:
     return f"{len(m.scenes)} scenes × {len(s.engines)} engines at {s.resolution}² pixels."
 
 
-def settings_json(m: Measurements) -> dict[str, Any]:
-    """The settings the run used."""
-    s = m.settings
-    return {"spp": s.spp, "passes": s.passes, "resolution": s.resolution, "engines": list(s.engines), "seed": s.seed,
-            "env_spp": s.env_spp, "probe_roughness": list(s.probe_roughness), "probe_resolution": s.probe_resolution,
-            "probe_spp": s.probe_spp, "probe": m.probe_note, "material_metallic": list(s.material_metallic),
-            "material_roughness": list(s.material_roughness), "bsdf_check_samples": s.bsdf_check_samples,
-            "shadow_resolution": s.shadow_resolution, "shadow_spp": s.shadow_spp,
-            "shadow_engines": list(s.shadow_engines), **({"cdf_sizes": list(s.cdf_sizes),
-                                                           "cdf_resolution": s.cdf_resolution} if s.cdf_sizes else {})}
+def reported_settings(s: Settings, m: Measurements, ctx: Any) -> dict[str, Any]:
+    """The settings the run used (the scene constants furnace_roughness, sun_lux, rect_resolution left out; the CDF
+    part's only when it ran) and which probe (b) rendered."""
+    unused = () if s.cdf_sizes else ("cdf_sizes", "cdf_resolution")
+    return settings_json(s, omit=("furnace_roughness", "sun_lux", "rect_resolution", *unused), probe=m.probe_note)
 
 
 # ---------------------------------------------------------------- (b) glTF materials: (i) and (ii) kept apart

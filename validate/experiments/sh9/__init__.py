@@ -1,7 +1,7 @@
 """Experiment ``sh9``: SH9 irradiance (Ramamoorthi & Hanrahan 2001) against Mitsuba's radiance.
 
 Pipeline: :mod:`.settings` (``QUICK``, ``FULL``) → :func:`.compute.compute` (numbers) →
-:func:`.claims.claims` → :func:`.report.findings`, :func:`.report.sections`; :func:`run` only wires them.
+:func:`.claims.claims` → :func:`.report.findings`, :func:`.report.sections`; :func:`..base.run` wires them.
 
 Claims (each with a power check that fails; sources in :mod:`.claims`):
 
@@ -24,11 +24,9 @@ technique comparison and ``results.json`` entries at ``experiments.sh9.technique
 
 from __future__ import annotations
 
-from ..base import Context, ExperimentResult, register_experiment
-from . import report
 from .claims import claims
 from .compute import compute
-from .report import findings, sections
+from .report import data, findings, sections, summary, techniques
 from .settings import FULL, NAME, QUICK
 
 TITLE = "SH9 irradiance vs Mitsuba (Ramamoorthi & Hanrahan 2001)"
@@ -37,13 +35,7 @@ DESCRIPTION = ("SH9 coefficients, errors under every metric, error vs order, pub
 ORDER = 10
 
 
-@register_experiment(NAME, TITLE, DESCRIPTION, order=ORDER)
-def run(ctx: Context) -> ExperimentResult:
-    m = compute(ctx, QUICK if ctx.quick else FULL)
-    data = report.data(m)
-    return ExperimentResult(name=NAME, title=TITLE, summary=report.summary(m), claims=claims(m), findings=findings(m),
-                            sections=sections(m, ctx), data=data, settings=m.settings.to_json(),
-                            techniques=report.techniques(m))
 
 
-__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections", "run"]
+__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections",
+           "data", "summary", "techniques"]

@@ -2,8 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
-from typing import Any
+from dataclasses import dataclass
 
 NAME = "sh9"
 
@@ -21,9 +20,6 @@ class Settings:
     spp: int = 256
     passes: int = 8
     max_order: int = 8
-
-    def to_json(self) -> dict[str, Any]:
-        return asdict(self)
 
 
 # quick: one cross-check, the environment with a closed form and the sharpest light (two_tone,

@@ -21,33 +21,24 @@ luminance), averaged over the image and per region, false-shadow (acne) and fals
 (peter-panning) areas, light leak, HDR-FLIP — each ± its uncertainty.
 
 Pipeline: :mod:`.settings` (``QUICK``, ``FULL``) → :func:`.compute.compute` (numbers) →
-:func:`.claims.claims` → :func:`.report.findings`, :func:`.report.sections`; :func:`run` only wires them.
+:func:`.claims.claims` → :func:`.report.findings`, :func:`.report.sections`; :func:`..base.run` wires them.
 :func:`.check.check_shadow` measures one function for :mod:`validate.testing`.
 """
 
 from __future__ import annotations
 
-from ..base import Context, ExperimentResult, register_experiment
-from . import report
 from .claims import claims
 from .compute import compute
-from .report import findings, sections
+from .report import data, findings, reported_settings, sections, summary, techniques
 from .settings import FULL, NAME, QUICK
 
-TITLE = "Shadow maps (hard, PCF, PCSS, plug-ins) vs path-traced soft shadows of a disc light"
+TITLE = "Shadow maps vs path-traced soft shadows (disc light)"
 DESCRIPTION = ("every registered shadow technique against Mitsuba's direct lighting, by lit / penumbra / umbra region, "
                "vs shadow-map resolution and light radius; bias and PCF-kernel sweeps")
 ORDER = 50
 
 
-@register_experiment(NAME, TITLE, DESCRIPTION, order=ORDER)
-def run(ctx: Context) -> ExperimentResult:
-    # wall times are not findings (same inputs → same results.json): they are the experiment's wall_time_s
-    m = compute(ctx, QUICK if ctx.quick else FULL)
-    cl, fi, secs = claims(m), findings(m), sections(m, ctx)
-    return ExperimentResult(name=NAME, title=report.HEADING, summary=report.summary(m), claims=cl, findings=fi,
-                            sections=secs, data=report.data(m), settings=report.settings_json(m),
-                            techniques=report.techniques(m))
 
 
-__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections", "run"]
+__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections",
+           "data", "reported_settings", "summary", "techniques"]

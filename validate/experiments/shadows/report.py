@@ -14,7 +14,7 @@ import numpy as np
 from ...local_models import shadow
 from ...metrics import shadow_error as se
 from ...report import plots
-from ..base import Context, Figure, Section, Table, finite_or_none
+from ..base import Context, Figure, Section, Table, finite_or_none, settings_json
 from ..formatting import pct_fixed as pct
 from ..formatting import pm
 from ..techniques import technique_entry
@@ -26,7 +26,7 @@ from .claims import (
     technique_metrics,
 )
 from .compute import Measurements
-from .settings import NAME
+from .settings import NAME, Settings
 
 ERROR_VMAX = 0.5  # error maps clip at 50 % of L_norm
 
@@ -392,9 +392,6 @@ def _technique_findings(m: Measurements) -> list[str]:
     return out
 
 
-HEADING = "Shadow maps vs path-traced soft shadows (disc light)"
-
-
-def settings_json(m: Measurements) -> dict[str, Any]:
+def reported_settings(s: Settings, m: Measurements, ctx: Context) -> dict[str, Any]:
     """``experiments.shadows.settings``: the settings and the techniques measured."""
-    return m.settings.__dict__ | {"techniques": [t.name for t in m.techniques]}
+    return settings_json(s, techniques=[t.name for t in m.techniques])

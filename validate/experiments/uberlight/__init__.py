@@ -19,17 +19,15 @@ Claims (each with a power check that fails):
    of :func:`.compute.error_budget` (numbers in the claim's source); power: edge × 1.5.
 
 Pipeline: :mod:`.settings` (``QUICK``, ``FULL``) → :func:`.compute.compute` → :func:`.claims.claims` →
-:func:`.report.findings`, :func:`.report.sections`; :func:`run` only wires them. :mod:`.check` serves
+:func:`.report.findings`, :func:`.report.sections`; :func:`..base.run` wires them. :mod:`.check` serves
 ``validate.testing.check_uberlight``.
 """
 
 from __future__ import annotations
 
-from ..base import Context, ExperimentResult, register_experiment
-from . import report
 from .claims import claims
 from .compute import compute
-from .report import findings, sections
+from .report import data, findings, sections, summary, techniques
 from .settings import FULL, NAME, QUICK
 
 TITLE = "The überlight against physical luminaires"
@@ -37,12 +35,7 @@ DESCRIPTION = "Barzel's überlight (Orange Book §12.4) vs a Mitsuba projector a
 ORDER = 75
 
 
-@register_experiment(NAME, TITLE, DESCRIPTION, order=ORDER)
-def run(ctx: Context) -> ExperimentResult:
-    m = compute(ctx, QUICK if ctx.quick else FULL)
-    cl, fi, data, techniques = claims(m), findings(m), report.data(m), report.techniques(m)
-    return ExperimentResult(NAME, report.HEADING, report.SUMMARY, claims=cl, findings=fi, settings=m.settings,
-                            data=data, techniques=techniques, sections=sections(m, ctx))
 
 
-__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections", "run"]
+__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections",
+           "data", "summary", "techniques"]

@@ -31,7 +31,7 @@ from ...local_models.uberlight import orange_book as ub
 from ...local_models.uberlight.common import superellipse_shape_ad
 from ...reference import uberlight_render as ur
 from ...scenes import uberlight_scenes as us
-from ..base import Context
+from ..base import Context, settings_json
 from ..techniques import Measured
 from .settings import Settings
 
@@ -456,7 +456,7 @@ def sweeps(s: Settings, m: Measurements) -> None:
 
 def compute(ctx: Context, s: Settings) -> Measurements:
     """The projector comparison, the barn-door fits and technique errors, the sweeps and the falloff studies."""
-    m = Measurements(s.to_json())
+    m = Measurements(settings_json(s))
     projector_comparison(s, m)
     frames = barndoor_frames(ctx, s)
     barndoor_fits(frames, m)

@@ -3,8 +3,7 @@
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, replace
-from typing import Any
+from dataclasses import dataclass, replace
 
 NAME = "uberlight"
 
@@ -28,11 +27,6 @@ class Settings:
     edge_sweep: tuple[float, ...]
     seed: int
     d0_over_r: tuple[float, ...]  # Fore June falloff: d₀ in units of the disc radius
-
-    def to_json(self) -> dict[str, Any]:
-        d = asdict(self)
-        d["barndoors"] = [list(b) for b in self.barndoors]
-        return {k: list(v) if isinstance(v, tuple) else v for k, v in d.items()}
 
 
 QUICK = Settings(width=64, height=48, texture=1024, fov_deg=70.0, barndoor_width=64, barndoor_height=48,

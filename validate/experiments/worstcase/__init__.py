@@ -8,11 +8,9 @@ exists, :mod:`.dr_models`; SPSA otherwise), whose worst lighting is written as a
 
 from __future__ import annotations
 
-from ..base import Context, ExperimentResult, register_experiment
-from . import report
 from .claims import claims
 from .compute import NAME, compute
-from .report import findings, sections
+from .report import data, findings, sections, techniques
 from .settings import FULL, QUICK
 
 TITLE = "Worst case for any lighting: certificates of linear techniques and a differentiable search"
@@ -21,12 +19,7 @@ DESCRIPTION = ("sup of the flux-normalised irradiance error over all non-negativ
 ORDER = 15
 
 
-@register_experiment(NAME, TITLE, DESCRIPTION, ORDER)
-def run(ctx: Context) -> ExperimentResult:
-    s = QUICK if ctx.quick else FULL
-    m = compute(ctx, s)
-    return ExperimentResult(NAME, TITLE, DESCRIPTION, claims(m), findings(m), sections(m, ctx), report.data(m),
-                            settings=report.settings_json(s), techniques=report.techniques(m))
 
 
-__all__ = ["DESCRIPTION", "FULL", "NAME", "ORDER", "QUICK", "TITLE", "claims", "compute", "findings", "run", "sections"]
+__all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections",
+           "data", "techniques"]

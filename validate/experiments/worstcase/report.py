@@ -13,7 +13,6 @@ from ..base import Context, Figure, Section, Table
 from ..formatting import pct
 from ..techniques import technique_entry
 from .compute import NAME, Measurements
-from .settings import Settings
 
 
 def pct4(x: float) -> str:
@@ -106,11 +105,6 @@ def data(m: Measurements) -> dict[str, Any]:
             "sh9_power": m.sh9_power, "threshold_power": m.threshold_power,
             "searches": {n: {k: r.to_json() for k, r in v.items()} for n, v in m.searches.items()},
             "probes": m.probes}
-
-
-def settings_json(s: Settings) -> dict[str, Any]:
-    """The settings the run used."""
-    return dict(s.__dict__)
 
 
 def techniques(m: Measurements) -> dict[str, Any]:

@@ -6,11 +6,11 @@ from typing import Any
 
 import numpy as np
 
-from ...format import col
-from ...format import pm as fpm
-from ..base import Figure, Section, Table
-from ..formatting import pct
-from .cdf_compute import CdfScene
+from ....format import col
+from ....format import pm as fpm
+from ...base import Figure, Section, Table
+from ...formatting import pct
+from .compute import CdfScene
 
 NOTE = ("(b) Babylon's CDF irradiance (Babylon PR 16247, 'Make prefiltering using CDF default to supersample': "
         "below a cube size of 256 the CDF irradiance 'varies considerably (and usually gets darker)'). The "
@@ -37,7 +37,7 @@ def cdf_table(sc: CdfScene) -> Table:
 
 
 def cdf_figure(sc: CdfScene, ctx: Any) -> Figure | None:
-    from ...report import plots
+    from ....report import plots
 
     if not sc.results:
         return None
@@ -81,3 +81,8 @@ def cdf_data(scenes: list[CdfScene]) -> dict[str, Any]:
         f"{r.size} {r.variant}": {"ratio": r.ratio, "ratio_unc": r.ratio_unc, "info": r.info, "frame_ms": r.frame_ms,
                                   "wall_s": r.wall_s, "judgement": r.judgement.to_json()} for r in sc.results}}
         for sc in scenes}
+
+
+def data(scenes: list[CdfScene]) -> dict[str, Any]:
+    """``experiments.renders.cdf_irradiance``, when the part ran (full runs)."""
+    return {"cdf_irradiance": cdf_data(scenes)} if scenes else {}

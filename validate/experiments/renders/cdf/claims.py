@@ -27,9 +27,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...stats import sidak_critical
-from ..base import Claim
-from .cdf_compute import CdfScene
+from ....stats import sidak_critical
+from ...base import Claim
+from .compute import CdfScene
 
 ALPHA = 0.01
 SOURCE_Z = "Šidák-corrected z-test at α = 0.01 over the ratios measured (reference standard error from the passes)"

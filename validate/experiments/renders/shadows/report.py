@@ -6,11 +6,11 @@ from typing import Any
 
 import numpy as np
 
-from ...format import col
-from ...format import pm as fpm
-from ..base import Figure, Section, Table
-from ..formatting import pct
-from .shadow_compute import REGIONS, ShadowSceneResult, shadow_factor
+from ....format import col
+from ....format import pm as fpm
+from ...base import Figure, Section, Table
+from ...formatting import pct
+from .compute import REGIONS, ShadowSceneResult, shadow_factor
 
 NOTE = ("(e) Shadows. The Lambertian plane under a directional light (3 lux, 45° incidence) and a spot light (6 cd, "
         "the whole view inside its inner cone), each with a thin box occluder outside the camera's view. The engines "
@@ -60,7 +60,7 @@ def width_table(sr: ShadowSceneResult) -> Table:
 
 def shadow_figures(sr: ShadowSceneResult, ctx: Any) -> list[Figure]:
     """One figure per engine: truth | each shadow type's image and its shadow-factor error × 10."""
-    from ...report import plots
+    from ....report import plots
 
     st = shadow_factor(sr.mean, sr.unshadowed)
     out = []
@@ -124,3 +124,8 @@ def shadow_data(shadows: list[ShadowSceneResult]) -> dict[str, Any]:
             "leak": list(r.leak), "umbra_mean": list(r.umbra_mean),
             "judgements": {k: j.to_json() for k, j in r.judgements.items()}} for r in sr.results}}
         for sr in shadows}
+
+
+def data(shadows: list[ShadowSceneResult]) -> dict[str, Any]:
+    """``experiments.renders.shadows``."""
+    return {"shadows": shadow_data(shadows)}

@@ -3,7 +3,7 @@
 supersampled as shipped and as before PR 16247, against Mitsuba.
 
 Per size × variant: the per-pixel judgement (:func:`validate.metrics.pixel_z.judge`, the probe budget
-``compute.PROBE_BUDGET_REL`` × the reference) and the *energy ratio* r = Σ e / Σ m over the judged pixels and the three
+``budgets.PROBE_BUDGET_REL`` × the reference) and the *energy ratio* r = Σ e / Σ m over the judged pixels and the three
 channels (engine e, Mitsuba mean m). Its uncertainty is the reference's: σ_r = r·√(Σ s²)/Σ m (s the per-pixel
 standard error over the passes; the passes are independent, the pixels too). Babylon's own estimate is deterministic
 (4096 Hammersley points per irradiance texel, no random seed), so it adds no variance; its sampling error is part of
@@ -20,13 +20,13 @@ from typing import Any
 
 import numpy as np
 
-from ...local_models import render as engines
-from ...metrics.pixel_z import PixelJudgement, interior_mask, judge
-from ...reference.render_reference import RenderReference, render_reference
-from ...scenes import render_cdf_scenes as rcs
-from ...scenes import render_scenes as rs
-from .compute import PROBE_BUDGET_REL
-from .settings import Settings
+from ....local_models import render as engines
+from ....metrics.pixel_z import PixelJudgement, interior_mask, judge
+from ....reference.render_reference import RenderReference, render_reference
+from ....scenes import render_cdf_scenes as rcs
+from ....scenes import render_scenes as rs
+from ..budgets import PROBE_BUDGET_REL
+from ..settings import Settings
 
 
 @dataclass
@@ -65,7 +65,7 @@ def energy_ratio(image: np.ndarray, mean: np.ndarray, stderr: np.ndarray, mask: 
 
 
 def load_cdf_probe(ctx: Any) -> tuple[np.ndarray | None, str]:
-    from ...scenes.loaders import load_environment
+    from ....scenes.loaders import load_environment
 
     if ctx.probes_dir is None:
         return None, "no --probes directory: the CDF irradiance scene is not rendered"

@@ -29,11 +29,11 @@ from typing import Any
 
 import numpy as np
 
-from ...local_models import render as engines
-from ...metrics.pixel_z import ALPHA, PixelJudgement, interior_mask, judge, sidak_critical
-from ...reference.render_reference import render_reference
-from ...scenes import render_shadow_scenes as rss
-from .settings import Settings
+from ....local_models import render as engines
+from ....metrics.pixel_z import ALPHA, PixelJudgement, interior_mask, judge, sidak_critical
+from ....reference.render_reference import render_reference
+from ....scenes import render_shadow_scenes as rss
+from ..settings import Settings
 
 SHADOW_BUDGET_OF_PEAK = 2.5e-3  # the plane's per-pixel budget of the other scenes (compute.DIRECT_BUDGET_OF_PEAK)
 WIDTH_LEVELS = (0.1, 0.9)  # the 10–90 % transition of the shadow factor

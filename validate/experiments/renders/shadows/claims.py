@@ -19,10 +19,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...metrics.pixel_z import MIN_ACCEPTED, judge
-from ...scenes.render_scenes import DirectionalLight
-from ..base import Claim
-from .shadow_compute import ShadowEngineResult, ShadowSceneResult, judged_budget
+from ....metrics.pixel_z import MIN_ACCEPTED, judge
+from ....scenes.render_scenes import DirectionalLight
+from ...base import Claim
+from .compute import ShadowEngineResult, ShadowSceneResult, judged_budget
 
 RULE = "Mitsuba 3 render tests: ≥ 99.75 % of pixels pass the Šidák-corrected z-test at α = 0.01"
 METRIC = "fraction of pixels accepted (Šidák α = 0.01)"
