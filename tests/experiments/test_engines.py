@@ -233,7 +233,8 @@ def test_importing_starts_no_node_process() -> None:
 def test_missing_packages_are_named(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(worker, "node_executable", lambda: "/usr/bin/node")
     monkeypatch.setattr(worker, "package_dir", lambda engine: None)
-    assert "validate setup --engines" in worker.unavailable_reason() and "@babylonjs/core" in worker.unavailable_reason()
+    why = worker.unavailable_reason()
+    assert "validate setup --engines" in why and "@babylonjs/core" in why
 
 
 def test_experiment_skips_with_the_reason(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:

@@ -128,6 +128,24 @@ class Section:
     gallery: list[list[Figure]] = field(default_factory=list)  # rows of images shown side by side
 
 
+@dataclass(frozen=True)
+class NotRun:
+    """Something an experiment exists to judge that this run could not run (an engine, a browser, a GL runtime),
+    with why and the command that installs it. A run that leaves one out says so on the command line, in
+    ``results.json`` (``experiments.<name>.not_run``) and on the page; ``--strict`` exits 1 on it: nothing
+    judged is not a pass."""
+
+    what: str  # e.g. "three.js, Filament"
+    why: str  # e.g. "npm engines not installed in ~/.local/share/validate/engines/node_modules"
+    fix: str = ""  # e.g. "python -m validate setup --engines"
+
+    def line(self) -> str:
+        return f"{self.what} not run: {self.why}" + (f" — `{self.fix}`" if self.fix else "")
+
+    def to_json(self) -> dict[str, str]:
+        return {"what": self.what, "why": self.why, "fix": self.fix}
+
+
 @dataclass
 class ExperimentResult:
     name: str
@@ -141,6 +159,7 @@ class ExperimentResult:
     settings: dict[str, Any] = field(default_factory=dict)
     # per registered technique: {technique: {"family": ..., "description": ..., "metrics": {...}}}
     techniques: dict[str, Any] = field(default_factory=dict)
+    not_run: list[NotRun] = field(default_factory=list)
 
     def to_json(self) -> dict[str, Any]:
         out: dict[str, Any] = {
@@ -152,9 +171,10 @@ class ExperimentResult:
             "settings": self.settings,
             "report": {"sections": [asdict(s) for s in self.sections]},
             "techniques": self.techniques,
+            "not_run": [n.to_json() for n in self.not_run],
         }
         clash = set(self.data) & {"title", "summary", "claims", "findings", "wall_time_s", "settings", "report",
-                                   "techniques"}
+                                   "techniques", "not_run"}
         if clash:  # the report contract's keys are not the experiment's to overwrite
             raise ValueError(f"experiment {self.name}: data uses reserved key(s) {sorted(clash)}")
         out.update(self.data)
@@ -398,7 +418,8 @@ class ExperimentModule(Protocol):
     Optional hooks (:data:`HOOKS`, defaults in :func:`run`): ``summary(m) -> str`` (default ``DESCRIPTION``),
     ``data(m) -> dict`` (the experiment's own ``results.json`` keys; default none), ``techniques(m) -> dict``
     (``experiments.<name>.techniques``; default none), ``reported_settings(s, m, ctx)`` (what ``settings``
-    reports, converted by :func:`settings_json`; default ``s``, the run's settings) and ``PARTS`` (sub-experiments,
+    reports, converted by :func:`settings_json`; default ``s``, the run's settings), ``not_run(m) -> list[NotRun]``
+    (what the run could not judge here and why; default none) and ``PARTS`` (sub-experiments,
     :class:`PartModule`: sub-packages whose claims, findings, sections, data and techniques :func:`run` appends).
     """
 
@@ -437,7 +458,7 @@ class PartModule(Protocol):
 
 EXPERIMENT_INTERFACE = ("NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings",
                         "sections")
-HOOKS = ("summary", "data", "techniques", "reported_settings", "PARTS")
+HOOKS = ("summary", "data", "techniques", "reported_settings", "not_run", "PARTS")
 PART_INTERFACE = ("KEY", "compute", "claims", "findings", "sections")
 
 
@@ -459,10 +480,11 @@ def run(mod: Any, ctx: Context) -> ExperimentResult:
     for p, pm in parts:
         data |= _hook(p, "data", pm, {})
         techniques |= _hook(p, "techniques", pm, {})
+    not_run = [n for x, xm in [(mod, m), *parts] if hasattr(x, "not_run") for n in x.not_run(xm)]
     summary = mod.summary(m) if hasattr(mod, "summary") else mod.DESCRIPTION
     reported = mod.reported_settings(s, m, ctx) if hasattr(mod, "reported_settings") else s
     return ExperimentResult(mod.NAME, mod.TITLE, summary, claims, findings, sections, data,
-                            settings=settings_json(reported), techniques=techniques)
+                            settings=settings_json(reported), techniques=techniques, not_run=not_run)
 
 
 def _hook(mod: Any, name: str, m: Any, default: dict[str, Any]) -> dict[str, Any]:

@@ -5,15 +5,16 @@ engine per run, registered as ``irradiance`` techniques ``three_sh``, ``babylon_
 ``babylon_polynomial``). Per environment each engine's error under every metric of
 :mod:`validate.metrics.irradiance_error` sits beside the suite's own ``sh9``
 (:mod:`.compute`); claims (:mod:`.claims`); findings, tables and plots (:mod:`.report`). Without Node or
-without the npm engines (``python -m validate setup --engines``) the experiment is skipped with the reason (nothing is registered then, and no other
-experiment changes): only the cube faces the engines would receive are checked.
+without the npm engines (``python -m validate setup --engines``) the engines are skipped with the reason (nothing is
+registered then, and no other experiment changes), the run names them (``not_run``), and only the cube faces the
+engines would receive are checked.
 """
 
 from __future__ import annotations
 
 from .claims import claims
 from .compute import compute
-from .report import data, findings, sections, summary, techniques
+from .report import data, findings, not_run, sections, summary, techniques
 from .settings import FULL, NAME, QUICK
 
 TITLE = "Shipping engines: three.js and Babylon.js SH irradiance vs Mitsuba"
@@ -25,4 +26,4 @@ ORDER = 15
 
 
 __all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections",
-           "data", "summary", "techniques"]
+           "data", "summary", "techniques", "not_run"]

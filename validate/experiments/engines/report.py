@@ -7,7 +7,7 @@ from typing import Any
 from ...local_models import irradiance
 from ...local_models.irradiance.engines.worker import package_version
 from ...report import plots
-from ..base import Context, Figure, Section, Table
+from ..base import Context, Figure, NotRun, Section, Table
 from ..formatting import col, pct, pm
 from ..techniques import technique_entry
 from .claims import K_MAX, eligible
@@ -334,6 +334,13 @@ def findings(m: Measurements) -> list[str]:
             + own_faces_findings(m))
 
 
+def not_run(m: Measurements) -> list[NotRun]:
+    """Without Node or the npm engines, three.js's and Babylon.js's SH code does not run (the faces are checked)."""
+    if m.unavailable is None:
+        return []
+    return [NotRun("three.js, Babylon.js (SH lighting code)", m.unavailable, "python -m validate setup --engines")]
+
+
 def summary(m: Measurements) -> str:
     if m.unavailable is not None:
         return f"Skipped: {m.unavailable}. Only the cube faces the engines would receive were checked."
@@ -352,4 +359,4 @@ def data(m: Measurements) -> dict[str, Any]:
             "skipped_inputs": [list(s) for s in m.skipped]}
 
 
-__all__ = ["data", "findings", "sections", "summary", "techniques"]
+__all__ = ["data", "findings", "not_run", "sections", "summary", "techniques"]

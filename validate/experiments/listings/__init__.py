@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from .claims import claims
 from .compute import compute
-from .report import data, findings, sections
+from .report import data, findings, not_run, sections
 from .settings import FULL, QUICK
 
 NAME = "listings"
@@ -25,4 +25,4 @@ ORDER = 92
 
 
 __all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections",
-           "data"]
+           "data", "not_run"]

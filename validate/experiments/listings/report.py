@@ -6,7 +6,7 @@ from dataclasses import asdict
 from typing import Any
 
 from ...local_models.listings.catalog import LISTINGS, SEED_FILES
-from ..base import Context, Section, Table
+from ..base import Context, NotRun, Section, Table
 from .compute import Measurements
 
 STATUS_WORDS = {"printed": "as printed", "edited": "with an edit", "unrunnable": "not runnable"}
@@ -119,6 +119,14 @@ def _closed_form_findings(m: Measurements) -> list[str]:
             f"({r['specular_albedo_normal']:.2f} from the highlight alone): energy conservation allows 1."]
 
 
+def not_run(m: Measurements) -> list[NotRun]:
+    """Without a GL runtime the listings' GLSL does not run (their Python transcriptions stand in)."""
+    if m.gl["available"]:
+        return []
+    return [NotRun(f"the listings' GLSL ({len(m.gl['skipped'])} techniques)", f"no GL runtime: {m.gl['reason']}",
+                   "python -m validate setup --system")]
+
+
 def findings(m: Measurements) -> list[str]:
     counts = index_counts()
     idx = "; ".join(f"{k}: " + ", ".join(f"{n} {w}" for w, n in v.items()) for k, v in counts.items())
@@ -186,7 +194,7 @@ def sections(m: Measurements, ctx: Context) -> list[Section]:
     ]
 
 
-__all__ = ["findings", "index_counts", "sections"]
+__all__ = ["findings", "index_counts", "not_run", "sections"]
 
 
 def data(m: Measurements) -> dict[str, Any]:

@@ -21,7 +21,7 @@ from __future__ import annotations
 from . import cdf, shadows
 from .claims import claims
 from .compute import compute
-from .report import data, findings, reported_settings, sections, summary
+from .report import data, findings, not_run, reported_settings, sections, summary
 from .settings import FULL, QUICK
 
 NAME = "renders"
@@ -35,4 +35,4 @@ PARTS = (shadows, cdf)
 
 
 __all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections",
-           "data", "reported_settings", "summary", "PARTS"]
+           "data", "reported_settings", "summary", "not_run", "PARTS"]

@@ -117,6 +117,7 @@ class Measurements:
     bsdf_checks: dict[str, Any] = field(default_factory=dict)  # (b) materials: the glTF BSDF's χ² and closed forms
     shadows: list[Any] = field(default_factory=list)  # (e) shadows.compute.ShadowSceneResult per scene
     cdf: list[Any] = field(default_factory=list)  # (b) cdf.compute.CdfScene: Babylon's CDF irradiance (PR 16247)
+    missing: Any = None  # engines.Missing: the runtime no engine could run without (npm engines, Chromium), or None
 
 
 def scene_list(s: Settings, probe: np.ndarray | None = None) -> list[tuple[rs.RenderScene, str]]:
@@ -261,6 +262,7 @@ def compute(ctx: Any, s: Settings) -> Measurements:
     seeded and computed alone on its thread; each engine render is the same page call)."""
     from ...gl import browser_page, runtime
 
+    missing = engines.missing_runtime()
     probe, probe_note = load_probe(ctx)
     scenes = scene_list(s, probe)
     shadow_scenes = shadow_scene_list(s)
@@ -283,7 +285,7 @@ def compute(ctx: Any, s: Settings) -> Measurements:
         raise
     pool.shutdown()
     return Measurements(s, out, startup={"webgl2_s": runtime.startup_seconds("webgl2"), **time_info(out)},
-                        probe_note=probe_note, bsdf_checks=checks, shadows=shadows, cdf=cdf)
+                        probe_note=probe_note, bsdf_checks=checks, shadows=shadows, cdf=cdf, missing=missing)
 
 
 def time_info(scenes: list[SceneResult]) -> dict[str, Any]:

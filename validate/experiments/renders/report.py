@@ -8,8 +8,9 @@ from typing import Any
 import numpy as np
 
 from ...format import pm as fpm
+from ...local_models import render as engines
 from ...metrics.pixel_z import PixelJudgement, judge
-from ..base import Figure, Section, Table, settings_json
+from ..base import Figure, NotRun, Section, Table, settings_json
 from ..formatting import pct, pm
 from .compute import RECT_LTC_LABEL, Measurements, SceneResult, budget
 from .settings import Settings
@@ -392,9 +393,21 @@ def data(m: Measurements) -> dict:
         "bsdf_checks": m.bsdf_checks}
 
 
+def not_run(m: Measurements) -> list[NotRun]:
+    """The engines (of the main scenes, the shadows and the CDF part) that the missing runtime kept from running."""
+    if m.missing is None:
+        return []
+    s = m.settings
+    names = [*s.engines, *s.shadow_engines, *(("babylon",) if s.cdf_sizes else ())]
+    what = ", ".join(dict.fromkeys(engines.product(n) for n in names))
+    return [NotRun(what, f"{m.missing.piece}: {m.missing.why}", m.missing.fix)]
+
+
 def summary(m: Measurements) -> str:
     """One line: what was rendered, or why every engine was skipped."""
     s = m.settings
+    if m.missing is not None:
+        return f"No engine judged: {m.missing.piece} missing ({m.missing.fix})."
     skipped = sorted({why for sc in m.scenes for why in sc.skipped.values()})
     if skipped and not any(sc.engines for sc in m.scenes):
         return "Skipped engines: " + "; ".join(skipped)

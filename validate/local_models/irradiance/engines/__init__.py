@@ -31,8 +31,8 @@ projection and the cosine kernel commute with orthogonal maps). Shader arithmeti
 (Math.fround); three.js's CPU ``getIrradianceAt`` is float64, as it runs.
 
 Availability: the techniques are registered only when ``node`` is on PATH (or ``VALIDATE_NODE`` names
-it; a path that does not exist turns the engines off) and ``python -m validate setup --engines`` has installed ``three`` and
-``@babylonjs/core`` (:func:`validate.setup.paths.node_modules`). Importing starts no process; the first
+it; a path that does not exist turns the engines off) and ``python -m validate setup --engines`` has installed
+``three`` and ``@babylonjs/core`` (:func:`validate.setup.paths.node_modules`). Importing starts no process; the first
 call does, and that one process per engine serves every later call of the run. Without them nothing
 is registered (the rest of the family and every other experiment are unchanged) and the ``engines``
 experiment is skipped with the reason (:func:`.worker.unavailable_reason`).
