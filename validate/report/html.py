@@ -328,9 +328,16 @@ def _experiment(name: str, e: Mapping[str, Any], out_dir: Path) -> dict[str, Any
         "page": page_name(name),
         "techniques": techniques,
         "overview": _summary(name, e, claims, out_dir),
+        "not_run": [_not_run_line(n) for n in e.get("not_run") or []],
         "sections": [_section(s, out_dir, name, i)
                      for i, s in enumerate((e.get("report") or {}).get("sections") or [])],
     }
+
+
+def _not_run_line(n: Mapping[str, Any]) -> str:
+    """One line of an experiment's ``not_run`` entry (:class:`validate.experiments.base.NotRun`)."""
+    fix = f" — run `{n['fix']}`" if n.get("fix") else ""
+    return f"{n.get('what', '?')} not run: {n.get('why', '')}{fix}"
 
 
 _STATUS_ORDER = ("regressed", "newly_failing", "removed", "new", "changed", "improved")
