@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import ValidateError
+from ...figures import plots
 from ...local_models import family
 from ...local_models.precision import family_precision
 from ...local_models.registry import Technique
@@ -52,7 +53,6 @@ from ...local_models.specular_arealight.ltc import (
 )
 from ...local_models.specular_arealight.representative_point import representative_point_tube
 from ...reference import area_specular_render as asr
-from ...report import plots
 from ...stats import sidak_critical
 from ..base import Claim, Figure, Section, Table
 from ..formatting import col
