@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from validate.scenes.render_scenes import DirectionalLight, RenderScene, SpotLight, lambert_sun_scene, punctual_scenes
-from validate.testing_render import check_render
+from validate.testing import check_render
 
 
 def my_renderer(scene: RenderScene) -> np.ndarray:

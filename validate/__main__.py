@@ -1,12 +1,12 @@
 """``python -m validate``: :func:`validate.cli.main`, with SIGINT/SIGTERM handled from the first line
-(:mod:`validate.interrupt`), and an interrupted run ended at once: child processes (Node, Chromium,
+(:mod:`validate.run.interrupt`), and an interrupted run ended at once: child processes (Node, Chromium,
 Dask workers) are ended and slow exit handlers skipped."""
 
 import os
 import sys
 
 try:  # the handlers first, before the heavy imports: a signal while they run is one line too
-    from .interrupt import Interrupted, announce, end_children, install
+    from .run.interrupt import Interrupted, announce, end_children, install
 
     undo = install()
 except BaseException as exc:  # SIGINT in the milliseconds before the handlers were in place

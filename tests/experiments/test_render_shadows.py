@@ -96,7 +96,7 @@ def test_penumbra_width_metric_and_its_power() -> None:
 
 
 def test_bench_render_tables_name_their_units() -> None:
-    from validate import bench_render
+    from validate.bench import render as bench_render
     from validate.format import missing_units
 
     rec = {"browser_start_ms": 5000.0, "renderer": "SwiftShader", "engines": {"three": {

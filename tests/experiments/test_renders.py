@@ -71,7 +71,7 @@ def test_material_outside_the_mapping_is_an_error() -> None:
 
 def test_check_render_on_an_analytic_lambert_shader() -> None:
     from examples.check_my_renderer import my_renderer
-    from validate.testing_render import check_render
+    from validate.testing import check_render
 
     scene = rs.lambert_sun_scene(16)
     [good] = check_render(my_renderer, scenes=[(scene, "directional")], spp=4, passes=4)
@@ -242,7 +242,7 @@ def test_hemisphere_light_equals_mitsuba(engine: str) -> None:
 
 def test_check_render_on_analytic_point_and_spot_lights() -> None:
     from examples.check_my_renderer import my_renderer
-    from validate.testing_render import check_render
+    from validate.testing import check_render
 
     point, _, spot = rs.punctual_scenes(16)
     checks = check_render(my_renderer, scenes=[(point, "point"), (spot, "spot")], spp=1, passes=4)

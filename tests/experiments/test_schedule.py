@@ -1,6 +1,6 @@
-"""The run order (validate.experiments.schedule): two lanes on a Dask run (``renders`` first on the second, each
+"""The run order (validate.run.schedule): two lanes on a Dask run (``renders`` first on the second, each
 lane taking the next experiment when it is free), one lane in order otherwise; results in the order asked; an
-error in either lane is the run's error. The second lane's child interpreter (validate.experiments.lane) returns
+error in either lane is the run's error. The second lane's child interpreter (validate.run.lane) returns
 the numbers of this process's run."""
 
 from __future__ import annotations
@@ -14,8 +14,8 @@ import pytest
 
 from validate.errors import ValidateError
 from validate.experiments import Context, Experiment, ExperimentResult
-from validate.experiments.schedule import BESIDE, beside, lanes, run_experiments
 from validate.local_models.registry import FAMILIES, Technique
+from validate.run.schedule import BESIDE, beside, lanes, run_experiments
 
 Log = list[tuple[str, str]]
 
@@ -125,8 +125,8 @@ def test_the_child_interpreter_returns_this_processs_numbers(tmp_path: Path) -> 
     """hemisphere --quick in the second lane's child (on a 2-worker LocalCluster) equals the run here; an unknown
     name is a one-line error and the child goes on."""
     from validate.experiments import discover
-    from validate.experiments.lane import ProcessLane
     from validate.gl import runtime
+    from validate.run.lane import ProcessLane
 
     ctx = Context(out_dir=tmp_path, quick=True, workers=2, show_progress=False)
     try:
@@ -148,7 +148,7 @@ def test_the_child_interpreter_returns_this_processs_numbers(tmp_path: Path) -> 
 def test_two_lanes_take_the_experiments_longest_first_by_the_previous_report(tmp_path: Path) -> None:
     """With the previous report's wall times the lanes take the longest first (unknown ones before them, in
     order); the results still come back in the order asked, and a serial run keeps its order."""
-    from validate.experiments.schedule import longest_first
+    from validate.run.schedule import longest_first
 
     seconds = {"a": 5.0, "b": 90.0, "c": 30.0, "renders": 160.0}
     assert longest_first(["a", "b", "new", "c"], seconds) == ["new", "b", "c", "a"]

@@ -72,7 +72,7 @@ def _block(phase: str) -> None:
 
 @register_experiment(NAME, "Tiny I/O experiment (tests only)", "writes a few figures; blocks on demand", order=999)
 def run(ctx: Context) -> ExperimentResult:
-    from validate.report.plots import save_image
+    from validate.figures.plots import save_image
 
     phase = os.environ.get("TINY_PHASE", "")
     if phase:

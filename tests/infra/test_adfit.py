@@ -1,10 +1,11 @@
-"""The drjit-AD fits (:mod:`validate.adfit`): each objective's AD derivative against a central finite difference,
-and each AD fit the experiment uses reaching the scipy fit's residual on a small instance (same data, same start).
+"""The drjit-AD fits (:mod:`validate.numerics.adfit`): each objective's AD derivative against a central finite
+difference, and each AD fit the experiment uses reaching the scipy fit's residual on a small instance (same data,
+same start).
 
 Tolerances: the central difference with step h has truncation error O(h² f''') and rounding error
 O(ε f / h); with h = 10⁻⁵ (relative to the parameter) both are ≤ 10⁻⁶ of the derivative for these smooth
 objectives, so FD_REL = 10⁻⁵ leaves a margin. A wrong chain-rule factor (a factor 2, a missing 1/m11) is O(1).
-RESIDUAL_TOL = 10⁻⁶ as in the bench (validate/bench_fits.py).
+RESIDUAL_TOL = 10⁻⁶ as in the bench (validate/bench/fits.py).
 """
 
 from __future__ import annotations
@@ -16,9 +17,9 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from validate import adfit
 from validate.experiments.lights import sweeps as sw
 from validate.local_models.specular_arealight import ltc
+from validate.numerics import adfit
 
 um = importlib.import_module("validate.experiments.uberlight.compute")
 

@@ -1,5 +1,5 @@
-"""validate.blas.one_blas_thread: the thread-local OpenBLAS switch leaves products bit-identical, nests, and is safe
-while other threads run BLAS (the case where the process-wide switch crashed a test worker)."""
+"""validate.numerics.blas.one_blas_thread: the thread-local OpenBLAS switch leaves products bit-identical, nests, and is
+safe while other threads run BLAS (the case where the process-wide switch crashed a test worker)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from validate.blas import one_blas_thread
+from validate.numerics.blas import one_blas_thread
 
 
 def _operands(b: int, k: int, seed: int) -> tuple[np.ndarray, np.ndarray]:

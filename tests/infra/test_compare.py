@@ -17,7 +17,7 @@ from typing import Any
 import pytest
 
 from validate import cli, testing
-from validate.compare import ROUNDOFF, compare
+from validate.report.compare import ROUNDOFF, compare
 
 REPO = Path(__file__).resolve().parents[2]
 SCHEMA = {"kind", "key", "old", "new", "old_uncertainty", "new_uncertainty", "change", "exceeds_uncertainty",

@@ -125,7 +125,7 @@ def test_readme_headline_row_quotes_the_docs_results(results: dict) -> None:
 def test_readme_names_every_subcommand_and_option() -> None:
     import argparse
 
-    from validate.cli import _parser
+    from validate.cli.commands import _parser
 
     readme = (REPO / "README.md").read_text(encoding="utf-8")
     sub = next(a for a in _parser()._actions if isinstance(a, argparse._SubParsersAction))

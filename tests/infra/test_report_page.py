@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from validate.experiments.base import Claim, ExperimentResult, Figure, Section, Table
-from validate.report import plots
+from validate.figures import plots
 from validate.report.html import write_report, write_results_json
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")

@@ -8,7 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from validate.report import plots, summary
+from validate.figures import plots
+from validate.report import summary
 from validate.report.findings import group_findings, input_names
 from validate.report.imagesets import find_set, png_size
 

@@ -2,7 +2,7 @@
 experiments' sections — claims, techniques, settings, the overview, "changes since", the bench tables.
 
 ``tests/infra/test_table_units.py`` reads the experiments' ``Table(...)`` headers in their source; these tables are
-written by the templates and by ``validate/bench*.py``, so they are checked where a reader sees them: pages rendered
+written by the templates and by ``validate/bench/``, so they are checked where a reader sees them: pages rendered
 (:func:`validate.report.html.render_pages`, no figures drawn) from a small results dict holding every kind of table,
 a ``changes`` entry and a ``bench.json`` built by the bench modules' own ``tables`` from made-up records (nothing is
 measured). Every ``<th>`` of every ``<table>`` must name its unit or be a column of words
@@ -15,7 +15,9 @@ import json
 from html.parser import HTMLParser
 from pathlib import Path
 
-from validate import bench, bench_fits, bench_gl
+from validate.bench import fits as bench_fits
+from validate.bench import gl_runtimes as bench_gl
+from validate.bench import kernels as bench
 from validate.format import missing_units
 from validate.report.html import render_pages
 

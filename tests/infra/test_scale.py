@@ -300,7 +300,7 @@ def test_texel_path_memory_does_not_grow_with_the_map(texel_path: Any, monkeypat
     memory is row blocks and the cell grids, bounded by BLOCK_BYTES — not a multiple of the map."""
     import tracemalloc
 
-    from validate.bench import sky_with_sun
+    from validate.bench.kernels import sky_with_sun
     from validate.scenes.environment import Environment
 
     monkeypatch.setenv("VALIDATE_CACHE", "off")
@@ -320,7 +320,7 @@ def test_texel_path_memory_does_not_grow_with_the_map(texel_path: Any, monkeypat
 
 def test_bench_child_records_and_report_tables(monkeypatch: pytest.MonkeyPatch) -> None:
     """`validate bench` pieces at a toy size: a child process record, and the report's tables."""
-    from validate import bench
+    from validate.bench import kernels as bench
 
     monkeypatch.setenv("VALIDATE_CACHE", "off")
     sh9 = bench._run_child("sh9", 64)  # a real child process
@@ -410,7 +410,7 @@ def _traced_peaks(whats: tuple[str, ...]) -> dict[str, int]:
     frame, beside threads left by the file's earlier Dask tests and the row pool."""
     import tracemalloc
 
-    from validate.bench import sky_with_sun
+    from validate.bench.kernels import sky_with_sun
     from validate.local_models.irradiance import sh
     from validate.local_models.irradiance.engines.cube_faces import render_faces
     from validate.local_models.irradiance.irradiance_map import environment_nodes

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import pytest
 
-from validate.interrupt import GRACE_S
+from validate.run.interrupt import GRACE_S
 
 REPO = Path(__file__).resolve().parents[2]
 PLUGIN = Path(__file__).with_name("plugin_tiny.py")

@@ -449,7 +449,7 @@ def test_list_shows_plugin_and_builtins(capsys: pytest.CaptureFixture, unregiste
 
 
 def test_list_tag_names_runtime_and_seed() -> None:
-    from validate.cli import _glsl_tag
+    from validate.cli.commands import _glsl_tag
     from validate.local_models.registry import Technique
 
     t = Technique("x", "brdf", lambda: None, "", meta={"glsl": "x.glsl", "runtime": "webgl2",

@@ -354,7 +354,7 @@ class Context:
 class Background(threading.Thread, Generic[T]):
     """``fn()`` on a daemon thread of this process: :meth:`result` waits and returns its value or re-raises its
     exception in the caller's thread; :meth:`failed` is the exception once it has ended with one. Daemon: an
-    interrupt unwinds the main thread (:mod:`validate.interrupt`) without waiting for it. Used for work that
+    interrupt unwinds the main thread (:mod:`validate.run.interrupt`) without waiting for it. Used for work that
     waits on other processes (Dask tasks, the browser) while this thread goes on."""
 
     def __init__(self, fn: Callable[[], T], name: str) -> None:

@@ -27,7 +27,7 @@ Precision (measured on this machine, Mesa 22.3.6 llvmpipe, float32 arguments aga
 ``sin``/``cos`` ≤ 7.4e-8 absolute on [−π, π] (the issue's bound: 2.4e-7); ``exp`` ≤ 5 ulp, ``sqrt`` ≤ 1 ulp;
 but **``acos`` errs up to 1.6e-4 rad, ``asin`` 3.9e-4 rad and ``atan`` 3.3e-6 rad** (Mesa lowers them
 to short polynomials). A shader that needs angles to float32 precision refines ``atan`` with one Newton
-step on the precise sin/cos (see ``atan2_precise`` in :mod:`validate.local_models.glsl_families`).
+step on the precise sin/cos (see ``atan2_precise`` in :mod:`validate.local_models.glsl_adapter`).
 Texture filtering with ``texture()`` quantises the bilinear weights (≈ 2e-5 of a texel step): read
 float data with ``texelFetch`` and interpolate in the shader.
 

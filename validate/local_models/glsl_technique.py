@@ -86,7 +86,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ValidateError
-from . import glsl_families
+from . import glsl_adapter
 from .registry import FAMILIES, Technique
 
 HEADER = re.compile(r"^\s*//\s*validate:\s*([A-Za-z_]+)\s*=\s*(.*?)\s*$")
@@ -125,9 +125,9 @@ def parse_glsl(path: str | Path, text: str | None = None) -> GLSLSource:
         if m:
             fields[m.group(1).lower()] = m.group(2)
     fam = fields.pop("family", "")
-    if fam not in glsl_families.SPECS:
+    if fam not in glsl_adapter.SPECS:
         raise ValidateError(f"{where}: header '// validate: family=...' must name one of "
-                            f"{', '.join(glsl_families.SPECS)} (got {fam!r})")
+                            f"{', '.join(glsl_adapter.SPECS)} (got {fam!r})")
     src = GLSLSource(where, text, fam, fields.pop("name", Path(where).stem))
     src.runtime = fields.pop("runtime", "llvmpipe")
     if src.runtime not in RUNTIMES:
@@ -173,7 +173,7 @@ MAIN_LINE = 100000  # #line of the harness's main(): an error there is the harne
 
 def fragment_source(src: GLSLSource) -> str:
     """The full fragment shader: version, the family's declarations, ``#line 1`` + the file, main()."""
-    spec = glsl_families.SPECS[src.family]
+    spec = glsl_adapter.SPECS[src.family]
     body = _VERSION.sub("// (#version set by the harness)", src.text)
     return (PRELUDE[src.runtime] + spec.declarations + "\n#line 1\n" + body
             + f"\n#line {MAIN_LINE}\n" + spec.main + "\n")
@@ -299,7 +299,7 @@ def _run_egl(rt: Any, prog: Any, size: tuple[int, int], packed: dict[str, np.nda
                 prog[name].value = unit
         for name, value in uniforms.items():
             if name in prog:
-                prog[name].write(glsl_families.uniform_bytes(_value(value)))
+                prog[name].write(glsl_adapter.uniform_bytes(_value(value)))
         fbo = rt.float_target(*size)
         rt.render_fullscreen(prog, fbo)
         out = egl.read_rgba32f(fbo)
@@ -311,7 +311,7 @@ def _run_egl(rt: Any, prog: Any, size: tuple[int, int], packed: dict[str, np.nda
 # -- registration ---------------------------------------------------------------------------------------------
 def make_fn(src: GLSLSource) -> Callable[..., np.ndarray]:
     """The technique function: the family's Python contract, evaluated by the shader."""
-    spec = glsl_families.SPECS[src.family]
+    spec = glsl_adapter.SPECS[src.family]
 
     def fn(*args: Any, **kwargs: Any) -> np.ndarray:
         _check_handled(src, args, kwargs)

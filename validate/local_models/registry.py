@@ -75,7 +75,7 @@ class Family:
     lower: float | None = None
     upper: float | None = None
     bounds_reason: str = ""
-    glsl_contract: str = ""  # the GLSL entry point and its uniforms, where the family has one (glsl_families)
+    glsl_contract: str = ""  # the GLSL entry point and its uniforms, where the family has one (each family's glsl.py)
     precision: str = "float32"
     precision_reason: str = ""
     _techniques: dict[str, Technique] = field(default_factory=dict, repr=False)

@@ -14,6 +14,9 @@ flux Φ = ∫ L dω (per channel; Φ_Y = ∫ Y(L) dω on luminance, Y = 0.2126 R
 Each metric reports ``mean`` (over normals), ``max`` and ``rms`` = √(mean e²), plus the
 uncertainty of mean and max propagated from the reference's per-normal uncertainty δ(n):
 | |E′−E_true| − |E′−E| | ≤ δ, so mean and max move by at most mean(δ)/norm and max(δ)/norm.
+
+:func:`per_normal_error` gives e(n) itself, one value per normal (the worst-case search maximises it):
+``flux_rgb`` there is max_c e_c(n), and ``relative`` is 0 below the floor.
 """
 
 from __future__ import annotations
@@ -67,6 +70,25 @@ def irradiance_errors(reference: np.ndarray, approx: np.ndarray, flux: np.ndarra
     out["relative"] = _stats(dly[mask] / ey_ref[mask], dy[mask] / ey_ref[mask])
     out["peak"] = _stats(dly / peak, dy / peak)
     return out
+
+
+PER_NORMAL_METRICS = ("flux_luminance", "flux_rgb", "relative")
+
+
+def per_normal_error(approx: np.ndarray, reference: np.ndarray, flux: np.ndarray, metric: str,
+                     peak: float | None = None) -> np.ndarray:
+    """e(n) (N,) of ``metric`` (one of :data:`PER_NORMAL_METRICS`) for E′ = approx, E = reference (N, 3), flux
+    Φ (3,): ``flux_luminance`` |Y(E′) − Y(E)| / Φ_Y; ``flux_rgb`` max_c |E′_c − E_c| / Φ_c; ``relative``
+    |Y(E′) − Y(E)| / Y(E) where Y(E) ≥ :data:`RELATIVE_FLOOR` · ``peak`` (default max Y(E) over these normals;
+    a search passes the maximum over a fixed dense set so that adding normals does not move the floor), 0
+    elsewhere."""
+    if metric == "flux_luminance":
+        return np.abs(luminance(approx) - luminance(reference)) / float(luminance(flux))
+    if metric == "flux_rgb":
+        return np.max(np.abs(approx - reference) / np.maximum(flux, 1e-300)[None, :], axis=1)
+    y = luminance(reference)
+    floor = RELATIVE_FLOOR * (float(y.max()) if peak is None else peak)
+    return np.where(y >= floor, np.abs(luminance(approx) - y) / np.maximum(y, 1e-300), 0.0)
 
 
 def directional_worst_case_mean(samples: int = 200001) -> float:

@@ -72,6 +72,7 @@ from ..backend import init
 from ..errors import ValidateError
 from ..geometry import face_direction
 from ..scenes.environment import Environment
+from ..scenes.ibl_scenes import PHONG_PLUGIN
 from ..scenes.latlong import luminance
 from ..stats import mean_and_stderr
 from .cache import cached
@@ -79,7 +80,6 @@ from .cache import cached
 RENDER_VERSION = 1  # bump when this module's rendering changes (part of the cache key)
 HALF_WIDTH = 1.05  # the image spans [−1.05, 1.05]² around the unit-sized object
 CAMERA_DISTANCE = 5.0
-PHONG_PLUGIN = "modphong"
 MAX_PASSES = 1000
 MAX_SPP_PER_LAUNCH = 1 << 24  # rays per integrator call (memory)
 

@@ -55,8 +55,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..backend import init
-from ..blas import one_blas_thread
 from ..errors import ValidateError
+from ..numerics.blas import one_blas_thread
 from ..scenes import latlong
 from ..scenes.environment import Environment
 from ..scenes.mitsuba_eval import eval_emitter

@@ -28,7 +28,7 @@ Each experiment page opens with its summary figure (:mod:`.summary`, drawn by :f
 into ``figures/summary/``) and a three-line verdict; findings are grouped (:mod:`.findings`); gallery
 rows holding a truth / technique / error set (:mod:`.imagesets`) get a wipe slider and a linked error
 map, driven by a small script inlined in the page (``templates/compare.js``, no external resources).
-A top-level ``changes`` entry (written by ``--baseline``, :mod:`validate.compare`) becomes the
+A top-level ``changes`` entry (written by ``--baseline``, :mod:`validate.report.compare`) becomes the
 overview's "Changes since <baseline>" section.
 """
 
@@ -344,11 +344,11 @@ _STATUS_ORDER = ("regressed", "newly_failing", "removed", "new", "changed", "imp
 
 
 def _changes(changes: Any, exps: list[dict[str, Any]]) -> dict[str, Any] | None:
-    """The ``changes`` entry (validate.compare) for the overview: rows other than "unchanged",
+    """The ``changes`` entry (validate.report.compare) for the overview: rows other than "unchanged",
     regressions first; claim values in their claim's unit."""
     if not isinstance(changes, Mapping):
         return None
-    units = {key: c.get("unit") or "" for e in exps for c in e["claims"]  # the keys of validate.compare
+    units = {key: c.get("unit") or "" for e in exps for c in e["claims"]  # the keys of validate.report.compare
              for key in (c["id"], f"{c.get('experiment')}/{c['id']}")}
     rows = [dict(r) for r in changes.get("rows") or [] if isinstance(r, Mapping) and r.get("status") != "unchanged"]
     rank = {s: i for i, s in enumerate(_STATUS_ORDER)}

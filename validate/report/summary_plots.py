@@ -18,8 +18,8 @@ import numpy as np
 from matplotlib.colors import LogNorm
 from matplotlib.ticker import FuncFormatter
 
+from ..figures import plots
 from ..format import pm, sig
-from . import plots
 from .summary import Bars, Curves, Matrix, Summary
 
 MAX_WIDTH_IN = 11.0  # 1100 px at plots.FIG_DPI: fits the page column of a 1280-px window

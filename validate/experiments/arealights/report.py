@@ -6,9 +6,9 @@ from typing import Any
 
 import numpy as np
 
+from ...figures import plots
 from ...local_models import arealight
 from ...metrics.irradiance_error import WORST_CASE_MAX
-from ...report import plots
 from ..base import Context, Figure, Section, Table, settings_json
 from ..formatting import col, pm
 from ..formatting import pct as _pct

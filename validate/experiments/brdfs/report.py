@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 
-from ...report import plots
+from ...figures import plots
 from ..base import Context, Figure, Section, Table
 from ..formatting import col, pm_entry
 from ..formatting import pct as _pct

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from typing import Any
 
+from ...figures import plots
 from ...local_models import irradiance
 from ...local_models.irradiance.engines.worker import package_version
-from ...report import plots
 from ..base import Context, Figure, NotRun, Section, Table
 from ..formatting import col, pct, pm
 from ..techniques import technique_entry

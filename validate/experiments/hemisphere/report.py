@@ -6,9 +6,9 @@ from typing import Any
 
 import numpy as np
 
+from ...figures import plots
 from ...local_models import irradiance
 from ...local_models.irradiance import hemisphere as hm
-from ...report import plots
 from ..base import Context, Figure, Section, Table
 from ..formatting import col
 from ..formatting import pct as _pct

@@ -15,9 +15,10 @@ from ...metrics import image_error as ie
 from ...reference import ibl_render as rr
 from ...scenes import procedural
 from ...scenes.environment import Environment
+from ...scenes.ibl_scenes import CAMERA_OFFSET_DEG, PLASTIC_ETA, PLASTIC_RHO, key_direction
 from ..inputs import load_named_environment
 from ..techniques import CheckResult, Stat
-from .scene import CAMERA_OFFSET_DEG, PLASTIC_ETA, PLASTIC_RHO, key_direction, masked_image
+from .compute import masked_image
 
 
 def _mitsuba_bsdf(brdf: Mapping[str, Any]) -> dict:

@@ -13,12 +13,12 @@ from typing import Any
 
 from ...local_models import irradiance, specular
 from ...metrics.irradiance_error import WORST_CASE_MAX
+from ...scenes.ibl_scenes import BLEND_EXPONENT, BLEND_WEIGHT
 from ...stats import sidak_critical
 from ..base import Claim
 from ..techniques import Measured, technique_claims, technique_entry
 from .compute import MAP_MAX_ERROR, Comparison, IblMeasurements
 from .reference_checks import ALPHA
-from .scene import BLEND_EXPONENT, BLEND_WEIGHT
 from .settings import NAME
 
 DIFFUSE_MAP_SOURCE = ("accuracy criterion from Ramamoorthi & Hanrahan 2001 (abstract: SH9 irradiance with \"average "

@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from ...errors import ValidateError
 from ...geometry import cube_texel_directions
 from ...local_models import irradiance, specular
 from ...local_models.irradiance import irradiance_map as im
@@ -28,27 +29,89 @@ from ...metrics.irradiance_error import irradiance_errors
 from ...reference import ibl_render as rr
 from ...reference.irradiance import reference_irradiance
 from ...scenes import latlong
-from ...stats import t_to_z
-from ..base import Background, Context
-from . import reference_checks as chk
-from .reference_checks import Chi2Check, ZCheck
-from .scene import (
+from ...scenes.environment import Environment
+from ...scenes.ibl_scenes import (
     ALBEDO,
     ANGLE_BINS,
     BLEND_EXPONENT,
     BLEND_WEIGHT,
+    CAMERA_OFFSET_DEG,
+    DENT_CAMERA_OFFSET_DEG,
+    PHONG_PLUGIN,
+    RENDER_ENV,
     BrdfCase,
-    Scene,
     brdf_cases,
-    build_scene,
-    masked_image,
+    key_direction,
+    make_environment,
     random_rotation,
-    render_all,
 )
+from ...stats import t_to_z
+from ..base import Background, Context
+from . import reference_checks as chk
+from .reference_checks import Chi2Check, ZCheck
 from .settings import Settings
 
 MAP_MAX_ERROR = 0.01  # the sweep's criterion (see claims.DIFFUSE_MAP_SOURCE)
 CRATER_AO = 0.95  # "crater" pixels: cosine-weighted visibility below 0.95
+
+
+@dataclass
+class Scene:
+    """The environments, the rendered one, its cameras and the render jobs (name → spec)."""
+
+    envs: dict[str, Environment]
+    render_env: Environment
+    sphere_cam: rr.Camera
+    dent_cam: rr.Camera
+    jobs: dict[str, rr.RenderSpec]
+
+
+def build_scene(st: Settings, seed: int) -> Scene:
+    """Cameras 6° off the key light (front sphere) and 60° off it (diffuse and dented spheres); jobs for
+    every BRDF case, its normal-incidence crop (Phong), the mixing-shader blend and the dented sphere."""
+    envs = {name: make_environment(name, st.env_scale) for name in st.sweep_envs}
+    render_env = envs[RENDER_ENV]
+    key = key_direction(render_env)
+    sphere_cam = rr.camera_towards(key, CAMERA_OFFSET_DEG, st.size)
+    dent_cam = rr.camera_towards(key, DENT_CAMERA_OFFSET_DEG, st.size)
+    axis = np.asarray(dent_cam.direction) + 0.5 * key
+    dent = rr.DentSpec(depth=0.7, width_deg=50.0, axis=tuple(float(x) for x in axis / np.linalg.norm(axis)))
+
+    def spec(shape: str, bsdf: dict, cam: rr.Camera, depth: int = 2) -> rr.RenderSpec:
+        return rr.RenderSpec(shape, bsdf, cam, spp=st.spp, passes=st.passes, seed=seed, max_depth=depth, dent=dent)
+
+    grey = {"type": "diffuse", "reflectance": {"type": "rgb", "value": [ALBEDO] * 3}}
+    jobs = {"diffuse": spec("sphere", grey, dent_cam), "dented": spec("dented", grey, dent_cam),
+            "dented_full": spec("dented", grey, dent_cam, st.interreflection_depth)}
+    ni_cam = replace(sphere_cam, size=st.ni_size)
+    for case in brdf_cases(st.exponents, st.alphas):
+        jobs[case.key] = spec("sphere", case.bsdf, sphere_cam)
+        if case.model == "phong":
+            jobs[case.key + "_ni"] = replace(spec("sphere", case.bsdf, ni_cam), spp=st.ni_spp,
+                                             crop_deg=ps.NORMAL_INCIDENCE_DEG)
+    jobs["blend"] = spec("sphere", {"type": "blendbsdf", "weight": BLEND_WEIGHT, "bsdf_0": grey,
+                                    "bsdf_1": {"type": PHONG_PLUGIN, "exponent": BLEND_EXPONENT}}, sphere_cam)
+    return Scene(envs, render_env, sphere_cam, dent_cam, jobs)
+
+
+def render_all(ctx: Any, scene: Scene) -> dict[str, rr.Render]:
+    """Every job rendered (or read from the cache); the front-sphere renders must share one G-buffer."""
+    renders = {name: rr.render(scene.render_env, sp)
+               for name, sp in ctx.progress(list(scene.jobs.items()), "ibl: Mitsuba renders")}
+    front = next(r for r in renders.values() if r.spec.camera == scene.sphere_cam)
+    for name, r in renders.items():
+        if r.spec.camera == scene.sphere_cam and not (
+                np.array_equal(r.mask, front.mask) and np.array_equal(r.normal[r.mask], front.normal[front.mask])):
+            raise ValidateError(f"ibl: render {name} does not share the sphere G-buffer")
+    return renders
+
+
+def masked_image(render: rr.Render, values: np.ndarray) -> np.ndarray:
+    """Per-pixel values (K, 3) of the render's mask pixels → an (S, S, 3) image, NaN elsewhere."""
+    out = np.full(render.mask.shape + (3,), np.nan)
+    out[render.mask] = values
+    return out
+
 
 
 @dataclass
@@ -284,7 +347,7 @@ class SpecularRun:
 
 def specular_run(ctx: Any, st: Settings, scene: Scene, renders: dict[str, rr.Render]) -> SpecularRun:
     rad = scene.render_env.radiance
-    cases = brdf_cases(st)
+    cases = brdf_cases(st.exponents, st.alphas)
     comps: dict[str, dict[str, Comparison]] = {}
     crops: dict[str, dict[str, ie.RelativeError]] = {}
     for tech in ctx.progress(list(specular), "ibl: specular techniques"):

@@ -6,13 +6,13 @@ from typing import Any
 
 import numpy as np
 
+from ...figures import plots
 from ...local_models.specular import split_sum as ss
-from ...report import plots
+from ...scenes.ibl_scenes import ALBEDO, ANGLE_BINS, BLEND_EXPONENT, BLEND_WEIGHT, CAMERA_OFFSET_DEG
 from ..base import Context, Figure, Section, Table
 from ..formatting import pct, pm
 from .claims import technique_results
 from .compute import CRATER_AO, MAP_MAX_ERROR, Comparison, IblMeasurements
-from .scene import ALBEDO, ANGLE_BINS, BLEND_EXPONENT, BLEND_WEIGHT, CAMERA_OFFSET_DEG
 from .settings import NAME, Settings
 
 SEC_A = "Diffuse irradiance maps: resolution"

@@ -6,8 +6,8 @@ from typing import Any
 
 import numpy as np
 
+from ...figures import plots
 from ...local_models import light as family
-from ...report import plots
 from ...scenes import light_scenes as ls
 from ..base import Context, Figure, Section, Table, settings_json
 from ..formatting import pct_fixed as _pct

@@ -298,7 +298,7 @@ def spot_exponent_objective_ad(prob: dict[str, np.ndarray]) -> Any:
     """Σ w_i (cos^f α_i − profile_i)² / Σ w_i in drjit (cos^f = exp(f ln cos α)), a function of [f]."""
     import drjit as dr
 
-    from ... import adfit
+    from ...numerics import adfit
 
     log_cos = adfit.array(np.log(np.cos(np.radians(prob["alpha"]))))
     wn, t = adfit.array(prob["w"] / np.sum(prob["w"])), adfit.array(prob["target"])
@@ -310,8 +310,8 @@ def fit_spot_exponent(beam_deg: float, cutoff_deg: float, nodes: int = 2000, met
     """f minimising ∫₀^cutoff (cos^f α − profile(α))² sin α dα (solid-angle weighted least squares), and the
     rms of the fit relative to the peak. ``method="scipy"``: bounded Brent on f ∈ [0, 2000] (xatol 10⁻³);
     ``"ad"`` (the experiment's path where the variant has AD): L-BFGS-B on the same bounds with drjit's
-    gradient (:func:`validate.adfit.minimize`), started where Brent starts (:data:`BRENT_START`)."""
-    from ... import adfit
+    gradient (:func:`validate.numerics.adfit.minimize`), started where Brent starts (:data:`BRENT_START`)."""
+    from ...numerics import adfit
 
     prob = spot_exponent_problem(beam_deg, cutoff_deg, nodes)
     a, w, target = prob["alpha"], prob["w"], prob["target"]
@@ -368,7 +368,7 @@ def fit_lamp(radius: float, depth: float, aperture: float, nodes: int = 1500,
     :func:`fit_lamp_ad`; used only where the variant has AD). The experiment's choice, (AD, Nelder–Mead): the
     AD cos^f fit reaches the Brent residual; the Mitsuba profile is piecewise linear in (beam, cutoff) (a kink
     wherever either crosses a node), where L-BFGS-B stops 8·10⁻⁶ (relative) above Nelder–Mead's rms."""
-    from ... import adfit
+    from ...numerics import adfit
 
     prob = lamp_problem(radius, depth, aperture, nodes)
     ad = tuple(m == "ad" and adfit.available() for m in methods)
@@ -411,7 +411,7 @@ def lamp_objectives_ad(prob: dict[str, Any]) -> tuple[Any, Any]:
     [beam, cutoff] for Mitsuba's profile)."""
     import drjit as dr
 
-    from ... import adfit
+    from ...numerics import adfit
 
     a_np, w = prob["alpha"], prob["w"]
     a, wn, t = adfit.array(a_np), adfit.array(w / np.sum(w)), adfit.array(prob["target"])
@@ -432,10 +432,10 @@ def lamp_objectives_ad(prob: dict[str, Any]) -> tuple[Any, Any]:
 
 def fit_lamp_ad(prob: dict[str, Any], which: tuple[bool, ...] = (True, True)) -> dict[str, float]:
     """:func:`fit_lamp`'s two fits in drjit, minimising the weighted mean square (the rms's square: the same
-    minimiser) by L-BFGS-B (:func:`validate.adfit.minimize`): cos^f from Brent's first point
+    minimiser) by L-BFGS-B (:func:`validate.numerics.adfit.minimize`): cos^f from Brent's first point
     (:data:`BRENT_START` of [0, 500]); Mitsuba's (beam, cutoff) — 1 to the beam, linear to 0 at the cutoff, beam
     clipped to [0, cutoff − 10⁻⁶] — from (0.3, 1) × edge with cutoff ≥ 10⁻³; ``which`` = (cos^f, Mitsuba) to fit."""
-    from ... import adfit
+    from ...numerics import adfit
 
     edge = prob["edge"]
     cos_f, mitsuba = lamp_objectives_ad(prob)

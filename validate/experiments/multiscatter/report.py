@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 
-from ...report import plots
+from ...figures import plots
 from ..base import Context, Figure, Section, Table
 from ..formatting import col
 from ..techniques import technique_entry

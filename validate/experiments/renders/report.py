@@ -127,7 +127,7 @@ def flip_cell(sr: SceneResult, image: np.ndarray, reference: np.ndarray) -> str:
 
 
 def scene_figure(sr: SceneResult, ctx: Any) -> Figure | None:
-    from ...report import plots
+    from ...figures import plots
 
     if not sr.engines:
         return None
@@ -473,7 +473,7 @@ def material_reference_rows(m: Measurements) -> list[list[Any]]:
 
 def material_figure(sr: SceneResult, ctx: Any) -> Figure | None:
     """truth (i) | truth (ii) | per engine: image | |rel| vs (i) × 10."""
-    from ...report import plots
+    from ...figures import plots
 
     if not sr.engines:
         return None

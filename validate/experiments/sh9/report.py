@@ -10,12 +10,12 @@ from typing import Any
 import numpy as np
 
 from ...atomic import atomic_path
+from ...figures import plots
 from ...local_models import irradiance as irradiance_family
 from ...local_models.irradiance import sh as shm
 from ...metrics.irradiance_error import METRIC_NAMES
 from ...metrics.published import PUBLISHED_TOLERANCE
 from ...reference import pathtrace
-from ...report import plots
 from ..base import Context, Figure, Section, Table
 from ..formatting import col, pm
 from ..formatting import pct as _pct
@@ -31,7 +31,7 @@ ORDER_PLOT_MARGINS = {"left": 0.14, "right": 0.99, "bottom": 0.127, "top": 0.933
 
 
 def _save_png(path: Path, fig: Any, margins: dict[str, float] | None = None) -> None:
-    """Write a :mod:`validate.report.plots` figure as a PNG, with ``margins`` instead of its layout engine if given.
+    """Write a :mod:`validate.figures.plots` figure as a PNG, with ``margins`` instead of its layout engine if given.
     Every axes title is pinned at y = 1 (where matplotlib's automatic placement leaves it when no x tick labels
     sit on top: the same pixels), which skips the per-draw search of every tick label's extent behind that
     placement (about a third of a log-axis plot's drawing time)."""

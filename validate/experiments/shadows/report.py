@@ -11,9 +11,9 @@ from typing import Any
 
 import numpy as np
 
+from ...figures import plots
 from ...local_models import shadow
 from ...metrics import shadow_error as se
-from ...report import plots
 from ..base import Context, Figure, Section, Table, finite_or_none, settings_json
 from ..formatting import pct_fixed as pct
 from ..formatting import pm

@@ -25,10 +25,10 @@ from typing import Any
 import numpy as np
 from scipy.optimize import least_squares, minimize_scalar
 
-from ... import adfit
 from ...local_models import uberlight as family
 from ...local_models.uberlight import orange_book as ub
 from ...local_models.uberlight.common import superellipse_shape_ad
+from ...numerics import adfit
 from ...reference import uberlight_render as ur
 from ...scenes import uberlight_scenes as us
 from ..base import Context, settings_json
@@ -144,7 +144,7 @@ def fit_beam(frame: Frame, method: str = "ad") -> dict[str, Any]:
     """Least squares of the überlight shape and I₀ to the barn-door render, residuals (L_model − L_ref)/peak over
     every receiver pixel; start: the geometric penumbra. scipy's trust-region reflective method either with its
     finite-difference Jacobian (``method="scipy"``) or with drjit's forward-mode Jacobian (``"ad"``,
-    :func:`validate.adfit.least_squares`; the experiment's path where the variant has AD: it reaches the
+    :func:`validate.numerics.adfit.least_squares`; the experiment's path where the variant has AD: it reaches the
     finite-difference fit's RMS to 10⁻¹³ relative, ``python -m validate bench --only fits``)."""
     prob = beam_problem(frame)
     if method == "ad" and adfit.available():

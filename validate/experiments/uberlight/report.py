@@ -6,8 +6,8 @@ from typing import Any
 
 import numpy as np
 
+from ...figures import plots
 from ...local_models import uberlight as family
-from ...report import plots
 from ..base import Context, Figure, Section, Table
 from ..formatting import col
 from ..techniques import technique_entry

@@ -1,10 +1,8 @@
 """Per-normal error of one technique on one map, and the refinement of the worst normal.
 
-Metrics are those of :mod:`validate.metrics.irradiance_error`, written per normal so that a search can
-maximise them: ``flux_luminance`` e(n) = |Y(E′) − Y(E)| / Φ_Y, ``flux_rgb`` e(n) = max_c |E′_c − E_c| / Φ_c,
-``relative`` e(n) = |Y(E′) − Y(E)| / Y(E) where Y(E) ≥ 10⁻³ max Y(E) (0 elsewhere; the maximum Y(E) is
-taken over a fixed dense normal set, :data:`DENSE_NORMALS`, so that adding normals does not move the floor).
-A metric name is ``<metric>.<max|mean>``.
+The metrics are :func:`validate.metrics.irradiance_error.per_normal_error` (``flux_luminance``, ``flux_rgb``,
+``relative``); for ``relative`` the maximum Y(E) is taken over a fixed dense normal set, :data:`DENSE_NORMALS`,
+so that adding normals does not move the floor. A metric name is ``<metric>.<max|mean>``.
 """
 
 from __future__ import annotations
@@ -15,7 +13,7 @@ import numpy as np
 
 from ...errors import ValidateError
 from ...local_models import irradiance
-from ...metrics.irradiance_error import RELATIVE_FLOOR
+from ...metrics.irradiance_error import per_normal_error
 from ...scenes.latlong import fibonacci_sphere, luminance
 from .lighting import flux_numpy, truth_numpy
 
@@ -36,18 +34,6 @@ def check_metric(metric: str) -> tuple[str, str]:
     return base, stat
 
 
-def per_normal(approx: np.ndarray, truth: np.ndarray, flux: np.ndarray, base: str,
-               peak: float | None = None) -> np.ndarray:
-    """e(n) of metric ``base`` for E′ = approx, E = truth (N, 3), flux Φ (3,)."""
-    if base == "flux_luminance":
-        return np.abs(luminance(approx) - luminance(truth)) / float(luminance(flux))
-    if base == "flux_rgb":
-        return np.max(np.abs(approx - truth) / np.maximum(flux, 1e-300)[None, :], axis=1)
-    y = luminance(truth)
-    floor = RELATIVE_FLOOR * (float(y.max()) if peak is None else peak)
-    return np.where(y >= floor, np.abs(luminance(approx) - y) / np.maximum(y, 1e-300), 0.0)
-
-
 def registered(name: str, scale: float = 1.0) -> Technique:
     """The registered technique through the family contract (× ``scale``: the power perturbation)."""
     tech = irradiance[name]
@@ -59,7 +45,7 @@ def registered(name: str, scale: float = 1.0) -> Technique:
 
 def errors_at(fn: Technique, radiance: np.ndarray, normals: np.ndarray, base: str,
               peak: float | None = None) -> np.ndarray:
-    return per_normal(fn(radiance, normals), truth_numpy(radiance, normals), flux_numpy(radiance), base, peak)
+    return per_normal_error(fn(radiance, normals), truth_numpy(radiance, normals), flux_numpy(radiance), base, peak)
 
 
 def tangent_frame(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -76,7 +62,7 @@ def worst_normal(fn: Technique, radiance: np.ndarray, metric: str) -> tuple[floa
     dense = fibonacci_sphere(DENSE_NORMALS)
     truth = truth_numpy(radiance, dense)
     peak = float(luminance(truth).max())
-    e = per_normal(fn(radiance, dense), truth, flux_numpy(radiance), base, peak)
+    e = per_normal_error(fn(radiance, dense), truth, flux_numpy(radiance), base, peak)
     if stat == "mean":
         return float(e.mean()), dense[int(np.argmax(e))]
     best, n = float(e.max()), dense[int(np.argmax(e))]

@@ -6,8 +6,8 @@ from typing import Any
 
 import numpy as np
 
+from ...figures import plots
 from ...local_models import irradiance
-from ...report import plots
 from ...scenes.latlong import direction_to_spherical
 from ..base import Context, Figure, Section, Table
 from ..formatting import pct

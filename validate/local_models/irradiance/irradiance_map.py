@@ -205,10 +205,11 @@ def _spatial_batches(dirs: np.ndarray, cells: int) -> list[np.ndarray]:
 
 
 def _cosines(d: np.ndarray, nd: np.ndarray) -> np.ndarray:
-    """d (B, 3) @ nd (K, 3)ᵀ in float32 on one BLAS thread for this thread (:class:`validate.blas.one_blas_thread`,
-    thread-local): a few thousand three-term products per row, where waking the threads costs more CPU than the
-    product (×6 in the cap path, measured). The same bits as the threaded product (each entry is one three-term sum)."""
-    from ...blas import one_blas_thread
+    """d (B, 3) @ nd (K, 3)ᵀ in float32 on one BLAS thread for this thread
+    (:class:`validate.numerics.blas.one_blas_thread`, thread-local): a few thousand three-term products per row,
+    where waking the threads costs more CPU than the product (×6 in the cap path, measured). The same bits as the
+    threaded product (each entry is one three-term sum)."""
+    from ...numerics.blas import one_blas_thread
 
     with one_blas_thread():
         return d @ nd.T

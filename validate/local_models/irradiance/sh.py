@@ -36,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from ...blas import one_blas_thread
+from ...numerics.blas import one_blas_thread
 from ...scenes import latlong
 from ..precision import constants_dr, to_dr, vec_to_dr
 
@@ -212,7 +212,7 @@ def fourier_row_sums(radiance: np.ndarray, lmax: int) -> np.ndarray:
     a (q, q·k) product per row. Rows are shared among the process's CPUs (numpy's matmul releases the GIL)
     and, within a thread, read in blocks of about :data:`ROW_BLOCK_BYTES`, cast to float32 block by block
     (no full-size copy). Each pool thread runs its products on one BLAS thread of its own
-    (:class:`validate.blas.one_blas_thread`): the pool already occupies every CPU (nested BLAS threads only
+    (:class:`validate.numerics.blas.one_blas_thread`): the pool already occupies every CPU (nested BLAS threads only
     oversubscribe it), and no two Python threads share OpenBLAS's thread server (concurrent calls into it are
     where pthreads OpenBLAS has crashed before, e.g. OpenMathLib/OpenBLAS#4981, fixed in 0.3.29; a test worker
     segfaulted here with no Python frame on the crashing thread). OpenBLAS splits a product by rows, not sums,

@@ -225,13 +225,13 @@ def fit_entry_scipy(prob: FitProblem) -> Entry:
 
 
 def l3_error_ad(prob: FitProblem) -> Any:
-    """The objective ∫ |E·D_M − f cos|³ dω in drjit (:mod:`validate.adfit`): a function of the free parameters
+    """The objective ∫ |E·D_M − f cos|³ dω in drjit (:mod:`validate.numerics.adfit`): a function of the free parameters
     (width-1 Float64 arrays). M⁻¹ = S⁻¹ R_y(φ)ᵀ [X Y Z]ᵀ in closed form, S = [[m11, 0, m13], [0, m22, 0], [0, 0, 1]]
     (S⁻¹ = [[1/m11, 0, −m13/m11], [0, 1/m22, 0], [0, 0, 1]]), |det M⁻¹| = 1/(m11 m22) (the frame and R_y are
     rotations); D as :func:`ltc_density`."""
     import drjit as dr
 
-    from ... import adfit
+    from ...numerics import adfit
 
     local = prob.quad.dirs @ prob.frame  # [X Y Z]ᵀ l, per row
     lx, ly, lz = (adfit.array(local[:, k]) for k in range(3))
@@ -254,13 +254,13 @@ def l3_error_ad(prob: FitProblem) -> Any:
 
 
 def fit_entry_ad(prob: FitProblem) -> Entry:
-    """:func:`l3_error_ad` minimised with drjit's reverse-mode gradient (:func:`validate.adfit.minimize`) from the
-    same start: L-BFGS-B with m11, m22 ≥ 10⁻⁷ (the Nelder–Mead objective's wall; m13 and φ free as there), then
+    """:func:`l3_error_ad` minimised with drjit's reverse-mode gradient (:func:`validate.numerics.adfit.minimize`)
+    from the same start: L-BFGS-B with m11, m22 ≥ 10⁻⁷ (the Nelder–Mead objective's wall; m13 and φ free as there), then
     BFGS from its result (the clamp max(0, z) of D_o makes the quadrature sum piecewise smooth — a kink where a
     node crosses the transformed horizon — and L-BFGS-B's line search can stop short at one: 10⁻⁵ above
     Nelder–Mead at r = 0.087, cos θ_v = 0.811); the lower of the two (:meth:`FitProblem.l3_error`, whose wall
     rejects a BFGS step to m ≤ 10⁻⁷)."""
-    from ... import adfit
+    from ...numerics import adfit
 
     bounds = [(1e-7, None)] if prob.iso else [(1e-7, None), (1e-7, None), (None, None), (None, None)]
     obj = l3_error_ad(prob)

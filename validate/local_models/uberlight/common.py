@@ -107,8 +107,8 @@ def superellipse_shape_np(light: Mapping[str, Any], x: np.ndarray, y: np.ndarray
 def superellipse_shape_ad(width: Any, height: Any, width_edge: Any, height_edge: Any, roundness: Any,
                           x: Any, y: Any, z: Any) -> Any:
     """The same A with every shape value a drjit array (width 1 or N: the AD fits differentiate through them,
-    :mod:`validate.adfit`); x, y, z drjit arrays of the light coordinates. |h p_x|, |w p_y| are floored at 10⁻³⁰
-    (a zero base has no derivative in its exponent; 10⁻³⁰ raised to e₁ ≥ 0.5 is below 10⁻¹⁵ of the other term)."""
+    :mod:`validate.numerics.adfit`); x, y, z drjit arrays of the light coordinates. |h p_x|, |w p_y| are floored at
+    10⁻³⁰ (a zero base has no derivative in its exponent; 10⁻³⁰ raised to e₁ ≥ 0.5 is below 10⁻¹⁵ of the other term)."""
     import drjit as dr
 
     front = z > 0

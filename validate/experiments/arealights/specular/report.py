@@ -7,11 +7,11 @@ from typing import Any
 
 import numpy as np
 
+from ....figures import plots
 from ....local_models import family
 from ....local_models.specular_arealight.ltc import (
     load_table,
 )
-from ....report import plots
 from ...base import Figure, Section, Table
 from ...formatting import col
 from ...techniques import technique_entry

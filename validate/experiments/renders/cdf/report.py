@@ -37,7 +37,7 @@ def cdf_table(sc: CdfScene) -> Table:
 
 
 def cdf_figure(sc: CdfScene, ctx: Any) -> Figure | None:
-    from ....report import plots
+    from ....figures import plots
 
     if not sc.results:
         return None

@@ -60,7 +60,7 @@ def width_table(sr: ShadowSceneResult) -> Table:
 
 def shadow_figures(sr: ShadowSceneResult, ctx: Any) -> list[Figure]:
     """One figure per engine: truth | each shadow type's image and its shadow-factor error × 10."""
-    from ....report import plots
+    from ....figures import plots
 
     st = shadow_factor(sr.mean, sr.unshadowed)
     out = []

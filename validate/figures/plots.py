@@ -49,7 +49,7 @@ FIG_SIZE = (5.0, 3.5)  # inches; at FIG_DPI a plot is 500 × 350 px, small enoug
 FIG_DPI = 100
 FIGURE_LOCK = threading.RLock()
 """Held while a figure is drawn and written: matplotlib's drawing (text layout, font caches) is not thread-safe,
-and an experiment may run on a thread beside the others (:mod:`validate.experiments.schedule`)."""
+and an experiment may run on a thread beside the others (:mod:`validate.run.schedule`)."""
 _ACES = (2.51, 0.03, 2.43, 0.59, 0.14)  # a, b, c, d, e of f(x) = x(ax + b) / (x(cx + d) + e) [1]
 _MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*")
 _HLINE_COLOURS = ("0.25", "#b2182b", "#2166ac", "#1b7837")

@@ -5,7 +5,7 @@
   page), and to compile the first program.
 * Per receiver (this process, runtime already started, program compiled): each built-in GLSL
   transcription against its Python original on the same N receivers, run alternately
-  (:func:`validate.bench._best_pair`), best of 5; the ratio GLSL / Python is the figure. The GLSL time
+  (:func:`validate.bench.timing.best_pair`), best of 5; the ratio GLSL / Python is the figure. The GLSL time
   includes uploading the inputs as float textures, the draw and the float32 read-back.
 """
 
@@ -18,6 +18,8 @@ import time
 from typing import Any
 
 import numpy as np
+
+from .timing import best_pair
 
 N_RECEIVERS = 100_000
 PAIRS = (  # (family, GLSL technique, its Python original)
@@ -35,10 +37,10 @@ PAIRS = (  # (family, GLSL technique, its Python original)
 def startup_child(kind: str) -> dict[str, Any]:
     """Cold start of one runtime in this (fresh) process: import, context, first compile (seconds)."""
     t0 = time.perf_counter()
-    from .gl import egl, runtime  # noqa: PLC0415
+    from ..gl import egl, runtime  # noqa: PLC0415
 
     if kind == "webgl2":
-        from .gl import webgl  # noqa: F401, PLC0415
+        from ..gl import webgl  # noqa: F401, PLC0415
     else:
         import moderngl  # noqa: F401, PLC0415
         from OpenGL import EGL  # noqa: F401, PLC0415
@@ -63,8 +65,8 @@ def startup_child(kind: str) -> dict[str, Any]:
 def startup_records(kinds: tuple[str, ...] = ("llvmpipe", "llvmpipe-compat", "webgl2")) -> list[dict[str, Any]]:
     out = []
     for kind in kinds:
-        proc = subprocess.run([sys.executable, "-m", "validate.bench_gl", kind], capture_output=True, text=True,
-                              timeout=300)
+        proc = subprocess.run([sys.executable, "-m", "validate.bench.gl_runtimes", kind], capture_output=True,
+                              text=True, timeout=300)
         if proc.returncode != 0:
             last = (proc.stderr.strip().splitlines() or [f"exit status {proc.returncode}"])[-1]
             out.append({"kind": kind, "error": last[:200]})
@@ -95,7 +97,7 @@ def _inputs(fam: str, n: int) -> tuple[Any, ...]:
                 {"alpha": 0.3, "f0": 1.0}, pts, np.tile([0.0, 1.0, 0.0], (n, 1)),
                 unit(np.abs(rng.standard_normal((n, 3)))))
     if fam == "uberlight":  # a downward überlight over a ground patch, soft edges, no distance shaping
-        from .local_models.uberlight.common import NO_DISTANCE_SHAPING  # noqa: PLC0415
+        from ..local_models.uberlight.common import NO_DISTANCE_SHAPING  # noqa: PLC0415
 
         light = {"position": np.array([0.0, 2.0, 0.0]), "axes": np.array([[1.0, 0, 0], [0, 0, 1.0], [0, -1.0, 0]]),
                  "intensity": 50.0, "width": 0.5, "height": 0.3, "width_edge": 0.1, "height_edge": 0.05,
@@ -112,9 +114,9 @@ def _inputs(fam: str, n: int) -> tuple[Any, ...]:
 
 def _shadow_inputs(rng: np.random.Generator, n: int) -> tuple[Any, ...]:
     """A synthetic 512² D24 map over a ground plane under a disc light (no ray casting: the lookup is timed)."""
-    from .backend import float_type  # noqa: PLC0415
-    from .local_models.shadow import shadow_map as smod  # noqa: PLC0415
-    from .scenes.shadow_scenes import DiscLight  # noqa: PLC0415
+    from ..backend import float_type  # noqa: PLC0415
+    from ..local_models.shadow import shadow_map as smod  # noqa: PLC0415
+    from ..scenes.shadow_scenes import DiscLight  # noqa: PLC0415
 
     F, r = float_type(), 512
     light = DiscLight((0.0, 3.0, 0.0), (0.0, 0.0, 0.0), 0.5, 10.0)
@@ -128,8 +130,7 @@ def _shadow_inputs(rng: np.random.Generator, n: int) -> tuple[Any, ...]:
 
 def per_receiver_rows(n: int = N_RECEIVERS) -> list[dict[str, Any]]:
     """GLSL vs Python per receiver for each built-in transcription (module docstring)."""
-    from .bench import _best_pair  # noqa: PLC0415
-    from .local_models import family  # noqa: PLC0415
+    from ..local_models import family  # noqa: PLC0415
 
     rows = []
     for fam_name, glsl, py in PAIRS:
@@ -138,7 +139,7 @@ def per_receiver_rows(n: int = N_RECEIVERS) -> list[dict[str, Any]]:
             rows.append({"family": fam_name, "glsl": glsl, "python": py, "skipped": "GLSL technique not registered"})
             continue
         args = _inputs(fam_name, n)
-        tg, tp = _best_pair(lambda a=args, f=fam, g=glsl: f.call(g, *a), lambda a=args, f=fam, p=py: f.call(p, *a),
+        tg, tp = best_pair(lambda a=args, f=fam, g=glsl: f.call(g, *a), lambda a=args, f=fam, p=py: f.call(p, *a),
                             repeats=5)
         rows.append(_row(fam_name, glsl, py, n, tg, tp))
     rows.append(_webgl_row(n))
@@ -152,10 +153,9 @@ def _row(fam: str, glsl: str, py: str, n: int, tg: float, tp: float) -> dict[str
 
 def _webgl_row(n: int) -> dict[str, Any]:
     """The built-in sh9.glsl on Chromium WebGL2 vs the Python sh9 (skipped with the reason without chromium)."""
-    from .bench import _best_pair  # noqa: PLC0415
-    from .errors import ValidateError  # noqa: PLC0415
-    from .local_models import family  # noqa: PLC0415
-    from .local_models import glsl_technique as gt  # noqa: PLC0415
+    from ..errors import ValidateError  # noqa: PLC0415
+    from ..local_models import family  # noqa: PLC0415
+    from ..local_models import glsl_technique as gt  # noqa: PLC0415
 
     try:
         tech = gt.technique_from_file(gt.BUILTIN_DIR / "irradiance" / "sh9.glsl", "irradiance", runtime="webgl2",
@@ -163,7 +163,7 @@ def _webgl_row(n: int) -> dict[str, Any]:
     except ValidateError as exc:
         return {"family": "irradiance", "glsl": "glsl_sh9@webgl2", "python": "sh9", "skipped": str(exc)}
     fam, args = family("irradiance"), _inputs("irradiance", n)
-    tg, tp = _best_pair(lambda: fam.call(tech, *args), lambda: fam.call("sh9", *args), repeats=5)
+    tg, tp = best_pair(lambda: fam.call(tech, *args), lambda: fam.call("sh9", *args), repeats=5)
     return _row("irradiance", "glsl_sh9@webgl2", "sh9", n, tg, tp)
 
 
@@ -184,5 +184,5 @@ def tables(starts: list[dict[str, Any]], rows: list[dict[str, Any]]) -> list[dic
     ]
 
 
-if __name__ == "__main__":  # child process: python -m validate.bench_gl KIND
+if __name__ == "__main__":  # child process: python -m validate.bench.gl_runtimes KIND
     print(json.dumps(startup_child(sys.argv[1])))

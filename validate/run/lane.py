@@ -3,7 +3,7 @@
 Two experiments at once in one process is not safe: Dr.Jit's variables, its common-subexpression cache and
 Mitsuba's render state are process-wide, and two threads rendering at once failed here (measured: arealights'
 ``mi.render`` beside ibl's raised ``jit_var_sub(r2683, r0): operands have incompatible sizes``). A child process
-shares none of that: :class:`ProcessLane` starts ``python -m validate.experiments.lane`` once, sends it the run's
+shares none of that: :class:`ProcessLane` starts ``python -m validate.run.lane`` once, sends it the run's
 :class:`~validate.experiments.base.Context` (with the environments already loaded, so both lanes see the same
 arrays) and the address of the run's Dask scheduler, then one experiment name at a time; the child runs it and
 sends the :class:`~validate.experiments.base.ExperimentResult` back. Figures go to the same staging folder.
@@ -12,7 +12,7 @@ The child chooses its Mitsuba variant with the same probe (:func:`validate.backe
 inherits through the environment), loads the run's plug-ins (``ctx.worker_setup``), starts its own GL runtimes
 when an experiment asks for one, and reports their ``GL_RENDERER`` strings with each result
 (:func:`validate.gl.runtime.note_elsewhere`). It ignores SIGINT: an interrupt is the parent's to handle, and the
-parent ends its child processes (:func:`validate.interrupt.end_children`); it exits when the parent closes the
+parent ends its child processes (:func:`validate.run.interrupt.end_children`); it exits when the parent closes the
 pipe. Numbers do not depend on the lane: every task and reference is seeded by its inputs.
 """
 
@@ -30,7 +30,7 @@ from multiprocessing.connection import Connection
 from typing import Any
 
 from ..errors import ValidateError
-from .base import Context, ExperimentResult
+from ..experiments.base import Context, ExperimentResult
 
 
 class LaneError(RuntimeError):
@@ -42,7 +42,7 @@ class ProcessLane:
 
     def __init__(self, ctx: Context) -> None:
         parent, child = socket.socketpair()
-        self._proc = subprocess.Popen([sys.executable, "-m", "validate.experiments.lane", str(child.fileno())],
+        self._proc = subprocess.Popen([sys.executable, "-m", "validate.run.lane", str(child.fileno())],
                                       pass_fds=(child.fileno(),), close_fds=True,
                                       env={**os.environ, "PYTHONUNBUFFERED": "1"})  # its lines among ours
         child.close()
@@ -97,8 +97,8 @@ def _portable(exc: BaseException) -> BaseException:
 
 def _serve(conn: Connection) -> None:
     from ..backend import init
+    from ..experiments import discover
     from ..gl import runtime
-    from . import discover
 
     ctx, envs = conn.recv()
     ctx._env_cache.update(envs)

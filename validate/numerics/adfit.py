@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from .backend import init
+from ..backend import init
 
 Objective = Callable[[list[Any]], Any]
 
@@ -50,7 +50,7 @@ def float64() -> Any:
     import mitsuba as mi
 
     if not available():
-        from .errors import ValidateError
+        from ..errors import ValidateError
 
         raise ValidateError(f"variant {init().variant} has no automatic differentiation; the AD fits need an "
                             "*_ad_* variant (llvm_ad_rgb or cuda_ad_rgb)")

@@ -1,7 +1,7 @@
 """The fits in ``python -m validate bench`` (section ``fits``): each scipy fit beside its drjit-AD twin.
 
 Same data and same starting points both ways; times are the best of ``repeats`` runs after one warm-up each
-(drjit's kernel compilation excluded), the two run alternately (:func:`validate.bench._best_pair`). Residuals:
+(drjit's kernel compilation excluded), the two run alternately (:func:`validate.bench.timing.best_pair`). Residuals:
 
 * LTC entry (:func:`~validate.local_models.specular_arealight.ltc.fit_entry_scipy`, Nelder–Mead, vs
   :func:`~validate.local_models.specular_arealight.ltc.fit_entry_ad`, L-BFGS-B): ∫ |E·D − f cos|³ dω, on
@@ -25,6 +25,8 @@ from typing import Any
 
 import numpy as np
 
+from .timing import best_pair
+
 RESIDUAL_TOL = 1e-6  # relative; both fits stop on their own tolerances, rounding of the sums is ~1e-13
 # (i_r, j_θ) of the 24 × 24 table; (0, 4) and (0, 13): α = 10⁻³, where the two land apart (either way)
 LTC_ENTRIES = ((23, 0), (23, 5), (20, 6), (14, 12), (8, 20), (5, 23), (2, 10), (0, 4), (0, 13))
@@ -34,9 +36,8 @@ BARNDOORS = ((0.025, 0.0), (0.025, 0.6))  # (disc radius m, hole roundness), the
 def _row(name: str, data: str, scipy_fit: Callable[[], Any], ad_fit: Callable[[], Any],
          residual: Callable[[Any], float], repeats: int, used: str, residual_unit: str = "–") -> dict[str, Any]:
     """Both fits timed and their residuals (in ``residual_unit``: "–" for an rms relative to the peak)."""
-    from .bench import _best_pair
 
-    t_scipy, t_ad = _best_pair(scipy_fit, ad_fit, repeats=repeats)
+    t_scipy, t_ad = best_pair(scipy_fit, ad_fit, repeats=repeats)
     r_scipy, r_ad = residual(scipy_fit()), residual(ad_fit())
     return {"fit": name, "data": data, "scipy_s": t_scipy, "scipy_residual": r_scipy, "ad_s": t_ad,
             "ad_residual": r_ad, "time_ratio": t_ad / t_scipy,
@@ -46,7 +47,7 @@ def _row(name: str, data: str, scipy_fit: Callable[[], Any], ad_fit: Callable[[]
 
 
 def ltc_rows(repeats: int) -> list[dict[str, Any]]:
-    from .local_models.specular_arealight import ltc
+    from ..local_models.specular_arealight import ltc
 
     t = ltc.load_table()
     r, mus = ltc.table_axes(t.size)
@@ -64,8 +65,8 @@ def ltc_rows(repeats: int) -> list[dict[str, Any]]:
 
 
 def uberlight_rows(repeats: int) -> list[dict[str, Any]]:
-    from .experiments import uberlight as exp
-    from .reference import uberlight_render as ur
+    from ..experiments import uberlight as exp
+    from ..reference import uberlight_render as ur
 
     um = importlib.import_module("validate.experiments.uberlight.compute")
     s = dataclasses.replace(exp.QUICK, barndoors=BARNDOORS)
@@ -80,8 +81,8 @@ def uberlight_rows(repeats: int) -> list[dict[str, Any]]:
 
 
 def lights_rows(repeats: int) -> list[dict[str, Any]]:
-    from .experiments.lights import sweeps as sw
-    from .scenes import light_scenes as ls
+    from ..experiments.lights import sweeps as sw
+    from ..scenes import light_scenes as ls
 
     spot, lamp = ls.STANDARD_LIGHTS["spot"], ls.STANDARD_LIGHTS["lamp"]
     rows = [_row("spot exponent (rms)", f"beam {spot.beam_deg:g}°, cutoff {spot.cutoff_deg:g}°",
@@ -99,7 +100,7 @@ def lights_rows(repeats: int) -> list[dict[str, Any]]:
 
 def fit_rows(repeats: int = 3, log: Callable[[str], None] = print) -> list[dict[str, Any]]:
     """Every fit both ways (module docstring)."""
-    from . import adfit
+    from ..numerics import adfit
 
     if not adfit.available():
         return [{"fit": "all", "skipped": "the active variant has no AD"}]

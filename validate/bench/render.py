@@ -35,14 +35,14 @@ RESOLUTION = 64
 
 
 def _scenes() -> list[Any]:
-    from .scenes import render_scenes as rs  # noqa: PLC0415
-    from .scenes import render_shadow_scenes as rss  # noqa: PLC0415
+    from ..scenes import render_scenes as rs  # noqa: PLC0415
+    from ..scenes import render_shadow_scenes as rss  # noqa: PLC0415
 
     return [rs.lambert_sun_scene(RESOLUTION), rss.sun_shadow_scene(RESOLUTION).with_shadow_type("pcf")]
 
 
 def _timed(engine: str, scene: Any) -> tuple[float, float]:
-    from .local_models import render  # noqa: PLC0415
+    from ..local_models import render  # noqa: PLC0415
 
     t0 = time.perf_counter()
     r = render.render(engine, scene)
@@ -51,8 +51,8 @@ def _timed(engine: str, scene: Any) -> tuple[float, float]:
 
 def child() -> dict[str, Any]:
     """The measurement in this (fresh) process (module docstring); a JSON-able record."""
-    from .gl import browser_page, runtime  # noqa: PLC0415
-    from .local_models.render import ENGINES as PAGES  # noqa: PLC0415
+    from ..gl import browser_page, runtime  # noqa: PLC0415
+    from ..local_models.render import ENGINES as PAGES  # noqa: PLC0415
 
     t0 = time.perf_counter()
     rt = runtime.get("webgl2")
@@ -78,7 +78,7 @@ def child() -> dict[str, Any]:
 
 def records() -> dict[str, Any]:
     """Run :func:`child` in a fresh process; ``{"error": ...}`` with the reason when it cannot run."""
-    proc = subprocess.run([sys.executable, "-m", "validate.bench_render"], capture_output=True, text=True, timeout=900)
+    proc = subprocess.run([sys.executable, "-m", "validate.bench.render"], capture_output=True, text=True, timeout=900)
     if proc.returncode != 0:
         last = (proc.stderr.strip().splitlines() or [f"exit status {proc.returncode}"])[-1]
         return {"error": last[:300]}
@@ -109,5 +109,5 @@ def tables(rec: dict[str, Any]) -> list[dict[str, Any]]:
     ]
 
 
-if __name__ == "__main__":  # child process: python -m validate.bench_render
+if __name__ == "__main__":  # child process: python -m validate.bench.render
     print(json.dumps(child()))

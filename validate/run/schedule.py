@@ -4,7 +4,7 @@
 in the browser's processes) and on Mitsuba's references (its own background thread). The other experiments wait
 on their Dask tasks between the parts this process computes, and some compute on one core (worstcase's searches).
 So when the run has Dask workers (:attr:`Context.distributed`) and more than one experiment to do, the experiments
-run in **two lanes**: this process is one, a child interpreter (:class:`~validate.experiments.lane.ProcessLane`)
+run in **two lanes**: this process is one, a child interpreter (:class:`~validate.run.lane.ProcessLane`)
 the other. The second lane starts with the :data:`BESIDE` experiments, this one with the first of the others, and
 each lane, when its experiment ends, takes the next one not yet started, in the order of ``todo``. What one lane
 leaves idle (a core while its tasks queue on the workers, the gaps between tasks, the browser's waits), the other
@@ -24,7 +24,7 @@ import threading
 from collections import deque
 from collections.abc import Callable
 
-from .base import Background, Context, Experiment, ExperimentResult
+from ..experiments.base import Background, Context, Experiment, ExperimentResult
 
 BESIDE = ("renders",)
 """Experiments the second lane starts with (see the module docstring)."""
@@ -65,7 +65,7 @@ def run_experiments(ctx: Context, exps: dict[str, Experiment], todo: list[str],
                     seconds: dict[str, float] | None = None) -> dict[str, ExperimentResult]:
     """Run ``todo`` (names of ``exps``) in :func:`lanes` lanes; ``started(name, second)`` (second: on the second
     lane) and ``finished(name, result)`` report progress; the results come back in the order of ``todo``.
-    ``second()`` makes the second lane's (run, close) (default: a :class:`~validate.experiments.lane.ProcessLane`;
+    ``second()`` makes the second lane's (run, close) (default: a :class:`~validate.run.lane.ProcessLane`;
     ``close(False)`` when this lane failed: the other's experiment is abandoned). With two lanes and ``seconds``
     (each experiment's wall time in the previous report), the lanes take the experiments :func:`longest_first`."""
     first = beside(ctx, todo)

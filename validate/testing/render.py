@@ -17,10 +17,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import ValidateError
-from .experiments.renders.compute import budget, references, truth
-from .metrics.pixel_z import MIN_ACCEPTED, PixelJudgement, interior_mask, judge
-from .scenes import render_scenes as rs
+from ..errors import ValidateError
+from ..experiments.renders.compute import budget, references, truth
+from ..metrics.pixel_z import MIN_ACCEPTED, PixelJudgement, interior_mask, judge
+from ..scenes import render_scenes as rs
 
 
 @dataclass

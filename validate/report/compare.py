@@ -43,8 +43,8 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .errors import ValidateError
-from .format import pm, sig
+from ..errors import ValidateError
+from ..format import pm, sig
 
 ROUNDOFF = 1e-9  # relative: below this, two values are the same number (float64 round-off of a re-run)
 HIGHER_IS_BETTER = ("psnr", "ssim", "score", "correlation", "r2")

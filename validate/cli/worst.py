@@ -5,10 +5,10 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ...errors import ValidateError
-from .errors import METRICS
-from .lighting import write_probe
-from .search import SearchSettings, search
+from ..errors import ValidateError
+from ..experiments.worstcase.errors import METRICS
+from ..experiments.worstcase.lighting import write_probe
+from ..experiments.worstcase.search import SearchSettings, search
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -28,8 +28,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run_worst(args: argparse.Namespace) -> int:
-    from ... import backend
-    from ...local_models import irradiance
+    from .. import backend
+    from ..local_models import irradiance
 
     if args.budget < 1 or args.restarts < 1 or args.height < 16:
         raise ValidateError(f"worst {args.technique}: --budget and --restarts must be ≥ 1 and --height ≥ 16 "

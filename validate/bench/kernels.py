@@ -1,42 +1,9 @@
-"""``python -m validate bench``: speed and memory, measured side by side in one run.
-
-Kernels (this process; best of ``repeats`` runs after one warm-up, JIT compilation excluded; a projection
-and its plain reduction run alternately, so that load on the machine touches both alike):
-
-* SH projection (l ≤ 2 and l ≤ 8) of a 512×1024 lat-long map — the separable projection
-  (:func:`validate.local_models.irradiance.sh.project_environment`) beside a *plain reduction over the same
-  texels*, Σ_i Ω_i Σ_j L_ij, computed the fastest way we know (the same polyphase per-row matrix
-  products, rows shared among the CPUs the same way, with a single row of ones), beside a plain
-  drjit sum of the texels already on the device, and beside the direct per-texel sum in drjit
-  (:func:`~validate.local_models.irradiance.sh.project_samples`). The ratio to the plain reduction is the figure:
-  the memory-bound limit is one pass over the texels.
-* SH9 irradiance at 100k normals: drjit vs numpy; the techniques ported to drjit (ltc per shape,
-  uberlight_fore_june_printed, phong_prefiltered_s) beside their frozen numpy originals (:func:`port_rows`).
-* The GL runtimes (:mod:`validate.bench_gl`): cold start of each runtime, and each built-in GLSL technique's
-  per-receiver cost beside its Python transcription.
-* The fits (:mod:`validate.bench_fits`): each scipy fit beside its drjit-AD twin, time and residual.
-* The engines (:mod:`validate.bench_render`): browser start, page load per engine, first frame and the median of
-  later frames per engine and scene, in one fresh process.
-
-Map sizes (one child process per size and task, so that each peak RSS is clean): an H×2H map
-(H = 1024, 2048, 4096, 8192 by default: "1k" … "8k" name the rows), a smooth sky with a 0.5° sun,
-built in the child row block by row block (not timed: it stands for reading the file). Tasks:
-
-* ``reference`` — :func:`~validate.reference.irradiance.reference_irradiance` at 10k normals,
-  default cells, cache off: seconds, peak RSS, the doubling change (convergence).
-* ``sh9`` — SH9 at 10k normals (projection + R&H eq. 12) and, in the same process, the plain
-  reduction over the same texels: seconds, their ratio, peak RSS; then (after the peak is read) a
-  plain drjit sum of the same texels already copied to the device, the memory-bound reference.
-
-A size whose estimated peak (:func:`validate.scenes.loaders.estimated_peak_bytes`) exceeds the
-memory available is skipped with the reason. ``--only`` runs some of the sections :data:`SECTIONS`
-(kernels, gl, sizes, fits, render). Results go to ``<out>/bench.json`` (atomic): ``tables``
-(headers, rows, caption — what the report shows) and the raw ``kernels`` and ``sizes`` records.
-"""
+"""The kernel and map-size sections of ``python -m validate bench`` (described in :mod:`validate.bench`): SH
+projection beside its plain reduction, the drjit ports beside their numpy originals (:func:`port_rows`), and one
+child process per map size and task (:func:`child`, run as ``python -m validate.bench TASK HEIGHT``)."""
 
 from __future__ import annotations
 
-import datetime as _dt
 import json
 import os
 import resource
@@ -49,33 +16,12 @@ from typing import Any
 
 import numpy as np
 
+from .timing import best_pair, best_time
+
 DEFAULT_SIZES = (1024, 2048, 4096, 8192)
 N_NORMALS = 10_000
 SUN_HALF_ANGLE_DEG = 0.5
 SUN_ELEVATION_DEG = 35.0
-
-
-def _best(fn: Callable[[], object], repeats: int = 3) -> float:
-    fn()  # warm-up (JIT compilation, caches)
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return min(times)
-
-
-def _best_pair(f: Callable[[], object], g: Callable[[], object], repeats: int = 7) -> tuple[float, float]:
-    """Best times of f and g, run alternately (f, g, f, g, …) after one warm-up each, so that a load that
-    comes and goes on the machine touches both alike: the ratio is the figure, not the absolute times."""
-    f(), g()
-    tf, tg = [], []
-    for _ in range(repeats):
-        for fn, times in ((f, tf), (g, tg)):
-            t0 = time.perf_counter()
-            fn()
-            times.append(time.perf_counter() - t0)
-    return min(tf), min(tg)
 
 
 def plain_reduction(radiance: np.ndarray) -> np.ndarray:
@@ -83,8 +29,8 @@ def plain_reduction(radiance: np.ndarray) -> np.ndarray:
     (:func:`~.local_models.irradiance.sh.fourier_row_sums` with lmax = 0: the same polyphase matrix products,
     threads and blocks, one row of ones instead of the 2·lmax+1 Fourier columns) — the floor a projection can
     approach."""
-    from .local_models.irradiance.sh import fourier_row_sums
-    from .scenes import latlong
+    from ..local_models.irradiance.sh import fourier_row_sums
+    from ..scenes import latlong
 
     h, w = radiance.shape[:2]
     rows = fourier_row_sums(radiance, 0)
@@ -94,7 +40,7 @@ def plain_reduction(radiance: np.ndarray) -> np.ndarray:
 def sky_with_sun(height: int) -> np.ndarray:
     """A (H, 2H, 3) float32 test map: a smooth sky brighter at the zenith and a 0.5° sun at 35°
     elevation (radiance 2·10⁴), built in row blocks (no full-size float64 temporaries)."""
-    from .scenes import latlong
+    from ..scenes import latlong
 
     w = 2 * height
     out = np.empty((height, w, 3), dtype=np.float32)
@@ -128,11 +74,11 @@ def _peak_rss_mib() -> float:
 def child(task: str, height: int) -> dict[str, Any]:
     """One measurement in a fresh process (see the module docstring); returns a JSON-able record."""
     os.environ["VALIDATE_CACHE"] = "off"
-    from . import backend
-    from .local_models import sh
-    from .reference.irradiance import reference_irradiance
-    from .scenes import latlong
-    from .scenes.environment import Environment
+    from .. import backend
+    from ..local_models import sh
+    from ..reference.irradiance import reference_irradiance
+    from ..scenes import latlong
+    from ..scenes.environment import Environment
 
     backend.init()
     normals = latlong.fibonacci_sphere(N_NORMALS)
@@ -149,7 +95,7 @@ def child(task: str, height: int) -> dict[str, Any]:
         t0 = time.perf_counter()
         sh.render_irradiance_rh2001(sh.project_environment(rad, 2), normals)
         rec["seconds"] = time.perf_counter() - t0
-        rec["projection_s"], rec["plain_reduction_s"] = _best_pair(lambda: sh.project_environment(rad, 2),
+        rec["projection_s"], rec["plain_reduction_s"] = best_pair(lambda: sh.project_environment(rad, 2),
                                                                    lambda: plain_reduction(rad), repeats=3)
         rec["peak_rss_mib"] = _peak_rss_mib()  # before the drjit copy of the map below
         rec["drjit_sum_s"] = _drjit_sum_seconds(rad)
@@ -172,7 +118,7 @@ def _drjit_sum_seconds(rad: np.ndarray) -> float:
     """A plain drjit reduction Σ L over the same texels (already on the device; evaluated)."""
     import drjit as dr
 
-    from .backend import float_type
+    from ..backend import float_type
 
     x = float_type()(np.ascontiguousarray(rad.reshape(-1), dtype=np.float32))
     dr.eval(x)
@@ -181,13 +127,13 @@ def _drjit_sum_seconds(rad: np.ndarray) -> float:
         s = dr.sum(x)
         return float(s[0]) if dr.is_array_v(s) else float(s)
 
-    return _best(run)
+    return best_time(run)
 
 
 def kernel_rows() -> list[dict[str, Any]]:
     """The in-process kernel comparisons (module docstring)."""
-    from .local_models import sh
-    from .scenes import latlong
+    from ..local_models import sh
+    from ..scenes import latlong
 
     rng = np.random.default_rng(7)
     rad = rng.uniform(0.0, 1.0, (512, 1024, 3)).astype(np.float32)
@@ -196,16 +142,16 @@ def kernel_rows() -> list[dict[str, Any]]:
     rows = []
     t_drjit_sum = _drjit_sum_seconds(rad)
     for lmax in (2, 8):
-        t_sep, t_plain = _best_pair(lambda lm=lmax: sh.project_environment(rad, lm), lambda: plain_reduction(rad))
-        t_direct = _best(lambda lm=lmax: sh.project_samples(d, dw, rad.reshape(-1, 3).astype(np.float64), lm))
+        t_sep, t_plain = best_pair(lambda lm=lmax: sh.project_environment(rad, lm), lambda: plain_reduction(rad))
+        t_direct = best_time(lambda lm=lmax: sh.project_samples(d, dw, rad.reshape(-1, 3).astype(np.float64), lm))
         rows.append({"task": f"SH projection l≤{lmax}, 512×1024 texels", "projection_s": t_sep,
                      "plain_reduction_s": t_plain, "ratio_to_plain": t_sep / t_plain,
                      "plain_drjit_sum_s": t_drjit_sum, "direct_drjit_s": t_direct})
     normals = latlong.fibonacci_sphere(100_000)
     coeffs = sh.project_environment(rad, 2)
     al = np.array([sh.clamped_cosine_al(sh.degree_of(k)) for k in range(9)])[:, None]
-    t_dr = _best(lambda: sh.render_irradiance_rh2001(coeffs, normals))
-    t_np = _best(lambda: np.einsum("nk,kc->nc", sh.eval_basis_numpy(normals, 2), coeffs * al))
+    t_dr = best_time(lambda: sh.render_irradiance_rh2001(coeffs, normals))
+    t_np = best_time(lambda: np.einsum("nk,kc->nc", sh.eval_basis_numpy(normals, 2), coeffs * al))
     rows.append({"task": "SH9 irradiance, 100k normals", "drjit_s": t_dr, "numpy_s": t_np, "speedup": t_np / t_dr})
     return rows + port_rows()
 
@@ -216,12 +162,12 @@ PORTS_TEST = Path(__file__).resolve().parents[1] / "tests" / "local_models" / "t
 def port_rows(n: int = 20_000) -> list[dict[str, Any]]:
     """The techniques ported from numpy to drjit (issue 22 item 3) beside their numpy originals, frozen in
     ``tests/local_models/test_ports.py`` (read from the checkout: one copy of each original; absent in an installed
-    package, then one row says so). Each pair runs alternately (:func:`_best_pair`), the family call in its dtype
+    package, then one row says so). Each pair runs alternately (:func:`best_pair`), the family call in its dtype
     on the active backend, n receivers, the technique functions called directly (no registry checks) on both sides;
     set-up cached alike for both (the LTC table, the Phong maps: built in the warm-up)."""
     import importlib.util
 
-    from .geometry import unit
+    from ..geometry import unit
 
     if not PORTS_TEST.is_file():
         return [{"task": "numpy-vs-drjit ports", "skipped": f"{PORTS_TEST} absent (not a checkout)"}]
@@ -233,20 +179,20 @@ def port_rows(n: int = 20_000) -> list[dict[str, Any]]:
     pts[:, 1] = rng.uniform(-1.0, 0.5, n)
     nrm = unit(rng.normal(size=(n, 3)))
     views = unit(nrm + rng.normal(0.0, 0.6, nrm.shape))
-    from .local_models.specular import prefiltered_specular as ps
-    from .local_models.specular.common import reflect
-    from .local_models.specular_arealight import ltc
-    from .local_models.uberlight import fore_june_falloff as fj
+    from ..local_models.specular import prefiltered_specular as ps
+    from ..local_models.specular.common import reflect
+    from ..local_models.specular_arealight import ltc
+    from ..local_models.uberlight import fore_june_falloff as fj
 
     rows = []
     f0 = np.array([0.9, 0.6, 0.3])
     for light in t.LTC_LIGHTS:
         brdf = {"alpha": 0.3, "f0": tuple(f0)}
-        pair = _best_pair(lambda lt=light, b=brdf: ltc.ltc(lt, b, pts, nrm, views),
+        pair = best_pair(lambda lt=light, b=brdf: ltc.ltc(lt, b, pts, nrm, views),
                           lambda lt=light: t._np_ltc(lt, 0.3, f0, pts, nrm, views), repeats=3)
         rows.append((f"ltc, {light['shape']}, α = 0.3", pair))
     light, mat = t._uberlight_light(), {"albedo": 0.7, "ks": 0.3, "specular_exponent": 20.0}
-    rows.append(("uberlight_fore_june_printed", _best_pair(
+    rows.append(("uberlight_fore_june_printed", best_pair(
         lambda: fj.uberlight_fore_june_printed(light, pts, nrm, views, mat),
         lambda: t._np_fore_june_printed(light, pts, nrm, views, mat), repeats=3)))
     rad = t._phong_env()
@@ -257,7 +203,7 @@ def port_rows(n: int = 20_000) -> list[dict[str, Any]]:
         r = reflect(nrm, v)
         return 0.8 * ps.cached_phong_cube(rad, 100.0, r).lookup(r)
 
-    rows.append(("phong_prefiltered_s, s = 100", _best_pair(lambda: ps.phong_prefiltered_s(rad, brdf, nrm, v),
+    rows.append(("phong_prefiltered_s, s = 100", best_pair(lambda: ps.phong_prefiltered_s(rad, brdf, nrm, v),
                                                             original, repeats=3)))
     return [{"task": f"{name}, {n // 1000}k receivers", "drjit_s": dr_s, "numpy_s": np_s, "speedup": np_s / dr_s}
             for name, (dr_s, np_s) in rows]
@@ -265,7 +211,7 @@ def port_rows(n: int = 20_000) -> list[dict[str, Any]]:
 
 def size_records(sizes: tuple[int, ...], log: Callable[[str], None] = print) -> list[dict[str, Any]]:
     """Reference and SH9 per map size, each in a child process (skipped when memory is short)."""
-    from .scenes.loaders import available_memory, estimated_peak_bytes
+    from ..scenes.loaders import available_memory, estimated_peak_bytes
 
     out = []
     for h in sizes:
@@ -314,50 +260,3 @@ def tables(kernels: list[dict[str, Any]], sizes: list[dict[str, Any]]) -> list[d
                      "SH9 (s)", "SH9 peak RSS (MiB)", "SH9 projection (ms)", "plain reduction (ms)",
                      "drjit sum, map on device (ms)", "SH9 projection / plain reduction (×)"], "rows": rows},
     ]
-
-
-# ``--only`` picks among these (fits: :mod:`validate.bench_fits`, render: :mod:`validate.bench_render`)
-SECTIONS = ("kernels", "gl", "sizes", "fits", "render")
-
-
-def run_bench(out: Path, sizes: tuple[int, ...] = DEFAULT_SIZES, sections: tuple[str, ...] = SECTIONS) -> int:
-    from . import backend, bench_fits, bench_gl, bench_render
-    from .atomic import write_text
-
-    be = backend.init()
-    print(f"backend: {be.describe()}")
-    kernels = kernel_rows() if "kernels" in sections else []
-    gl_starts: list[dict[str, Any]] = []
-    gl_rows: list[dict[str, Any]] = []
-    if "gl" in sections:
-        print("GL runtimes (cold start: child processes; per receiver: this process) ...")
-        gl_starts, gl_rows = bench_gl.startup_records(), bench_gl.per_receiver_rows()
-    records: list[dict[str, Any]] = []
-    if "sizes" in sections:
-        print("map sizes (child processes):")
-        records = size_records(sizes)
-    fits = bench_fits.fit_rows() if "fits" in sections else []
-    render: dict[str, Any] = {}
-    if "render" in sections:
-        print("engines: start-up and frame times (a child process) ...")
-        render = bench_render.records()
-    tabs = tables(kernels, records) if kernels or records else []
-    tabs += bench_gl.tables(gl_starts, gl_rows) if "gl" in sections else []
-    tabs += bench_fits.tables(fits) if fits else []
-    tabs += bench_render.tables(render) if "render" in sections else []
-    doc = {"generated": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"), "backend": be.variant,
-           "sections": list(sections), "tables": tabs, "kernels": kernels, "sizes": records,
-           "gl": {"startup": gl_starts, "per_receiver": gl_rows}, "fits": fits, "render": render}
-    for t in doc["tables"]:
-        print(f"\n{t['caption']}")
-        print(" | ".join(t["headers"]))
-        for r in t["rows"]:
-            print(" | ".join(str(v) for v in r))
-    out.mkdir(parents=True, exist_ok=True)
-    write_text(out / "bench.json", json.dumps(doc, indent=2))
-    print(f"\nwrote {out / 'bench.json'}")
-    return 0
-
-
-if __name__ == "__main__":  # child process: python -m validate.bench TASK HEIGHT
-    print(json.dumps(child(sys.argv[1], int(sys.argv[2]))))

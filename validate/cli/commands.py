@@ -1,0 +1,288 @@
+"""Command line: ``python -m validate {list, run NAME [NAME ...], all, compare OLD NEW, worst, bench, docs}``:
+the argument parsing and the small commands; a run is :mod:`validate.run`, ``worst`` is :mod:`.worst`.
+
+Outputs go to ``--out`` (default ``reports/``): ``index.html``, ``results.json``, ``figures/``.
+Work is staged in a temporary folder inside ``--out`` (:mod:`validate.run.output`); when every experiment
+succeeded, the new results.json and pages are written there too, and only then is everything renamed into place
+as one :class:`~validate.atomic.Transaction` (rolled back if any step fails). So a failure — bad input, a
+failed task, a full disk at any point, a signal — leaves the previous report byte for byte, and a
+fresh ``--out`` folder is removed again. ``run NAME ...`` updates those experiments' entries in an existing
+``results.json`` and re-renders the page; other entries are kept.
+
+``--baseline OLD.json`` (``all``/``run``) compares the new results with an earlier run
+(:mod:`validate.report.compare`) and stores the rows as the top-level ``changes`` entry of results.json;
+``compare OLD NEW`` prints the same comparison.
+
+Exit status: 0 success; 1 a claim failed and ``--strict`` was given (``compare --strict``: a
+regression); 2 bad input, a failed task or an output that cannot be written (one line
+``validate: error: <path>: <problem>``, nothing written); 130 / 143 interrupted by SIGINT / SIGTERM
+(one line within seconds in every phase, :mod:`validate.interrupt`; the previous report is
+untouched, and every reference finished before the signal is in the cache for the rerun).
+
+Scale-out: ``--workers N`` (N > 1) runs the per-environment tasks of every experiment on an embedded
+``dask.distributed.LocalCluster`` of N processes; ``--scheduler ADDRESS`` on an existing Dask cluster
+(its workers must see ``--out`` and the probes on a shared file system). ``--workers 1`` (default)
+runs in-process. The numbers are the same in every mode.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from ..atomic import output_error
+from ..errors import ValidateError
+from ..report.docs import update_docs
+from ..run import interrupt
+from ..run.interrupt import Interrupted  # re-exported: callers catch it here
+from ..run.plugins import load_plugin
+from ..run.session import run_report
+from .worst import add_parser as add_worst_parser
+
+EPILOG = """examples:
+  python -m validate list
+  python -m validate all --probes ../shared/probes     # full report in reports/index.html
+  python -m validate all --quick                       # coarse settings, the paper's probes only
+  python -m validate all --quick --workers 2           # the same on a local Dask cluster
+  python -m validate run sh9 --probe my_probe.exr      # one experiment, one extra probe
+  python -m validate all --plugin my_technique.py      # your technique in every experiment of its family
+  python -m validate list --plugin my_technique.py     # families, their contracts, registered techniques
+  python -m validate run brdfs --plugin my_brdf.glsl   # a GLSL technique (see docs/glsl.md)
+  python -m validate bench                             # speed and memory, side by side -> bench.json
+  python -m validate bench --only fits                 # the fits only: scipy vs drjit AD
+  python -m validate bench --only render               # the engines: browser start, page load, frame times
+  python -m validate all --quick --baseline old/results.json   # ... and what changed since then
+  python -m validate compare old/results.json reports/results.json --strict   # CI: exit 1 on a regression
+  python -m validate docs --results reports/results.json   # docs/ figures from that run (--check: exit 1 if stale)
+  python -m validate worst sh9 --budget 400            # worst lighting found for sh9 -> reports/worst_sh9_*.exr
+
+environment variables:
+  VALIDATE_PROBES   default for --probes
+  VALIDATE_VARIANT  force a Mitsuba variant (cuda_ad_rgb, llvm_ad_rgb, scalar_rgb)
+  VALIDATE_CACHE    reference cache folder (default ~/.cache/validate; 'off' disables)
+  VALIDATE_REFERENCE  folder of published tables (default: the package's own copy, validate/data)
+  VALIDATE_NODE     the Node.js used by the engines experiment (a missing path turns the engines off)
+"""
+
+
+def _parser() -> argparse.ArgumentParser:
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--out", type=Path, default=Path("reports"), metavar="DIR",
+                        help="output folder for index.html, results.json, figures/ (default: reports)")
+    common.add_argument("--probes", type=Path, default=None, metavar="DIR",
+                        help="add every .exr/.hdr/.pfm light probe in DIR (default: $VALIDATE_PROBES)")
+    common.add_argument("--probe", type=Path, action="append", default=[], metavar="FILE",
+                        help="add one probe file (repeatable); a bad file is an error")
+    common.add_argument("--layout", choices=["auto", "latlong", "angular", "cross"], default="auto",
+                        help="layout of --probe files (default: detect from aspect 2:1, 1:1, 3:4)")
+    common.add_argument("--clamp-negative", action="store_true",
+                        help="clamp every negative texel to 0 (without it only float noise is clamped: "
+                             "|min| <= 0.05 x mean luminance on <= 0.5 %% of the texels; larger negatives "
+                             "reject the file)")
+    common.add_argument("--quick", action="store_true",
+                        help="coarser settings: fewer environments, smaller images, fewer samples")
+    common.add_argument("--strict", action="store_true", help="exit with status 1 when any claim fails")
+    common.add_argument("--baseline", type=Path, default=None, metavar="OLD.json",
+                        help="compare with an earlier results.json (or its folder): a 'changes' entry in "
+                             "results.json and a summary line (see `compare`)")
+    common.add_argument("--plugin", action="append", default=[], metavar="FILE|MODULE",
+                        help="a Python file or module that registers techniques, or a .glsl technique file "
+                             "(repeatable)")
+    common.add_argument("--no-progress", action="store_true", help="no progress bars")
+    common.add_argument("--workers", type=_positive_int, default=1, metavar="N",
+                        help="run per-environment tasks on a local Dask cluster of N processes (default 1: "
+                             "in-process); with N > 1 experiments run in two lanes, this process and a child")
+    common.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                        help="run the tasks on an existing Dask cluster (e.g. tcp://host:8786)")
+
+    p = argparse.ArgumentParser(prog="python -m validate", epilog=EPILOG,
+                                formatter_class=argparse.RawDescriptionHelpFormatter,
+                                description="Measure real-time lighting approximations against Mitsuba 3 "
+                                            "ground truth and write an HTML report.")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND")
+    lp = sub.add_parser("list", help="list experiments, built-in environments and every technique family")
+    lp.add_argument("--plugin", action="append", default=[], metavar="FILE|MODULE",
+                    help="import a plug-in first so that its techniques are listed (repeatable)")
+    r = sub.add_parser("run", parents=[common], help="run some experiments and update the report in place")
+    r.add_argument("name", nargs="+", help="experiment name(s) (see `list`), run in the order given")
+    sub.add_parser("all", parents=[common], help="run every experiment and write the report")
+    c = sub.add_parser("compare", help="what changed between two runs (claims and technique metrics)",
+                       description="For every claim and technique metric in either results.json: the change "
+                                   "and whether it exceeds the combined uncertainty sqrt(s_old^2 + s_new^2) "
+                                   "(a value without one counts as 0). Prints the changed rows, then a "
+                                   "summary line.")
+    c.add_argument("old", type=Path, metavar="OLD.json", help="the earlier results.json (or its folder)")
+    c.add_argument("new", type=Path, metavar="NEW.json", help="the later results.json (or its folder)")
+    c.add_argument("--strict", action="store_true",
+                   help="exit with status 1 on a regression: a claim that passed and now fails, or a technique "
+                        "metric worse beyond its uncertainty (errors: larger is worse)")
+    add_worst_parser(sub)
+    b = sub.add_parser("bench", help="benchmarks: drjit local models vs numpy, reference cost")
+    b.add_argument("--out", type=Path, default=Path("reports"), metavar="DIR")
+    b.add_argument("--sizes", default="1024,2048,4096,8192", metavar="H,H,...",
+                   help="map heights (rows; width 2H) measured in child processes (default: 1k to 8k)")
+    b.add_argument("--only", default=None, metavar="SECTION,...",
+                   help="run only these sections of kernels, gl, sizes, fits, render (default: all)")
+    s = sub.add_parser("setup", help="install and check what the suite runs besides Python (npm engines, GL, ...)",
+                       description="Install what is missing, then print every piece with its version: drjit's "
+                                   "LLVM backend, the GL runtime, Chromium, Node.js and the npm engines "
+                                   "(pinned, into the per-user folder $VALIDATE_HOME, default "
+                                   "~/.local/share/validate). System packages come from apt as root.")
+    s.add_argument("--engines", action="append_const", const="engines", dest="groups",
+                   help="only Node.js and the npm engines (three.js, Babylon.js, Filament)")
+    s.add_argument("--system", action="append_const", const="system", dest="groups",
+                   help="only the system packages (libLLVM, Mesa GL, Chromium, Node.js)")
+    s.add_argument("--check", action="store_true", help="install nothing; exit 1 when a piece is missing")
+    d = sub.add_parser("docs", help="rewrite the measured-figure blocks of docs/ from a results.json")
+    d.add_argument("--results", type=Path, default=Path("reports") / "results.json", metavar="FILE",
+                   help="results to render (default: reports/results.json)")
+    d.add_argument("--docs", type=Path, default=Path("docs"), metavar="DIR", help="docs folder (default: docs)")
+    d.add_argument("--check", action="store_true",
+                   help="write nothing; exit 1 naming each file whose blocks differ from the results")
+    return p
+
+
+def _positive_int(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        n = 0
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a positive integer")
+    return n
+
+
+def _cmd_list(plugins: list[str]) -> int:
+    from ..experiments import discover
+    from ..local_models import FAMILIES
+    from ..scenes.procedural import BUILTIN_NAMES
+
+    exps = discover()
+    for spec in plugins:
+        load_plugin(spec)
+    print("experiments:")
+    for name, e in exps.items():
+        print(f"  {name:12s} {e.title}")
+    print("built-in environments:")
+    for name in BUILTIN_NAMES:
+        print(f"  {name}")
+    for fam in FAMILIES.values():
+        print(f"technique family {fam.name}: {fam.contract}")
+        print(f"  computes in {fam.precision} (validate/local_models/precision.py): {fam.precision_reason}")
+        if fam.glsl_contract:
+            print(f"  GLSL entry point (docs/glsl.md): {fam.glsl_contract}")
+        for t in fam:
+            tag = _glsl_tag(t) + ("" if t.builtin else " [plug-in]")
+            thr = "; thresholds " + ", ".join(f"{k} < {v:g}" for k, v in t.thresholds.items()) if t.thresholds else ""
+            print(f"  {t.name:24s} {t.description}{tag}{thr}")
+    from ..local_models.glsl_technique import STATUS
+
+    for kind, why in STATUS.items():
+        print(f"GLSL techniques ({kind}): " + (f"not registered: {why}" if why else "registered"))
+    return 0
+
+
+def _cmd_docs(results: Path, docs: Path, check: bool) -> int:
+    """``docs``: render the generated blocks of ``docs/*.md`` (see :mod:`validate.report.docs`)."""
+    changed = update_docs(results, docs, check=check)
+    for path in changed:
+        print(f"{'stale' if check else 'updated'}: {path}")
+    if check and changed:
+        print(f"validate: {len(changed)} file(s) in {docs} differ from {results}; "
+              f"run `python -m validate docs --results {results}`", file=sys.stderr)
+        return 1
+    print(f"{docs}: {'up to date with' if not changed else 'rendered from'} {results}")
+    return 0
+
+
+def _glsl_tag(t: object) -> str:
+    """`` [GLSL llvmpipe; seed …]`` for a GLSL technique, else empty."""
+    meta = getattr(t, "meta", {})
+    if "glsl" not in meta:
+        return ""
+    seed = f"; seed {meta['seed']}" if meta.get("seed") else ""
+    return f" [GLSL {meta.get('runtime', 'llvmpipe')}{seed}]"
+
+
+def _cmd_compare(old: Path, new: Path, strict: bool) -> int:
+    from ..report.compare import compare
+
+    comparison = compare(old, new)
+    table = comparison.table()
+    if table:
+        print(table)
+    print(comparison.summary())
+    return 1 if strict and comparison.regressions else 0
+
+
+def _failure(exc: BaseException) -> int:
+    """The one line and exit status for what ended a command. Once a signal arrived, whatever it
+    raised on its way out counts as the interruption: a native extension (Mitsuba's initialisation,
+    a drjit callback) may wrap the signal's exception in its own (ImportError, RuntimeError)."""
+    signum = interrupt.interrupted()
+    if isinstance(exc, Interrupted) or signum is not None:
+        signum = exc.signum if isinstance(exc, Interrupted) else signum
+        assert signum is not None
+        interrupt.announce(signum)
+        return 128 + signum
+    if isinstance(exc, KeyboardInterrupt):  # SIGINT before the handlers were installed
+        print("validate: interrupted; the previous report is untouched", file=sys.stderr)
+        return 130
+    if isinstance(exc, ValidateError):
+        print(f"validate: error: {exc}", file=sys.stderr)
+        return 2
+    if isinstance(exc, OSError):  # an output fault outside the run's folder (e.g. bench.json): still one line
+        print(f"validate: error: {output_error(exc.filename or '(output)', exc)}", file=sys.stderr)
+        return 2
+    raise exc
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = _parser()
+    args = parser.parse_args(argv)
+    undo = interrupt.install()
+    try:
+        if args.command is None:
+            parser.print_help()
+            return 0
+        if args.command == "list":
+            return _cmd_list(args.plugin)
+        if args.command == "compare":
+            return _cmd_compare(args.old, args.new, args.strict)
+        if args.command == "run":
+            return run_report(args, list(dict.fromkeys(args.name)))
+        if args.command == "all":
+            return run_report(args, None)
+        if args.command == "worst":
+            from .worst import run_worst
+
+            for spec in args.plugin:
+                load_plugin(spec)
+            return run_worst(args)
+        if args.command == "bench":
+            from ..bench import run_bench
+
+            try:
+                sizes = tuple(int(v) for v in args.sizes.split(",") if v.strip())
+            except ValueError:
+                raise ValidateError(f"--sizes {args.sizes}: expected heights like 1024,2048") from None
+            from ..bench import SECTIONS
+
+            only = tuple(v.strip() for v in (args.only or ",".join(SECTIONS)).split(",") if v.strip())
+            bad = [v for v in only if v not in SECTIONS]
+            if bad or not only:
+                raise ValidateError(f"--only {args.only}: unknown section {', '.join(bad) or '(none)'}; "
+                                    f"expected some of {', '.join(SECTIONS)}")
+            return run_bench(args.out, sizes, only)
+        if args.command == "docs":
+            return _cmd_docs(args.results, args.docs, args.check)
+        if args.command == "setup":
+            from ..setup.install import setup
+
+            return setup(tuple(args.groups or ()), check=args.check)
+    except (Exception, Interrupted, KeyboardInterrupt) as exc:
+        return _failure(exc)
+    finally:
+        undo()
+    return 0
