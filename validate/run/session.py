@@ -50,6 +50,8 @@ def run_report(args: argparse.Namespace, names: list[str] | None) -> int:
     with output_folder(out) as (staging, state):
         results, held = run_in(args, exps, todo, staging, out, previous, baseline, be, t0, state)
     failed = print_claims(results)
+    not_run = [(n, x) for n in (todo if names is not None else list(results["experiments"]))
+               for x in results["experiments"].get(n, {}).get("not_run") or []]
     if "changes" in results:
         from ..report.compare import Comparison, Row
 
@@ -62,7 +64,12 @@ def run_report(args: argparse.Namespace, names: list[str] | None) -> int:
         return 128 + held[0]
     if failed:
         print(f"{failed} claim(s) failed" + ("" if args.strict else " (use --strict to exit non-zero)"))
-    return 1 if failed and args.strict else 0
+    if not_run:  # nothing judged is not a pass: say what, once more at the end, and fail under --strict
+        for n, x in not_run:
+            fix = f" — `{x['fix']}`" if x.get("fix") else ""
+            print(f"{n}: {x['what']} not run: {x['why']}{fix}")
+        print(f"{len(not_run)} piece(s) not run" + ("" if args.strict else " (use --strict to exit non-zero)"))
+    return 1 if (failed or not_run) and args.strict else 0
 
 
 def run_in(args: argparse.Namespace, exps: dict, todo: list[str], staging: Path, out: Path, previous: dict,
@@ -96,8 +103,11 @@ def run_in(args: argparse.Namespace, exps: dict, todo: list[str], staging: Path,
             print(f"running {n} ..." + (" (second lane)" if second_lane else ""), flush=True)
 
         def finished(n: str, res: ExperimentResult) -> None:
+            nothing = "; NOT everything judged" if res.not_run else ""
             print(f"  {n}: {res.wall_time_s:.1f} s, {sum(c.passed for c in res.claims)}/{len(res.claims)} "
-                  "claims pass", flush=True)
+                  f"claims pass{nothing}", flush=True)
+            for miss in res.not_run:
+                print(f"  {n}: {miss.line()}", flush=True)
 
         done = {n: res.to_json() for n, res in run_experiments(ctx, exps, todo, started, finished,
                                                                 seconds=previous_seconds(out)).items()}
