@@ -10,6 +10,7 @@ place, after touching ``$TINY_MARK/<phase>`` (so a test can signal it there):
   workers are read), the child's pid in ``$TINY_MARK/child.pid``;
 * ``subprocess``: ``subprocess.run`` of such a child.
 
+``TINY_NOT_RUN=1`` reports a piece it could not run (``ExperimentResult.not_run``).
 ``TINY_ONLY_CONSTANT=1`` replaces the built-in environments by one small constant map (building
 them all costs seconds a signal test does not need).
 """
@@ -24,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from validate.experiments.base import Claim, Context, ExperimentResult, Figure, Section, register_experiment
+from validate.experiments.base import Claim, Context, ExperimentResult, Figure, NotRun, Section, register_experiment
 
 NAME = "tiny_io"
 STUBBORN_CHILD = ("import signal, sys, time; signal.signal(signal.SIGINT, signal.SIG_IGN); "
@@ -90,4 +91,6 @@ def run(ctx: Context) -> ExperimentResult:
                            sections=[Section("Figures", ["noise"], figures=figures)])
     res.techniques = {"tiny": {"family": "irradiance", "description": "fixture",
                                "metrics": {"error.max": {"value": value, "uncertainty": 0.001}}}}
+    if os.environ.get("TINY_NOT_RUN"):
+        res.not_run = [NotRun("the tiny engine", "TINY_NOT_RUN is set", "unset TINY_NOT_RUN")]
     return res
