@@ -223,8 +223,7 @@ def data(m: dict[str, Any]) -> dict[str, Any]:
 
 def techniques(m: dict[str, Any]) -> dict[str, Any]:
     """``experiments.arealights.techniques.<name>``: diffuse techniques per scene, then the specular ones."""
-    entries = {tech.name: technique_entry(tech, {k: {"value": v.value, "uncertainty": v.uncertainty}
-                                                 for k, v in technique_measured(m["techniques"][tech.name]).items()},
+    entries = {tech.name: technique_entry(tech, technique_measured(m["techniques"][tech.name]),
                                           scenes=m["techniques"][tech.name])
                for tech in arealight if m["techniques"].get(tech.name)}
     entries.update(asp.entries(m["specular"]))

@@ -299,7 +299,7 @@ def _bound_ratio(rows: list[dict[str, Any]], tech: str | None) -> float:
 
 
 def entries(m: dict[str, Any]) -> dict[str, Any]:
-    return {t.name: technique_entry(t, technique_metrics(m, t.name)) for t in family("specular_arealight")
+    return {t.name: technique_entry(t, measured(m, t.name)) for t in family("specular_arealight")
             if t.name in m["techniques"]}
 
 
@@ -320,7 +320,8 @@ def measured(m: dict[str, Any], tech: str) -> dict[str, Measured]:
             key = "alpha" if parts[2].startswith("a") else "sigma_deg"
             rows = [r for r in rows if f"{r[key]:g}" == parts[2][1:]]
         pert = _rel(rows, tech, BIAS)["value"] if parts[0] == "rel_err" else None
-        out[k] = Measured(v["value"], v["uncertainty"], pert, POWER_TEXT)
+        out[k] = Measured(v["value"], v["uncertainty"], pert, POWER_TEXT if pert is not None else "",
+                          unit="%" if parts[0] == "rel_err" else "")
     return out
 
 
