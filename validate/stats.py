@@ -27,6 +27,7 @@ judged against the pass mean m with its standard error s. The pieces, in the ord
   false-alarm rate is 2(1 − Φ(k)) (6.3·10⁻⁵ for k = 4).
 * ``two_sided_t_critical``: t* = F_t⁻¹(1 − α/2; ν), the two-sided level-α bound for one Student-t
   statistic, |t| > t* with probability α under H₀ [2].
+* :class:`Measured`: the one schema of a measured number in ``results.json`` (below).
 
 The significance level α is a false-alarm rate: the probability that the test fails although the
 prediction is correct (the Monte Carlo noise alone exceeds the bound). It is fixed before looking at
@@ -41,6 +42,11 @@ References
 """
 
 from __future__ import annotations
+
+import math
+from collections.abc import Iterator, Mapping
+from dataclasses import KW_ONLY, dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -113,3 +119,106 @@ def two_sided_t_critical(alpha: float, dof: int) -> float:
     if dof < 1:
         raise ValidateError(f"two_sided_t_critical: dof={dof} must be ≥ 1")
     return float(student.ppf(1 - alpha / 2, dof))
+
+
+# ---------------------------------------------------------------------------------------------
+# A measured value: the one JSON shape of every technique metric and judgement in results.json
+# ---------------------------------------------------------------------------------------------
+
+BETTER = ("lower", "higher", "zero")  # which way a measured value improves (Measured.better)
+
+
+@dataclass(frozen=True)
+class Measured:
+    """A measured number: value ± uncertainty in a unit, what it summarises and which way is better.
+
+    JSON (:meth:`to_json`), one shape for every technique metric and judgement in ``results.json``::
+
+        {"value": 0.0123, "uncertainty": 0.0004, "unit": "%"}            # always these three
+        {..., "stat": "max", "better": "zero", "params": {"n_pixels": 4096},
+         "perturbed": 0.0185, "perturbation": "error × 1.5"}          # each only when set
+
+    * ``value``: the number; one that could not be measured (NaN, ±∞) is written ``null`` (strict JSON).
+    * ``uncertainty``: its 1σ; **none counts as 0** — the suite is deterministic (fixed seeds, cached
+      references), so a value without one is exact as far as a re-run can tell (written ``0``).
+    * ``unit``: ``"%"`` for a fraction shown as per cent (the claims' convention: the value stays a
+      fraction), ``""`` for a dimensionless number, otherwise the unit's symbol (``"ms"``).
+    * ``stat``: what the value summarises over its inputs (``"mean"``, ``"max"``, ``"rms"``, ``"p95"``);
+      ``""``: a single number.
+    * ``better``: ``"lower"`` (an error; the default, not written), ``"higher"`` (a score, a fraction
+      accepted) or ``"zero"`` (a signed error: its magnitude counts) — how ``compare`` tells worse.
+    * ``params``: the parameters that produced it (JSON-able), when the key does not say them.
+    * ``perturbed`` / ``perturbation``: the same metric under the experiment's standard perturbation
+      (the power check of a claim made on it); the first two fields are positional, the rest keywords.
+    """
+
+    value: float
+    uncertainty: float = 0.0
+    perturbed: float | None = None
+    perturbation: str = ""
+    _: KW_ONLY
+    unit: str = ""
+    stat: str = ""
+    better: str = "lower"
+    params: Mapping[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.better not in BETTER:
+            raise ValidateError(f"Measured: better={self.better!r} is not one of {', '.join(BETTER)}")
+
+    def to_json(self) -> dict[str, Any]:
+        out: dict[str, Any] = {"value": _finite(self.value),
+                               "uncertainty": 0.0 if self.uncertainty is None else _finite(self.uncertainty),
+                               "unit": self.unit}
+        if self.stat:
+            out["stat"] = self.stat
+        if self.better != "lower":
+            out["better"] = self.better
+        if self.params:
+            out["params"] = dict(self.params)
+        if self.perturbed is not None:
+            out["perturbed"], out["perturbation"] = _finite(self.perturbed), self.perturbation
+        return out
+
+    @classmethod
+    def from_json(cls, d: Mapping[str, Any]) -> Measured:
+        """The value of :meth:`to_json` (a null value → NaN; an absent or null uncertainty → 0)."""
+        if not is_measured(d):
+            raise ValidateError(f"not a measured value (needs 'value' and 'unit'): {dict(d)!r:.120}")
+        return cls(_number(d["value"]), _number(d.get("uncertainty"), 0.0), _number(d.get("perturbed"), None),
+                   str(d.get("perturbation") or ""), unit=str(d.get("unit") or ""), stat=str(d.get("stat") or ""),
+                   better=str(d.get("better") or "lower"), params=dict(d.get("params") or {}))
+
+
+def is_measured(d: Any) -> bool:
+    """Whether ``d`` is a :meth:`Measured.to_json` dict: a mapping with ``value`` and ``unit``."""
+    return isinstance(d, Mapping) and "value" in d and "unit" in d
+
+
+def measured_json(tree: Any) -> Any:
+    """``tree`` with every :class:`Measured` replaced by its JSON (mappings and lists walked, the rest kept)."""
+    if isinstance(tree, Measured):
+        return tree.to_json()
+    if isinstance(tree, Mapping):
+        return {k: measured_json(v) for k, v in tree.items()}
+    if isinstance(tree, (list, tuple)):
+        return [measured_json(v) for v in tree]
+    return tree
+
+
+def measured_leaves(tree: Any, prefix: str = "") -> Iterator[tuple[str, Mapping[str, Any]]]:
+    """(path, JSON) of every measured value under ``tree``, paths joined with "/" (``env/flux_rgb/max``)."""
+    if is_measured(tree):
+        yield prefix, tree
+    elif isinstance(tree, Mapping):
+        for k, v in tree.items():
+            yield from measured_leaves(v, f"{prefix}/{k}" if prefix else str(k))
+
+
+def _finite(v: Any) -> float | None:
+    """``v`` as a float, None when not finite (a JSON null)."""
+    return float(v) if math.isfinite(float(v)) else None
+
+
+def _number(v: Any, default: float | None = math.nan) -> Any:
+    return default if v is None else float(v)

@@ -266,7 +266,7 @@ def test_quick_experiment_end_to_end(quick_result) -> None:
                                    "representative_point_tube_unnormalized"}
     assert "rel_err.tube.a0.1" in res.techniques["representative_point_tube"]["metrics"]
     for entry in res.techniques.values():
-        assert all({"value", "uncertainty"} <= set(v) for v in entry["metrics"].values())
+        assert all({"value", "uncertainty", "unit"} <= set(v) for v in entry["metrics"].values())
     figs = [f.path for s in res.sections for f in s.figures]
     assert len(figs) >= 6 and all((out / p).is_file() for p in figs)
     json.dumps(res.to_json())

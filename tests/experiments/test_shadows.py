@@ -387,7 +387,7 @@ def test_quick_experiment_outputs(quick_result) -> None:
     for tech in shadow:  # every registered technique: a JSON entry with every metric ± uncertainty, a table row
         entry = blob["techniques"][tech.name]
         assert entry["family"] == "shadow" and "penumbra.r1" in entry["metrics"]
-        assert all(set(v) == {"value", "uncertainty"} for v in entry["metrics"].values())
+        assert all({"value", "uncertainty", "unit"} <= set(v) for v in entry["metrics"].values())
         rows = res.sections[2].tables[0].rows
         assert sum(row[1] == tech.name for row in rows) == len(blob["radii"])
     assert len(res.findings) >= 5 and any("glPolygonOffset" in f for f in res.findings)

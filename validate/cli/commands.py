@@ -107,16 +107,18 @@ def _parser() -> argparse.ArgumentParser:
     r = sub.add_parser("run", parents=[common], help="run some experiments and update the report in place")
     r.add_argument("name", nargs="+", help="experiment name(s) (see `list`), run in the order given")
     sub.add_parser("all", parents=[common], help="run every experiment and write the report")
-    c = sub.add_parser("compare", help="what changed between two runs (claims and technique metrics)",
-                       description="For every claim and technique metric in either results.json: the change "
-                                   "and whether it exceeds the combined uncertainty sqrt(s_old^2 + s_new^2) "
-                                   "(a value without one counts as 0). Prints the changed rows, then a "
+    c = sub.add_parser("compare", help="what changed between two runs (claims, technique metrics, judgements)",
+                       description="For every claim, technique metric and judgement in either results.json: the "
+                                   "change and whether it exceeds the combined uncertainty sqrt(s_old^2 + s_new^2) "
+                                   "(a value without one counts as 0). Prints a note per file written before the "
+                                   "measured-value schema, the changed rows, the counts per experiment, then a "
                                    "summary line.")
     c.add_argument("old", type=Path, metavar="OLD.json", help="the earlier results.json (or its folder)")
     c.add_argument("new", type=Path, metavar="NEW.json", help="the later results.json (or its folder)")
     c.add_argument("--strict", action="store_true",
                    help="exit with status 1 on a regression: a claim that passed and now fails, or a technique "
-                        "metric worse beyond its uncertainty (errors: larger is worse)")
+                        "metric or judgement worse beyond its uncertainty (errors: larger is worse unless the value "
+                        "says otherwise)")
     add_worst_parser(sub)
     b = sub.add_parser("bench", help="benchmarks: drjit local models vs numpy, reference cost")
     b.add_argument("--out", type=Path, default=Path("reports"), metavar="DIR")
@@ -209,9 +211,12 @@ def _cmd_compare(old: Path, new: Path, strict: bool) -> int:
     from ..report.compare import compare
 
     comparison = compare(old, new)
+    for note in comparison.notes:
+        print(note)
     table = comparison.table()
     if table:
         print(table)
+    print(comparison.per_experiment())
     print(comparison.summary())
     return 1 if strict and comparison.regressions else 0
 

@@ -3,7 +3,8 @@
 An experiment of a family measures every technique of ``family.techniques()`` with the same metrics
 and hands the numbers here, so that built-ins and plug-ins get the same report rows, the same
 ``results.json`` entries (``experiments.<experiment>.techniques.<technique>``) and, for each threshold a
-technique declares, the claim ``<experiment>.technique.<technique>.<metric>``.
+technique declares, the claim ``<experiment>.technique.<technique>.<metric>``. Every metric is a
+:class:`~validate.stats.Measured` (value ± uncertainty, unit), written by :func:`technique_entry`.
 """
 
 from __future__ import annotations
@@ -15,18 +16,8 @@ from typing import Any
 from ..errors import ValidateError
 from ..local_models.registry import Technique
 from ..metrics.irradiance_error import ErrorStats
+from ..stats import Measured, is_measured, measured_json, measured_leaves
 from .base import Claim
-
-
-@dataclass(frozen=True)
-class Measured:
-    """One metric of one technique: value ± uncertainty, and the same metric under the experiment's
-    standard perturbation (the power check of any claim made on it)."""
-
-    value: float
-    uncertainty: float
-    perturbed: float | None = None
-    perturbation: str = ""
 
 
 def stats_json(stats: Mapping[str, ErrorStats]) -> dict[str, dict[str, float]]:
@@ -42,10 +33,41 @@ def technique_scope(tech: Technique, names: list[str]) -> list[str]:
 
 
 def technique_entry(tech: Technique, metrics: Mapping[str, Any], **extra: Any) -> dict[str, Any]:
-    """The JSON entry of one technique: family, description, where it comes from, its metrics."""
+    """The JSON entry of one technique: family, description, where it comes from, its metrics.
+
+    ``metrics``: a tree of mappings whose leaves are :class:`~validate.stats.Measured` (``{"flux.max": M}``
+    or ``{env: {metric: {stat: M}}}``) or their JSON, written here by :meth:`Measured.to_json`; any other
+    leaf is an error."""
+    written = measured_json(_parsed(metrics))
+    paths = {p for p, _ in measured_leaves(written)}
+    loose = [p for p in _leaf_paths(written, "") if p not in paths]
+    if loose:
+        raise ValidateError(f"technique '{tech.name}': metric(s) {', '.join(loose[:5])} not a Measured value")
     return {"family": tech.family, "description": tech.description, "builtin": tech.builtin,
             "module": getattr(tech.fn, "__module__", ""), "thresholds": dict(tech.thresholds),
-            "metrics": dict(metrics), **extra}
+            "metrics": written, **extra}
+
+
+def _parsed(tree: Any) -> Any:
+    """Measured JSON leaves back to :class:`Measured` (so that :meth:`Measured.to_json` writes each one)."""
+    if is_measured(tree):
+        return Measured.from_json(tree)
+    if isinstance(tree, Mapping):
+        return {k: _parsed(v) for k, v in tree.items()}
+    return tree
+
+
+def _leaf_paths(tree: Any, prefix: str) -> list[str]:
+    if not isinstance(tree, Mapping) or "value" in tree:
+        return [prefix]
+    return [p for k, v in tree.items() for p in _leaf_paths(v, f"{prefix}/{k}" if prefix else str(k))]
+
+
+def error_stats_measured(stats: Mapping[str, Any], unit: str = "%") -> dict[str, Measured]:
+    """An :class:`~validate.metrics.irradiance_error.ErrorStats` JSON dict ({mean, max, rms, mean_uncertainty,
+    max_uncertainty}) as one :class:`Measured` per statistic ({mean, max, rms}; rms carries no uncertainty)."""
+    return {st: Measured(float(stats[st]), float(stats.get(f"{st}_uncertainty", 0.0)), unit=unit, stat=st)
+            for st in ("mean", "max", "rms") if st in stats}
 
 
 def technique_claims(experiment: str, tech: Technique, measured: Mapping[str, Measured], unit: str = "%",

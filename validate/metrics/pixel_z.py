@@ -33,13 +33,13 @@ References
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from ..errors import ValidateError
-from ..stats import sidak_critical
+from ..stats import Measured, sidak_critical
 
 ALPHA = 0.01
 MIN_ACCEPTED = 0.9975  # Mitsuba's rule [2]
@@ -65,10 +65,19 @@ class PixelJudgement:
     z_image: np.ndarray  # (R, R) max |z| over channels, NaN outside the mask
     rel_image: np.ndarray  # (R, R) mean over channels of (e − m)/m, NaN outside the relative mask
 
+    def measured(self) -> dict[str, Measured]:
+        """The judgement's numbers as measured values: the fraction accepted (higher is better), max |z|, the
+        mean and max relative error ± their uncertainty, the signed mean (its magnitude counts)."""
+        return {"fraction_accepted": Measured(self.fraction_accepted, unit="%", better="higher"),
+                "max_abs_z": Measured(self.max_abs_z, stat="max"),
+                "mean_rel": Measured(self.mean_rel, self.mean_rel_unc, unit="%", stat="mean"),
+                "max_rel": Measured(self.max_rel, self.max_rel_unc, unit="%", stat="max"),
+                "mean_signed_rel": Measured(self.mean_signed_rel, unit="%", stat="mean", better="zero")}
+
     def to_json(self) -> dict[str, Any]:
-        d = asdict(self)
-        d.pop("z_image"), d.pop("rel_image")
-        return {k: (float(v) if isinstance(v, (float, np.floating)) else v) for k, v in d.items()}
+        """The parameters (pixels judged, z*, α, budget) and :meth:`measured` as :class:`Measured` JSON."""
+        return {"n_pixels": int(self.n_pixels), "critical_z": float(self.critical_z), "alpha": float(self.alpha),
+                "budget": self.budget, **{k: v.to_json() for k, v in self.measured().items()}}
 
 
 def interior_mask(hit: np.ndarray, coverage: np.ndarray, edge_px: int = EDGE_PX) -> np.ndarray:

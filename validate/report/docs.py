@@ -23,7 +23,10 @@ Mitsuba/drjit versions, variant).
 :func:`update_docs` rewrites every block of every ``*.md`` under ``docs_dir`` in place (atomically)
 and stores the part of the results the blocks read in ``docs_dir/results.json`` (:func:`doc_subset`),
 so that the committed docs can be checked against the committed subset without rerunning anything
-(``tests/infra/test_docs.py``). With ``check=True`` nothing is written; the stale files are returned.
+(``tests/infra/test_docs.py``). The subset also keeps every technique's metrics (value, uncertainty,
+unit and direction of each :class:`~validate.stats.Measured`, one line each), so that
+``python -m validate compare docs/results.json NEW`` tracks every claim and technique metric against
+the run the docs quote. With ``check=True`` nothing is written; the stale files are returned.
 An unknown block name, an unclosed block, or results without ``experiments`` are
 :class:`~validate.errors.ValidateError` naming the file.
 
@@ -41,6 +44,7 @@ from typing import Any
 
 from ..atomic import write_text
 from ..errors import ValidateError
+from ..stats import is_measured
 from .html import claim_unit, fmt_cell, fmt_measured, fmt_seconds, fmt_threshold, fmt_value, setting_unit
 
 BEGIN = re.compile(r"^<!-- results:begin (?P<name>[A-Za-z0-9_.-]+) -->[ \t]*$", re.MULTILINE)
@@ -49,20 +53,32 @@ SUBSET_FILE = "results.json"  # inside docs_dir: the figures the committed block
 _META_KEYS = ("command", "quick", "generated", "versions", "variant")
 _EXPERIMENT_KEYS = ("title", "claims", "findings", "settings", "wall_time_s")
 _TECHNIQUE_KEYS = ("family", "description", "builtin", "thresholds")
+_MEASURED_KEYS = ("value", "uncertainty", "unit", "better")  # of a technique metric: what `compare` reads
+_LEAF = re.compile(r'\{\n\s*("value": [^\n]*(?:\n\s*"(?:uncertainty|unit|better)": [^\n]*)*)\n\s*\}')
 
 
 def doc_subset(results: Mapping[str, Any]) -> dict[str, Any]:
     """The part of a results dict the blocks read: ``meta`` (command, quick, generated, versions,
     variant) and, per experiment, title, claims, findings, settings, wall time and each technique's
-    family, description, built-in flag and declared thresholds (not its metrics)."""
+    family, description, built-in flag, declared thresholds and metrics (each measured value's
+    :data:`_MEASURED_KEYS`)."""
     meta = results.get("meta") or {}
     experiments = {}
     for name, exp in _experiments(results).items():
         entry = {k: exp[k] for k in _EXPERIMENT_KEYS if k in exp}
-        entry["techniques"] = {t: {k: v[k] for k in _TECHNIQUE_KEYS if k in v}
+        entry["techniques"] = {t: {**{k: v[k] for k in _TECHNIQUE_KEYS if k in v},
+                                   **({"metrics": _measured_subset(v["metrics"])} if v.get("metrics") else {})}
                                for t, v in (exp.get("techniques") or {}).items()}
         experiments[name] = entry
     return {"meta": {k: meta[k] for k in _META_KEYS if k in meta}, "experiments": experiments}
+
+
+def _measured_subset(tree: Any) -> Any:
+    if is_measured(tree):
+        return {k: tree[k] for k in _MEASURED_KEYS if k in tree}
+    if isinstance(tree, Mapping):
+        return {k: _measured_subset(v) for k, v in tree.items()}
+    return tree
 
 
 def _experiments(results: Mapping[str, Any]) -> Mapping[str, Any]:
@@ -207,7 +223,9 @@ def block_names(text: str) -> list[str]:
 
 
 def _subset_text(results: Mapping[str, Any]) -> str:
-    return json.dumps(doc_subset(results), indent=1, ensure_ascii=False) + "\n"
+    """:func:`doc_subset` as JSON (indent 1), each measured value on one line."""
+    text = json.dumps(doc_subset(results), indent=1, ensure_ascii=False)
+    return _LEAF.sub(lambda m: "{" + re.sub(r"\n\s*", " ", m[1]) + "}", text) + "\n"
 
 
 def load_results_file(path: Path) -> dict[str, Any]:

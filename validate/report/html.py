@@ -354,11 +354,12 @@ def _changes(changes: Any, exps: list[dict[str, Any]]) -> dict[str, Any] | None:
     rank = {s: i for i, s in enumerate(_STATUS_ORDER)}
     rows.sort(key=lambda r: rank.get(str(r.get("status")), len(rank)))
     for r in rows:
-        unit = units.get(str(r.get("key")), "") if r.get("kind") == "claim" else ""
+        # a measured value's row carries its unit (validate.stats.Measured; "" in rows from before the schema)
+        unit = units.get(str(r.get("key")), "") if r.get("kind") == "claim" else str(r.get("unit") or "")
         r["old_text"] = fmt_quantity(r.get("old"), r.get("old_uncertainty"), unit)
         r["new_text"] = fmt_quantity(r.get("new"), r.get("new_uncertainty"), unit)
         r["change_text"] = fmt_quantity(r.get("change"), None, unit)
-        # technique metrics are relative errors, stored as they are; a claim this run lacks: its unit is not known
+        # a claim this run lacks: its unit is not known
         known = r.get("kind") != "claim" or str(r.get("key")) in units
         r["unit_shown"] = (unit or DIMENSIONLESS) if known else fmt.DASH
     return {"baseline": str(changes.get("baseline") or "the baseline"), "rows": rows,

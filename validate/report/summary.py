@@ -143,12 +143,15 @@ def _matrix(title: str, metric: str, cells: Mapping[tuple[str, str], tuple[float
 
 def _env_stat_cells(by_env: Mapping[str, Mapping[str, Any]], stat: str = "max",
                     metric: str = "flux_luminance") -> dict[tuple[str, str], tuple[float, float]]:
-    """{(technique, env): (stat, σ)} from techniques.<t>.metrics.<env>.<metric>.{max, max_uncertainty}."""
+    """{(technique, env): (stat, σ)} from techniques.<t>.metrics.<env>.<metric>.<stat>, a measured value
+    (:class:`validate.stats.Measured`), or in a file from before it the number beside ``<stat>_uncertainty``."""
     cells = {}
     for tech, envs in by_env.items():
         for env, metrics in (envs or {}).items():
             m = (metrics or {}).get(metric) or {}
-            cells[(tech, env)] = (_f(m.get(stat)), _f(m.get(f"{stat}_uncertainty", 0.0)))
+            v = m.get(stat)
+            cells[(tech, env)] = ((_f(v.get("value")), _f(v.get("uncertainty", 0.0))) if isinstance(v, Mapping)
+                                  else (_f(v), _f(m.get(f"{stat}_uncertainty", 0.0))))
     return cells
 
 
@@ -281,7 +284,8 @@ def shadows(e: Entry) -> Summary | None:
 # ---------------------------------------------------------------------------------------------------
 
 def _leaf(v: Any) -> tuple[float, float] | None:
-    """(value, σ) of a metric leaf: {"value", "uncertainty"} or {"mean", "max", "max_uncertainty"} (max)."""
+    """(value, σ) of a metric leaf: a measured value ({"value", "uncertainty", "unit"}), or in a file from before
+    it {"value", "uncertainty"} or {"mean", "max", "max_uncertainty"} (max)."""
     if not isinstance(v, Mapping):
         return None
     if "value" in v:

@@ -135,7 +135,7 @@ def technique_measured(per_scene: dict[str, Any]) -> dict[str, Measured]:
                 vals.append((v[metric], v[metric.split(".")[0] + ".uncertainty"]))
         if vals:
             val, unc = max(vals)
-            out[metric] = Measured(val, unc, 1.5 * val, "error × 1.5")
+            out[metric] = Measured(val, unc, 1.5 * val, "error × 1.5", unit="%", stat=metric.rsplit(".", 1)[-1])
     return out
 
 

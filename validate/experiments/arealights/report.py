@@ -225,8 +225,7 @@ def reported_settings(s: Settings, m: dict[str, Any], ctx: Context) -> dict[str,
 def techniques(m: dict[str, Any]) -> dict[str, Any]:
     """``experiments.arealights.techniques.<name>``: the diffuse techniques per scene (the specular part's: its own
     ``techniques``)."""
-    entries = {tech.name: technique_entry(tech, {k: {"value": v.value, "uncertainty": v.uncertainty}
-                                                 for k, v in technique_measured(m["techniques"][tech.name]).items()},
+    entries = {tech.name: technique_entry(tech, technique_measured(m["techniques"][tech.name]),
                                           scenes=m["techniques"][tech.name])
                for tech in arealight if m["techniques"].get(tech.name)}
     return entries

@@ -15,7 +15,8 @@ LAMBERT_LIMIT = 0.01  # see the claim's source
 
 
 def measured(m: Measurements, tech: str) -> dict[str, Measured]:
-    return {k: Measured(v["value"], v["uncertainty"], v["perturbed"], POWER_TEXT)
+    """Every metric of ``tech`` (relative errors: fractions) with its value under the 2 % bias."""
+    return {k: Measured(v["value"], v["uncertainty"], v["perturbed"], POWER_TEXT, unit="%")
             for k, v in m.metrics.get(tech, {}).items()}
 
 

@@ -11,7 +11,7 @@ from ..base import Context, Figure, Section, Table
 from ..formatting import col, pm_entry
 from ..formatting import pct as _pct
 from ..techniques import technique_entry
-from .claims import vgroove_sigmas
+from .claims import measured, vgroove_sigmas
 from .compute import Measurements
 from .settings import NAME
 
@@ -171,8 +171,7 @@ def _vgroove_section(m: Measurements, ctx: Context) -> Section:
 
 
 def techniques(m: Measurements) -> dict[str, Any]:
-    return {t.name: technique_entry(t, {k: {"value": v["value"], "uncertainty": v["uncertainty"]}
-                                        for k, v in m.metrics.get(t.name, {}).items()}) for t in m.techniques}
+    return {t.name: technique_entry(t, measured(m, t.name)) for t in m.techniques}
 
 
 def data(m: Measurements) -> dict[str, Any]:

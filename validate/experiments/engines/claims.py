@@ -164,7 +164,8 @@ def declared_claims(m: Measurements) -> list[Claim]:
                          [tech.name]["errors_band1_flipped"][metric][stat]) for e in envs]
                 worst = max(vals, key=lambda v: v[0][stat])
                 measured[f"{metric}.{stat}"] = Measured(worst[0][stat], worst[0][f"{stat}_uncertainty"],
-                                                        max(v[1] for v in vals), "band 1's sign flipped")
+                                                        max(v[1] for v in vals), "band 1's sign flipped",
+                                                        unit="%", stat=stat)
         claims += technique_claims("engines", tech, measured, scope=f"worst over {len(envs)} environment(s)")
     return claims
 

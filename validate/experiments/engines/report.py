@@ -7,9 +7,10 @@ from typing import Any
 from ...figures import plots
 from ...local_models import irradiance
 from ...local_models.irradiance.engines.worker import package_version
+from ...stats import measured_json
 from ..base import Context, Figure, NotRun, Section, Table
 from ..formatting import col, pct, pm
-from ..techniques import technique_entry
+from ..techniques import error_stats_measured, technique_entry
 from .claims import K_MAX, eligible
 from .compute import BABYLON_CLAMP, Measurements, engine_techniques
 
@@ -171,9 +172,10 @@ def techniques(m: Measurements) -> dict[str, Any]:
         tech = irradiance[name]
         per_env = {e: r["techniques"][name] for e, r in m.environments.items() if name in r["techniques"]}
         out[name] = technique_entry(
-            tech, {e: t["errors"] for e, t in per_env.items()},
+            tech, {e: {k: error_stats_measured(v) for k, v in t["errors"].items()} for e, t in per_env.items()},
             faces_deviation={e: t["faces_deviation"] for e, t in per_env.items()},
-            band1_flipped={e: t["errors_band1_flipped"] for e, t in per_env.items()},
+            band1_flipped={e: {k: measured_json(error_stats_measured(v)) for k, v in t["errors_band1_flipped"].items()}
+                           for e, t in per_env.items()},
             engine=tech.meta.get("engine"), face_size=tech.meta.get("face_size"))
     return out
 

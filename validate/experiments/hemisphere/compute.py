@@ -191,7 +191,7 @@ def technique_measured(m: dict[str, Any], name: str, skies: list[str] | None = N
                     for sky in chosen if name in sky["techniques"]]
             if vals:
                 v, u = max(vals)
-                out[f"{metric}.{stat}"] = Measured(v, u, 1.5 * v, "error × 1.5")
+                out[f"{metric}.{stat}"] = Measured(v, u, 1.5 * v, "error × 1.5", unit="%", stat=stat)
     return out
 
 

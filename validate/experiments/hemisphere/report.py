@@ -145,7 +145,6 @@ def data(m: dict[str, Any]) -> dict[str, Any]:
 
 def techniques(m: dict[str, Any]) -> dict[str, Any]:
     """``experiments.hemisphere.techniques.<name>``: the worst-sky values and every sky's metrics."""
-    return {tech.name: technique_entry(tech, {k: {"value": v.value, "uncertainty": v.uncertainty}
-                                              for k, v in technique_measured(m, tech.name).items()},
+    return {tech.name: technique_entry(tech, technique_measured(m, tech.name),
                                        skies={n: sky["techniques"][tech.name] for n, sky in m["skies"].items()})
             for tech in irradiance}

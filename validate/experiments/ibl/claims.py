@@ -14,7 +14,7 @@ from typing import Any
 from ...local_models import irradiance, specular
 from ...metrics.irradiance_error import WORST_CASE_MAX
 from ...scenes.ibl_scenes import BLEND_EXPONENT, BLEND_WEIGHT
-from ...stats import sidak_critical
+from ...stats import measured_json, sidak_critical
 from ..base import Claim
 from ..techniques import Measured, technique_claims, technique_entry
 from .compute import MAP_MAX_ERROR, Comparison, IblMeasurements
@@ -130,17 +130,17 @@ def mix_claim(m: IblMeasurements) -> Claim:
 # Registered techniques: JSON entries and declared-threshold claims
 # ---------------------------------------------------------------------------------------------
 
-def _measured(stats: list[tuple[float, float]]) -> Measured:
+def _measured(stats: list[tuple[float, float]], stat: str = "") -> Measured:
     """The worst (value + uncertainty) of several (value, uncertainty), with its error × 1.5 as power check."""
     v, u = max(stats, key=lambda t: t[0] + t[1])
-    return Measured(v, u, 1.5 * v, "error × 1.5")
+    return Measured(v, u, 1.5 * v, "error × 1.5", unit="%", stat=stat)
 
 
 def comparison_metrics(comps: list[Comparison]) -> dict[str, Measured]:
     """relative.mean, relative.p95, bias (|bias|: a declared threshold bounds the magnitude), worst over the
     comparisons."""
-    return {"relative.mean": _measured([(c.rel.stats.mean, c.rel.stats.mean_uncertainty) for c in comps]),
-            "relative.p95": _measured([(c.rel.stats.p95, c.rel.stats.mean_uncertainty) for c in comps]),
+    return {"relative.mean": _measured([(c.rel.stats.mean, c.rel.stats.mean_uncertainty) for c in comps], "mean"),
+            "relative.p95": _measured([(c.rel.stats.p95, c.rel.stats.mean_uncertainty) for c in comps], "p95"),
             "bias": _measured([(abs(c.rel.stats.bias), c.rel.stats.bias_uncertainty) for c in comps])}
 
 
@@ -151,12 +151,12 @@ def signed_bias(comps: list[Comparison]) -> tuple[float, float]:
     return s.bias, s.bias_uncertainty
 
 
-def _json(ms: Mapping[str, Measured], comps: list[Comparison]) -> dict[str, Any]:
-    """The metrics as JSON; ``bias`` signed (model − reference, as the report's table): the claim on a declared
+def _json(ms: Mapping[str, Measured], comps: list[Comparison]) -> dict[str, Measured]:
+    """The metrics for JSON; ``bias`` signed (model − reference, as the report's table): the claim on a declared
     ``bias`` threshold bounds its magnitude, |bias| (:func:`comparison_metrics`)."""
-    out = {k: {"value": v.value, "uncertainty": v.uncertainty} for k, v in ms.items()}
+    out = dict(ms)
     value, sigma = signed_bias(comps)
-    out["bias"] = {"value": value, "uncertainty": sigma}
+    out["bias"] = Measured(value, sigma, unit="%", better="zero")
     return out
 
 
@@ -180,8 +180,9 @@ def technique_results(m: IblMeasurements) -> tuple[dict[str, Any], list[Claim]]:
         ms = comparison_metrics(list(comps.values()))
         crops = m.specular.normal_incidence.get(tech.name, {})
         if crops:
-            ms["normal_incidence.mean"] = _measured([(r.stats.mean, r.stats.mean_uncertainty) for r in crops.values()])
-        cases = {k: _json(comparison_metrics([c]), [c]) for k, c in comps.items()}
+            ms["normal_incidence.mean"] = _measured([(r.stats.mean, r.stats.mean_uncertainty) for r in crops.values()],
+                                                    "mean")
+        cases = measured_json({k: _json(comparison_metrics([c]), [c]) for k, c in comps.items()})
         entries[tech.name] = technique_entry(tech, _json(ms, list(comps.values())), cases=cases)
         claims += technique_claims(NAME, tech, ms, scope=f"worst over {len(comps)} BRDF cases")
     return entries, claims

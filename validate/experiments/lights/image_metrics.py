@@ -78,14 +78,15 @@ def image_errors(reference: np.ndarray, uncertainty: np.ndarray, approx: np.ndar
 def measured(ref: np.ndarray, unc: np.ndarray, approx: np.ndarray) -> dict[str, Measured]:
     """mean/max/bias as :class:`Measured`, each with its value under the standard perturbation."""
     e, p = image_errors(ref, unc, approx), image_errors(ref, unc, approx * POWER_SCALE)
-    out = {k: Measured(getattr(e, k), getattr(e, f"{k}_uncertainty"), getattr(p, k), POWER_TEXT)
+    out = {k: Measured(getattr(e, k), getattr(e, f"{k}_uncertainty"), getattr(p, k), POWER_TEXT, unit="%",
+                       stat="" if k == "bias" else k, better="zero" if k == "bias" else "lower")
            for k in ("mean", "max", "bias")}
-    out["mismatch"] = Measured(e.mismatch, 0.0)
+    out["mismatch"] = Measured(e.mismatch, 0.0, unit="%")
     return out
 
 
 def metric_json(m: Measured) -> dict[str, Any]:
-    return {"value": m.value, "uncertainty": m.uncertainty, "perturbed": m.perturbed, "perturbation": m.perturbation}
+    return m.to_json()
 
 
 @dataclass(frozen=True)

@@ -9,7 +9,7 @@ import numpy as np
 from ...figures import plots
 from ..base import Context, Figure, Section, Table
 from ..formatting import col
-from ..techniques import technique_entry
+from ..techniques import Measured, technique_entry
 from .compute import Measurements, metric, metrics
 from .settings import NAME
 
@@ -153,4 +153,7 @@ def data(m: Measurements) -> dict[str, Any]:
 
 
 def techniques(m: Measurements) -> dict[str, Any]:
-    return {t.name: technique_entry(t, metrics(m, t.name)) for t in m.techniques}
+    """``experiments.multiscatter.techniques.<name>``: furnace and walk errors (fractions), albedos."""
+    return {t.name: technique_entry(t, {k: Measured(v["value"], v["uncertainty"], unit="" if k.startswith("albedo.")
+                                                    else "%") for k, v in metrics(m, t.name).items()})
+            for t in m.techniques}

@@ -192,11 +192,12 @@ def technique_measured(m: Measurements, name: str, envs: list[str]) -> dict[str,
             unc = st.get(f"{stat}_uncertainty", 0.0)
             mirrored = max(b[stat] for _, b in vals)
             if mirrored >= ERROR_GROWTH * st[stat]:
-                out[f"{metric}.{stat}"] = Measured(st[stat], unc, mirrored, MIRRORED)
+                out[f"{metric}.{stat}"] = Measured(st[stat], unc, mirrored, MIRRORED, unit="%", stat=stat)
             else:
                 out[f"{metric}.{stat}"] = Measured(st[stat], unc, ERROR_GROWTH * st[stat],
                                                    f"error × {ERROR_GROWTH} (the mirror x → −x changes it by < "
-                                                   f"{ERROR_GROWTH}×: symmetric technique or environments)")
+                                                   f"{ERROR_GROWTH}×: symmetric technique or environments)",
+                                                   unit="%", stat=stat)
     return out
 
 

@@ -16,10 +16,11 @@ from ...local_models.irradiance import sh as shm
 from ...metrics.irradiance_error import METRIC_NAMES
 from ...metrics.published import PUBLISHED_TOLERANCE
 from ...reference import pathtrace
+from ...stats import measured_json
 from ..base import Context, Figure, Section, Table
 from ..formatting import col, pm
 from ..formatting import pct as _pct
-from ..techniques import technique_entry
+from ..techniques import error_stats_measured, technique_entry
 from .claims import ATTAINS_BOUND, CMGEN, PAPER_MAX, PAPER_MEAN, ZH3_COMPARED, foreign_thresholds
 from .compute import Measurements
 from .settings import NAME
@@ -397,9 +398,10 @@ def techniques(m: Measurements) -> dict[str, Any]:
     under mirrored normals (the power check)."""
     out = {}
     for tech in irradiance_family:
-        metrics = {env: {metric: r["models"][tech.name][metric] for metric in METRIC_NAMES}
+        metrics = {env: {metric: error_stats_measured(r["models"][tech.name][metric]) for metric in METRIC_NAMES}
                    for env, r in m.environments.items() if tech.name in r["models"]}
-        mirrored = {env: {metric: r["models_mirrored"][tech.name][metric] for metric in METRIC_NAMES}
+        mirrored = {env: {metric: error_stats_measured(r["models_mirrored"][tech.name][metric])
+                          for metric in METRIC_NAMES}
                     for env, r in m.environments.items() if tech.name in r["models_mirrored"]}
-        out[tech.name] = technique_entry(tech, metrics, mirrored_normals=mirrored)
+        out[tech.name] = technique_entry(tech, metrics, mirrored_normals=measured_json(mirrored))
     return out

@@ -76,7 +76,7 @@ def technique_metrics(m: Measurements, name: str) -> dict[str, Measured]:
     for r in m.radii:
         for k, (v, u) in error_metrics(m.at_default(r)[name], m.frame.flip_noise[r]).items():
             out[f"{k}.r{r:g}"] = Measured(float(v), float(u), ERROR_SCALE * float(v),
-                                          f"the technique's error × {ERROR_SCALE:g}")
+                                          f"the technique's error × {ERROR_SCALE:g}", unit="" if k == "flip" else "%")
     return out
 
 

@@ -14,7 +14,7 @@ import numpy as np
 from ...figures import plots
 from ...local_models import shadow
 from ...metrics import shadow_error as se
-from ..base import Context, Figure, Section, Table, finite_or_none, settings_json
+from ..base import Context, Figure, Section, Table, settings_json
 from ..formatting import pct_fixed as pct
 from ..formatting import pm
 from ..techniques import technique_entry
@@ -235,9 +235,7 @@ def _table_notes(m: Measurements) -> list[str]:
 
 def techniques(m: Measurements) -> dict[str, Any]:
     """``ExperimentResult.techniques``: every metric of every technique at every radius, ± uncertainty."""
-    return {t.name: technique_entry(t, {k: {"value": finite_or_none(v.value),
-                                            "uncertainty": finite_or_none(v.uncertainty)}
-                                        for k, v in technique_metrics(m, t.name).items()},
+    return {t.name: technique_entry(t, technique_metrics(m, t.name),
                                     resolution=m.settings.default_resolution,
                                     memory_bytes_per_texel=t.meta.get("memory_bytes_per_texel"))
             for t in m.techniques}

@@ -338,11 +338,14 @@ def projector_comparison(s: Settings, m: Measurements) -> None:
         pr = projector_errors(frame, call(roll), keep)["max_rel"]
         out["techniques"][tech.name] = dict(e, power_width=pw, power_roll=pr)
         m.measured.setdefault(tech.name, {})["projector.max_rel"] = Measured(
-            e["max_rel"], e["uncertainty"], pw, "width 1 % too large (one part in 100 of w)")
-        m.measured[tech.name]["projector.mean_rel"] = Measured(e["mean_rel"], e["uncertainty"])
-        m.measured[tech.name]["projector.scaled_max_rel"] = Measured(e["scaled_max_rel"], e["uncertainty"])
+            e["max_rel"], e["uncertainty"], pw, "width 1 % too large (one part in 100 of w)", unit="%", stat="max")
+        m.measured[tech.name]["projector.mean_rel"] = Measured(e["mean_rel"], e["uncertainty"], unit="%",
+                                                                         stat="mean")
+        m.measured[tech.name]["projector.scaled_max_rel"] = Measured(e["scaled_max_rel"], e["uncertainty"],
+                                                                              unit="%", stat="max")
         m.measured[tech.name]["projector.max_rel.roll"] = Measured(e["max_rel"], e["uncertainty"], pr,
-                                                                   "light rolled 1° about its axis")
+                                                                   "light rolled 1° about its axis", unit="%",
+                                                                   stat="max")
         m.images.setdefault("projector", {})[tech.name] = frame.image(approx)
     m.images["projector_ref"] = frame.ref.radiance
     m.data["projector"] = out
@@ -434,7 +437,7 @@ def barndoor_techniques(frames: list[Frame], m: Measurements) -> None:
             per[row["key"]] = {"rms_rel": val, "uncertainty": unc}
             worst = max(worst, (val, unc))
         m.data.setdefault("barndoor_techniques", {})[tech.name] = per
-        m.measured.setdefault(tech.name, {})["barndoor.rms_rel"] = Measured(worst[0], worst[1])
+        m.measured.setdefault(tech.name, {})["barndoor.rms_rel"] = Measured(worst[0], worst[1], unit="%", stat="rms")
 
 
 def sweeps(s: Settings, m: Measurements) -> None:

@@ -162,7 +162,6 @@ def techniques(m: Measurements) -> dict[str, Any]:
     """``experiments.uberlight.techniques.<name>``: every measured metric but the roll twins (power checks)."""
     out = {}
     for tech in family:
-        metrics = {k: {"value": v.value, "uncertainty": v.uncertainty} for k, v in m.measured[tech.name].items()
-                   if not k.endswith(".roll")}
+        metrics = {k: v for k, v in m.measured[tech.name].items() if not k.endswith(".roll")}
         out[tech.name] = technique_entry(tech, metrics)
     return out

@@ -9,6 +9,7 @@ import numpy as np
 from ...figures import plots
 from ...local_models import irradiance
 from ...scenes.latlong import direction_to_spherical
+from ...stats import Measured
 from ..base import Context, Figure, Section, Table
 from ..formatting import pct
 from ..techniques import technique_entry
@@ -108,13 +109,19 @@ def data(m: Measurements) -> dict[str, Any]:
 
 
 def techniques(m: Measurements) -> dict[str, Any]:
-    """results.json entries: linearity defect, certificates and worst errors found, per technique."""
+    """results.json entries: linearity defect, certificates and worst errors found, per technique (fractions of
+    the flux; a certificate's and a search's uncertainty is the quadrature's, |e(2H) − e(H)|)."""
     out = {}
     for name, lin in m.linearity.items():
-        metrics: dict[str, float] = {"linearity_defect": lin["defect"]}
+        metrics: dict[str, Measured] = {"linearity_defect": Measured(lin["defect"], unit="%")}
         for metric, c in m.certificates.get(name, {}).items():
-            metrics[f"certificate.{metric}"] = c.value
+            metrics[f"certificate.{metric}"] = Measured(c.value, c.uncertainty, unit="%", stat=_stat(metric))
         for metric, r in m.searches.get(name, {}).items():
-            metrics[f"search.{metric}"] = r.value
+            metrics[f"search.{metric}"] = Measured(r.value, r.uncertainty, unit="%", stat=_stat(metric))
         out[name] = technique_entry(irradiance[name], metrics, linear=lin["linear"])
     return out
+
+
+def _stat(metric: str) -> str:
+    """The statistic over normals a worst-case metric names (``flux_luminance.max`` → "max")."""
+    return metric.rsplit(".", 1)[-1]

@@ -66,7 +66,8 @@ def measured(m: dict[str, Any], tech: str) -> dict[str, Measured]:
             key = "alpha" if parts[2].startswith("a") else "sigma_deg"
             rows = [r for r in rows if f"{r[key]:g}" == parts[2][1:]]
         pert = rel_error(rows, tech, BIAS)["value"] if parts[0] == "rel_err" else None
-        out[k] = Measured(v["value"], v["uncertainty"], pert, POWER_TEXT)
+        out[k] = Measured(v["value"], v["uncertainty"], pert, POWER_TEXT if pert is not None else "",
+                          unit="%" if parts[0] == "rel_err" else "")
     return out
 
 

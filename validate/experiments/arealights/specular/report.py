@@ -16,7 +16,7 @@ from ...base import Figure, Section, Table
 from ...formatting import col
 from ...techniques import technique_entry
 from ..settings import NAME
-from .claims import TUBE, TUBE_UNNORMALIZED, rel_error, technique_metrics, tube_rel_error
+from .claims import TUBE, TUBE_UNNORMALIZED, measured, rel_error, technique_metrics, tube_rel_error
 from .compute import CONFIGS, RENDER_SIGMA, SHAPES, TUBE_AXES, TUBE_RADIUS, TUBE_VARIANTS
 
 
@@ -144,7 +144,7 @@ def section(m: dict[str, Any], ctx: Any) -> Section:
 
 
 def techniques(m: dict[str, Any]) -> dict[str, Any]:
-    return {t.name: technique_entry(t, technique_metrics(m, t.name)) for t in family("specular_arealight")
+    return {t.name: technique_entry(t, measured(m, t.name)) for t in family("specular_arealight")
             if t.name in m["techniques"]}
 
 
