@@ -94,3 +94,17 @@ def test_missing_runtime_names_the_npm_engines(tmp_path: Path, monkeypatch: pyte
     miss = render.missing_runtime()
     assert miss is not None and miss.piece == "npm engines" and "three" in miss.why
     assert miss.fix == "python -m validate setup --engines"
+
+
+def test_compare_counts_a_piece_newly_not_run_as_a_regression() -> None:
+    from validate.report.compare import compare
+
+    def run(*not_run: str) -> dict:
+        return {"meta": {}, "experiments": {"renders": {"claims": [], "techniques": {}, "not_run": [
+            {"what": w, "why": "npm engines missing", "fix": "python -m validate setup --engines"} for w in not_run]}}}
+
+    c = compare(run(), run("three.js, Filament"))
+    assert [(r.kind, r.key, r.status) for r in c.rows] == [("not_run", "renders/not_run/three.js, Filament",
+                                                            "regressed")]
+    assert c.regressions and "1 regression(s)" in c.summary() and "three.js, Filament" in c.table()
+    assert not compare(run("x"), run()).regressions and not compare(run("x"), run("x")).regressions

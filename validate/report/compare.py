@@ -38,7 +38,10 @@ Status of a row:
   ``changed`` (same verdict, a different value), ``unchanged``;
 * technique metrics and judgements: ``regressed`` (worse beyond σ: a regression), ``improved`` (better
   beyond σ), ``changed`` (different, within σ, or as good: a signed error whose sign flipped),
-  ``unchanged``.
+  ``unchanged``;
+* a piece an experiment could not run (its ``not_run`` entries, keyed ``<experiment>/not_run/<what>``, no
+  values): ``regressed`` when the new run left out what the old one ran (nothing judged is not a pass),
+  ``improved`` the other way round, ``unchanged`` when both left it out.
 
 Which way is worse. A measured value says it (``better``: ``"lower"``, ``"higher"`` — a score, the
 fraction of pixels a judgement accepts — or ``"zero"``: a signed error, larger |value| is worse); the
@@ -68,7 +71,7 @@ from ..stats import is_measured
 ROUNDOFF = 1e-9  # relative: below this, two values are the same number (float64 round-off of a re-run)
 HIGHER_IS_BETTER = ("psnr", "ssim", "score", "correlation", "r2", "fraction_accepted")
 REGRESSION_STATUSES = ("regressed", "newly_failing")
-KINDS = ("claim", "metric", "judgement")
+KINDS = ("claim", "metric", "judgement", "not_run")
 JUDGEMENT_KEYS = ("judgements", "judgement")  # objects whose measured values are judgements
 OLD_NOTE = "written before the measured-value schema; read its old shapes"
 _STATS = ("mean", "max", "rms")  # the statistics of an old {mean, max, rms, *_uncertainty} metric
@@ -81,7 +84,7 @@ _OLD_JUDGEMENT = {"fraction_accepted": None, "max_abs_z": None, "mean_rel": "mea
 class Row:
     """One compared claim or technique metric (the ``changes.rows`` schema of ``results.json``)."""
 
-    kind: str  # "claim" | "metric" | "judgement"
+    kind: str  # "claim" | "metric" | "judgement" | "not_run"
     key: str
     old: float | None
     new: float | None
@@ -362,5 +365,15 @@ def compare(old: str | Path | Mapping[str, Any], new: str | Path | Mapping[str, 
         ea, eb = extract(a, old_shapes[label]), extract(b, old_shapes[new_label])
         keys = list(ea) + [k for k in eb if k not in ea]
         rows.extend(make(k, ea.get(k), eb.get(k)) for k in keys)
+    na, nb = _not_run(a), _not_run(b)
+    rows.extend(Row("not_run", k, None, None, None, None, None, False,
+                    "unchanged" if k in na and k in nb else "regressed" if k in nb else "improved")
+                for k in list(na) + [k for k in nb if k not in na])
     notes = [f"{name}: {OLD_NOTE}" for name, paths in old_shapes.items() if paths]
     return Comparison(label, rows, notes)
+
+
+def _not_run(results: Mapping[str, Any]) -> list[str]:
+    """``<experiment>/not_run/<what>`` of every piece a run could not run (``experiments.<name>.not_run``)."""
+    return [f"{name}/not_run/{n.get('what', '?')}" for name, e in (results.get("experiments") or {}).items()
+            if isinstance(e, Mapping) for n in e.get("not_run") or [] if isinstance(n, Mapping)]
