@@ -13,7 +13,8 @@ import pytest
 
 from validate.errors import ValidateError
 from validate.experiments.base import Claim, ExperimentResult, Figure, Section, Table
-from validate.report import html, plots
+from validate.figures import plots
+from validate.report import html
 from validate.report.html import (
     fmt_measured,
     fmt_num,

@@ -3,14 +3,18 @@ bit: :func:`ltc_many`, :func:`ltc_integral_many` and the arealights experiment's
 
 from __future__ import annotations
 
+import importlib
+
 import numpy as np
 import pytest
 
 from validate.errors import ValidateError
-from validate.experiments.arealights import specular as asp
 from validate.local_models import family
 from validate.local_models.precision import family_precision
 from validate.local_models.specular_arealight.ltc import ltc_integral, ltc_integral_many, ltc_many
+
+spc = importlib.import_module("validate.experiments.arealights.specular.compute")
+
 
 SHAPES = ("rectangle", "disc", "sphere", "tube")
 
@@ -20,9 +24,9 @@ def _configs(shape: str) -> list[tuple[dict, float, tuple[np.ndarray, np.ndarray
     out = []
     for a in (0.05, 0.3, 0.8):
         for sg in (2.5, 20.0):
-            for cfg in asp.CONFIGS:
-                for ax in asp.TUBE_AXES if shape == "tube" else ("across",):
-                    out.append((asp.light_for(shape, cfg[1], cfg[2], sg, ax), a, asp._receiver(cfg[0])))
+            for cfg in spc.CONFIGS:
+                for ax in spc.TUBE_AXES if shape == "tube" else ("across",):
+                    out.append((spc.light_for(shape, cfg[1], cfg[2], sg, ax), a, spc._receiver(cfg[0])))
     return out
 
 
@@ -74,11 +78,11 @@ def test_ltc_many_refuses_mixed_shapes_and_lengths():
 def test_ltc_batch_equals_measure_config():
     """The experiment's batched LTC numbers are measure_config's own per-call ones (every shape, both axes)."""
     techs = list(family("specular_arealight"))
-    keys = [(sh, a, sg, cfg, ax) for sh in SHAPES for a in (0.1, 0.6) for sg in (5.0, 30.0) for cfg in asp.CONFIGS[:4]
-            for ax in (asp.TUBE_AXES if sh == "tube" else ("across",))]
-    batch = asp.ltc_batch(keys, techs)
+    keys = [(sh, a, sg, cfg, ax) for sh in SHAPES for a in (0.1, 0.6) for sg in (5.0, 30.0) for cfg in spc.CONFIGS[:4]
+            for ax in (spc.TUBE_AXES if sh == "tube" else ("across",))]
+    batch = spc.ltc_batch(keys, techs)
     for k in keys:
-        got = asp.measure_config(k[0], k[1], k[2], k[3], 16, techs, k[4], (1.0, 0.0), batch[k])
-        want = asp.measure_config(k[0], k[1], k[2], k[3], 16, techs, k[4], (1.0, 0.0))
+        got = spc.measure_config(k[0], k[1], k[2], k[3], 16, techs, k[4], (1.0, 0.0), batch[k])
+        want = spc.measure_config(k[0], k[1], k[2], k[3], 16, techs, k[4], (1.0, 0.0))
         assert got == want and list(got["techniques"]) == list(want["techniques"])
         assert batch[k][0] == want["techniques"]["ltc"]
