@@ -74,6 +74,17 @@ def write_with(target: str | os.PathLike[str], writer: Callable[[IO[bytes]], Non
     return Path(target)
 
 
+def check_writable_folder(folder: str | os.PathLike[str]) -> None:
+    """Raise the one-line :class:`OutputError` unless ``folder`` is (or can be created as) a writable folder;
+    creates nothing, so a command can check its output before it writes anything."""
+    folder = Path(folder)
+    if folder.exists() and not folder.is_dir():
+        raise OutputError(f"{folder}: not a folder")
+    parent = next((p for p in [folder, *folder.parents] if p.exists()), None)
+    if parent is None or not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
+        raise OutputError(f"{folder}: cannot write here (Permission denied)")
+
+
 def refuse_input_overwrite(out_dir: Path, inputs: list[Path]) -> None:
     """Raise if the output folder is, or contains, an input file or folder."""
     out = out_dir.resolve()

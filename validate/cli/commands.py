@@ -1,4 +1,5 @@
-"""Command line: ``python -m validate {list, run NAME [NAME ...], all, compare OLD NEW, worst, bench, docs}``:
+"""Command line: ``python -m validate {list, run NAME [NAME ...], all, compare OLD NEW, export RESULTS --to DIR,
+history RESULTS... --out DIR, worst, bench, docs}``:
 the argument parsing and the small commands; a run is :mod:`validate.run`, ``worst`` is :mod:`.worst`.
 
 Outputs go to ``--out`` (default ``reports/``): ``index.html``, ``results.json``, ``figures/``.
@@ -54,6 +55,8 @@ EPILOG = """examples:
   python -m validate bench --only render               # the engines: browser start, page load, frame times
   python -m validate all --quick --baseline old/results.json   # ... and what changed since then
   python -m validate compare old/results.json reports/results.json --strict   # CI: exit 1 on a regression
+  python -m validate export reports/results.json --to paper/   # CSV, LaTeX, PDF/SVG figures, provenance.json
+  python -m validate history run1.json run2.json run3.json --out trend/   # one plot per changed value
   python -m validate docs --results reports/results.json   # docs/ figures from that run (--check: exit 1 if stale)
   python -m validate worst sh9 --budget 400            # worst lighting found for sh9 -> reports/worst_sh9_*.exr
 
@@ -119,6 +122,25 @@ def _parser() -> argparse.ArgumentParser:
                    help="exit with status 1 on a regression: a claim that passed and now fails, or a technique "
                         "metric or judgement worse beyond its uncertainty (errors: larger is worse unless the value "
                         "says otherwise)")
+    x = sub.add_parser("export", help="every table as CSV and LaTeX, figures as PNG/PDF/SVG, a provenance file",
+                       description="Write every table of every page (sections, claims, technique metrics, "
+                                   "judgements) as CSV (units in the header, value and uncertainty in separate "
+                                   "columns) and LaTeX (booktabs, value ± uncertainty), every figure of the pages as "
+                                   "PNG (the summary figures also as PDF and SVG), provenance.json and a manifest "
+                                   "export.json (see docs/export.md).")
+    x.add_argument("results", type=Path, metavar="RESULTS.json", help="a results.json (or its folder)")
+    x.add_argument("--to", type=Path, required=True, metavar="DIR", help="folder to write into (created)")
+    x.add_argument("--format", default=None, metavar="FMT,...",
+                   help="only these of csv, latex, png, pdf, svg (default: all); provenance.json is always written")
+    h = sub.add_parser("history", help="trends across runs: one plot per changed claim and metric, a page, a CSV",
+                       description="Read the runs in the order given; for every claim and technique metric or "
+                                   "judgement whose value changed, draw its value with the uncertainty band against "
+                                   "the run (failing runs and regressions marked) into DIR/history.html (one "
+                                   "self-contained page) and DIR/history.csv (see docs/export.md).")
+    h.add_argument("runs", type=Path, nargs="+", metavar="RESULTS.json", help="results.json files, oldest first")
+    h.add_argument("--out", type=Path, required=True, metavar="DIR", help="folder to write into (created)")
+    h.add_argument("--all", action="store_true", dest="everything",
+                   help="a plot for every value, changed or not (default: only those that changed)")
     add_worst_parser(sub)
     b = sub.add_parser("bench", help="benchmarks: drjit local models vs numpy, reference cost")
     b.add_argument("--out", type=Path, default=Path("reports"), metavar="DIR")
@@ -195,6 +217,28 @@ def _cmd_docs(results: Path, docs: Path, check: bool) -> int:
               f"run `python -m validate docs --results {results}`", file=sys.stderr)
         return 1
     print(f"{docs}: {'up to date with' if not changed else 'rendered from'} {results}")
+    return 0
+
+
+def _cmd_export(results: Path, to: Path, formats: str | None) -> int:
+    """``export``: tables, figures and provenance of one results.json (:mod:`validate.report.export`)."""
+    from ..report import export
+
+    manifest = export.export(results, to, export.parse_formats(formats), sys.argv[1:])
+    n_files = sum(len(t["files"]) for t in manifest["tables"])
+    vector = sum(len([f for f in fig["files"] if not f.endswith(".png")]) for fig in manifest["figures"])
+    png = sum(len([f for f in fig["files"] if f.endswith(".png")]) for fig in manifest["figures"])
+    print(f"{to}: {len(manifest['tables'])} tables ({n_files} files), {png} PNG and {vector} vector figures, "
+          f"{export.PROVENANCE}, {export.MANIFEST}")
+    return 0
+
+
+def _cmd_history(runs: list[Path], out: Path, everything: bool) -> int:
+    """``history``: trends across runs (:mod:`validate.report.history`)."""
+    from ..report import history
+
+    h = history.write_history(runs, out, changed_only=not everything)
+    print(h.summary())
     return 0
 
 
@@ -280,6 +324,10 @@ def main(argv: list[str] | None = None) -> int:
                 raise ValidateError(f"--only {args.only}: unknown section {', '.join(bad) or '(none)'}; "
                                     f"expected some of {', '.join(SECTIONS)}")
             return run_bench(args.out, sizes, only)
+        if args.command == "export":
+            return _cmd_export(args.results, args.to, args.format)
+        if args.command == "history":
+            return _cmd_history(args.runs, args.out, args.everything)
         if args.command == "docs":
             return _cmd_docs(args.results, args.docs, args.check)
         if args.command == "setup":

@@ -18,6 +18,7 @@ import numpy as np
 from matplotlib.colors import LogNorm
 from matplotlib.ticker import FuncFormatter
 
+from ..atomic import atomic_path
 from ..figures import plots
 from ..format import pm, sig
 from .summary import Bars, Curves, Matrix, Summary
@@ -68,7 +69,18 @@ def draw_matrix(m: Matrix, path: str | os.PathLike[str]) -> None:
     bar.ax.tick_params(labelsize=7)
     bar.ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: sig(v, 2)))
     bar.ax.yaxis.set_minor_formatter(FuncFormatter(lambda v, _: ""))
-    plots._save_figure(path, fig)
+    _save(path, fig)
+
+
+def _save(path: str | os.PathLike[str], fig: object) -> None:
+    """Write ``fig`` at ``path`` atomically, in the format its suffix names: .png (raster, :data:`plots.FIG_DPI`),
+    .pdf or .svg (vector: the same drawing, text as text)."""
+    suffix = os.fspath(path).rsplit(".", 1)[-1].lower()
+    if suffix == "png":
+        plots._save_figure(path, fig)
+        return
+    with plots.FIGURE_LOCK, atomic_path(path, suffix=f".{suffix}") as tmp:
+        fig.savefig(tmp, format=suffix, dpi=plots.FIG_DPI)  # type: ignore[attr-defined]
 
 
 def plots_cmap() -> object:
@@ -110,7 +122,7 @@ def draw_curves(c: Curves, path: str | os.PathLike[str]) -> None:
     ax.tick_params(labelsize=8)
     ax.grid(True, which="major", alpha=0.35)
     ax.legend(fontsize=7.5, framealpha=0.85, loc="center left", bbox_to_anchor=(1.01, 0.5))
-    plots._save_figure(path, fig)
+    _save(path, fig)
 
 
 def draw_bars(b: Bars, path: str | os.PathLike[str]) -> None:
@@ -137,7 +149,7 @@ def draw_bars(b: Bars, path: str | os.PathLike[str]) -> None:
     ax.grid(True, axis="x", alpha=0.3)
     handles = [ax.barh([0], [0], color=colours[g], label=g) for g in groups]
     ax.legend(handles=handles, fontsize=7.5, loc="center left", bbox_to_anchor=(1.01, 0.5))
-    plots._save_figure(path, fig)
+    _save(path, fig)
 
 
 def draw(s: Summary, path: str | os.PathLike[str]) -> None:
