@@ -11,7 +11,7 @@ import json
 import numpy as np
 
 from scripts.diagnose_renders.cdf import config_scene, render
-from validate.experiments.renders.cdf_compute import energy_ratio
+from validate.experiments.renders.cdf.compute import energy_ratio
 from validate.gl import browser_page
 from validate.metrics.pixel_z import interior_mask
 from validate.reference.render_reference import render_reference

@@ -8,7 +8,7 @@ import sys
 import numpy as np
 
 from scripts.diagnose_renders.cdf import probe, render
-from validate.experiments.renders.cdf_compute import energy_ratio
+from validate.experiments.renders.cdf.compute import energy_ratio
 from validate.metrics.pixel_z import interior_mask
 from validate.reference.render_reference import render_reference
 from validate.scenes import render_cdf_scenes as rcs

@@ -17,7 +17,7 @@ fresh ``--out`` folder is removed again. ``run NAME ...`` updates those experime
 Exit status: 0 success; 1 a claim failed and ``--strict`` was given (``compare --strict``: a
 regression); 2 bad input, a failed task or an output that cannot be written (one line
 ``validate: error: <path>: <problem>``, nothing written); 130 / 143 interrupted by SIGINT / SIGTERM
-(one line within seconds in every phase, :mod:`validate.interrupt`; the previous report is
+(one line within seconds in every phase, :mod:`validate.run.interrupt`; the previous report is
 untouched, and every reference finished before the signal is in the cache for the rerun).
 
 Scale-out: ``--workers N`` (N > 1) runs the per-environment tasks of every experiment on an embedded

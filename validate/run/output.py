@@ -79,7 +79,7 @@ def output_folder(out: Path) -> Iterator[tuple[Path, dict[str, bool]]]:
 
 def previous_seconds(out: Path) -> dict[str, float]:
     """Each experiment's wall time in the report already in ``out`` (none when there is none or it cannot be read:
-    it only orders the two lanes' work, :func:`~validate.experiments.schedule.longest_first`)."""
+    it only orders the two lanes' work, :func:`~validate.run.schedule.longest_first`)."""
     from ..report.html import load_results
 
     try:

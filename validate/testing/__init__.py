@@ -57,7 +57,7 @@ examples/``).
 
 ``check_render(render_fn, scenes=...)``
     An engine's rendered pixels against the path tracer, per pixel with uncertainty
-    (:mod:`validate.testing_render`, the ``renders`` experiment's judgement).
+    (:mod:`validate.testing.render`, the ``renders`` experiment's judgement).
 
 ``compare(old, new) -> Comparison``
     Two runs' ``results.json`` (paths, their folders, or loaded dicts) compared claim by claim and

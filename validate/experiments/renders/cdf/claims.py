@@ -1,7 +1,7 @@
 """(b) Babylon's CDF irradiance (Babylon PR 16247): claims on the energy ratio r = engine/Mitsuba of the Lambertian
 sphere under the sunny probe, per cube size, with Babylon's supersampling as shipped and as before the PR.
 
-Each ratio carries the reference's standard error σ (``cdf_compute.energy_ratio``); a claim's uncertainty is z*·σ with
+Each ratio carries the reference's standard error σ (``cdf.compute.energy_ratio``); a claim's uncertainty is z*·σ with
 the Šidák critical z* over the ratios measured (α = 0.01, two-sided, the suite's ``stats.sidak_critical``), so "beyond
 its uncertainty" means a Šidák-corrected z-test at α = 0.01.
 

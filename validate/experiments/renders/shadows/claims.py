@@ -7,7 +7,7 @@
   radiance added over the umbra must fail. An engine type that leaks keeps it as a regression (``LEAK_REGRESSIONS``;
   three issue 23551, "shadow light leaks no bias fixes"); its power check is the corrected behaviour, the truth.
 * Every judgement takes the engine's readback uncertainty (Filament's 8-bit canvas) as a known term
-  (:func:`~validate.experiments.renders.shadow_compute.judged_budget`); 0 for three and Babylon.
+  (:func:`~validate.experiments.renders.shadows.compute.judged_budget`); 0 for three and Babylon.
 * ``penumbra``: the 10–90 % transition W (px) against the path tracer's, stated as the regression each engine type
   has (``PENUMBRA``: a shadow map filters by a fixed width in shadow-map texels, the truth's penumbra grows with the
   light's angular size and the occluder–receiver distance [Fernando 2005]); the claim is W_engine/W_truth below 1
