@@ -220,11 +220,11 @@ def _cmd_docs(results: Path, docs: Path, check: bool) -> int:
     return 0
 
 
-def _cmd_export(results: Path, to: Path, formats: str | None) -> int:
+def _cmd_export(results: Path, to: Path, formats: str | None, argv: list[str]) -> int:
     """``export``: tables, figures and provenance of one results.json (:mod:`validate.report.export`)."""
     from ..report import export
 
-    manifest = export.export(results, to, export.parse_formats(formats), sys.argv[1:])
+    manifest = export.export(results, to, export.parse_formats(formats), argv)
     n_files = sum(len(t["files"]) for t in manifest["tables"])
     vector = sum(len([f for f in fig["files"] if not f.endswith(".png")]) for fig in manifest["figures"])
     png = sum(len([f for f in fig["files"] if f.endswith(".png")]) for fig in manifest["figures"])
@@ -325,7 +325,7 @@ def main(argv: list[str] | None = None) -> int:
                                     f"expected some of {', '.join(SECTIONS)}")
             return run_bench(args.out, sizes, only)
         if args.command == "export":
-            return _cmd_export(args.results, args.to, args.format)
+            return _cmd_export(args.results, args.to, args.format, list(sys.argv[1:] if argv is None else argv))
         if args.command == "history":
             return _cmd_history(args.runs, args.out, args.everything)
         if args.command == "docs":
