@@ -30,6 +30,7 @@ References
 
 from __future__ import annotations
 
+import json
 import math
 from typing import Any
 
@@ -200,3 +201,41 @@ def scene_gltf(scene: RenderScene, segments: tuple[int, int] = EXPORT_SEGMENTS) 
 def glb_bytes(scene: RenderScene, segments: tuple[int, int] = EXPORT_SEGMENTS) -> bytes:
     """The ``.glb`` of ``scene`` (:func:`scene_gltf`)."""
     return b"".join(bytes(p) for p in scene_gltf(scene, segments).save_to_bytes())
+
+
+def check_glb(path: Any) -> Any:
+    """Read ``path`` as a glTF 2.0 binary and return its :class:`pygltflib.GLTF2`; one line naming the file and the
+    problem when it is missing or malformed (GLB header [1, 4.4]: magic ``glTF``, version 2, the stated length;
+    a JSON chunk that parses; ``asset.version`` 2.x; the scene's mesh, camera and buffer present)."""
+    import struct
+    from pathlib import Path
+
+    import pygltflib
+
+    p = Path(path)
+    try:
+        data = p.read_bytes()
+    except FileNotFoundError:
+        raise ValidateError(f"{p}: no such file") from None
+    except OSError as exc:
+        raise ValidateError(f"{p}: cannot read ({exc.strerror or exc})") from None
+    if len(data) < 20 or data[:4] != b"glTF":
+        raise ValidateError(f"{p}: not a glTF binary (no 'glTF' magic)")
+    version, length = struct.unpack_from("<II", data, 4)
+    if version != 2 or length != len(data):
+        raise ValidateError(f"{p}: malformed GLB header (version {version}, length {length} of {len(data)} bytes)")
+    chunk_len, chunk_type = struct.unpack_from("<II", data, 12)
+    try:
+        if chunk_type != 0x4E4F534A:  # "JSON"
+            raise ValueError("the first chunk is not JSON")
+        json.loads(data[20:20 + chunk_len].decode("utf-8"))
+        doc = pygltflib.GLTF2.load_from_bytes(data)
+    except Exception as exc:  # pygltflib and json raise many kinds; one line either way
+        first = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
+        raise ValidateError(f"{p}: malformed glTF ({first[:160]})") from None
+    if doc is None or doc.asset is None or not str(doc.asset.version).startswith("2."):
+        version = getattr(getattr(doc, "asset", None), "version", None)
+        raise ValidateError(f"{p}: not glTF 2.x (asset.version {version})")
+    if not doc.meshes or not doc.cameras or not doc.buffers:
+        raise ValidateError(f"{p}: no mesh, camera or buffer: not a scene exported by validate")
+    return doc
