@@ -1,9 +1,9 @@
 """``python -m validate judge``: images rendered anywhere against the exported scenes' Mitsuba truth.
 
 The truth itself with independent noise (Mitsuba at another seed) passes; the truth × π fails and the scale is
-named π; the hemisphere rendered upside down fails and the flip is named; the exact Lambert image shifted by half a
-pixel fails and the shift is named; bad input is one line, exit 2, nothing written. 16² scenes at the quick
-samples: about 15 s on 2 cores, most of it the references (cached for the session).
+named π; the hemisphere rendered upside down and a three-lobe environment turned 90° fail and the flip or turn is
+named; the exact Lambert image shifted by half a pixel fails and the shift is named; bad input is one line, exit 2,
+nothing written. 16² scenes at the quick samples: about 13 s on 2 cores with a cold reference cache.
 """
 
 from __future__ import annotations
@@ -196,3 +196,32 @@ def test_bad_input_is_one_line_exit_2_nothing_written(scenes_dir: Path, tmp_path
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and err[0].startswith("validate: error: ") and needle in err[0], (name, err)
         assert not out.exists(), name
+
+
+def test_environment_turned_90_degrees_fails_and_the_turn_is_named() -> None:
+    """A white metal sphere (roughness 0.5) under an asymmetric map of three coloured lobes, as an engine that turns
+    the environment +90° about +y renders it (the truth of the turned scene at another seed): it fails, and of the
+    five variants only that turn passes."""
+    from validate.experiments.renders.settings import QUICK
+    from validate.judge.folder import diagnose, judge_against
+    from validate.judge.images import EngineImage
+    from validate.scenes.env_orientation import texel_direction
+    from validate.scenes.manifest import SetScene
+
+    h, w = 32, 64
+    i, j = np.meshgrid(np.arange(h), np.arange(w), indexing="ij")
+    d = texel_direction(i, j, h, w)
+
+    def lobe(axis: list[float]) -> np.ndarray:
+        a = np.asarray(axis) / np.linalg.norm(axis)
+        return 3.0 * np.exp(4.0 * (d @ a - 1.0))
+
+    texels = 0.3 + np.stack([lobe([1, 0.2, 0]), lobe([0.3, 0.5, 0.8]), lobe([-0.5, 0.1, -0.8])], axis=-1)
+    item = SetScene(rs.probe_scenes(texels, "three_lobes", RES, (0.5,), (1.0,))[0], "probe", ("mitsuba",))
+    refs, hit = references(turned_scene(item.scene, "turned +90° about +y"), "probe", replace(QUICK, seed=1))
+    m = np.nan_to_num(refs["mitsuba"].mean, nan=0.0)
+    img = EngineImage(m, hit.astype(float), "float", np.zeros_like(m), True)
+    js, truths, mask = judge_against(item, img, QUICK)
+    assert js["mitsuba"].fraction_accepted < 0.5
+    env = diagnose(item, img, QUICK, truths, mask)["environment"]
+    assert env["passes_with"] == ["turned +90° about +y"] and len(env["tried"]) == 5
