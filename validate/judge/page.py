@@ -29,12 +29,13 @@ def png_uri(rgb8: np.ndarray) -> str:
 
 
 def z_rgb(z: np.ndarray, critical: float) -> np.ndarray:
-    """max |z| (R, R) as colours: 0 → black, z* → the colormap's middle, ≥ 2 z* → its top; NaN grey."""
+    """max |z| (R, R) as colours: 0 → black, z* → the colormap's middle, ≥ 2 z* (and ∞) → its top; NaN (not
+    judged) grey."""
     from matplotlib import colormaps
 
-    v = np.clip(np.nan_to_num(z, nan=0.0) / (2.0 * critical), 0.0, 1.0)
+    v = np.clip(np.nan_to_num(z, nan=0.0, posinf=np.inf) / (2.0 * critical), 0.0, 1.0)  # |z| = ∞: off the scale
     rgb = (colormaps["magma"](v)[..., :3] * 255).round().astype(np.uint8)
-    rgb[~np.isfinite(z)] = 128
+    rgb[np.isnan(z)] = 128
     return rgb
 
 
