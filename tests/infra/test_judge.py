@@ -225,3 +225,22 @@ def test_environment_turned_90_degrees_fails_and_the_turn_is_named() -> None:
     assert js["mitsuba"].fraction_accepted < 0.5
     env = diagnose(item, img, QUICK, truths, mask)["environment"]
     assert env["passes_with"] == ["turned +90° about +y"] and len(env["tried"]) == 5
+
+
+@pytest.mark.probes
+def test_probe_scenes_through_the_files_and_a_turned_probe_is_named(probes_dir: Path, tmp_path: Path,
+                                                                     capsys: pytest.CaptureFixture[str]) -> None:
+    """``--probes``: the probe scenes go out with ``uffizi.exr`` and come back rebuilt from it; the metal sphere
+    rendered with the probe turned −90° about +y fails and that turn is named, through the command line."""
+    scenes = tmp_path / "scenes"
+    assert main(["scenes", "export", str(scenes), "--resolution", str(RES), "--probes", str(probes_dir)]) == 0
+    doc = load_manifest(scenes)
+    assert doc["probe"]["file"] == "uffizi.exr" and "probe_metal_r0.5" in [e["name"] for e in doc["scenes"]]
+    images = tmp_path / "images"
+    images.mkdir()
+    img, cov = _truth_image(scenes, "probe_metal_r0.5", seed=1, variant="turned −90° about +y")
+    write_exr(images / "probe_metal_r0.5.exr", img, cov, half=True)
+    assert main(["judge", str(images), "--engine", "turned", "--scenes", str(scenes), "--out",
+                 str(tmp_path / "out")]) == 0
+    out = capsys.readouterr().out
+    assert "probe_metal_r0.5: FAIL" in out and "with the environment turned −90° about +y" in out

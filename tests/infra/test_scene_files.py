@@ -23,6 +23,7 @@ from validate.scenes.env_orientation import ORIENTATION, texel_direction, turned
 from validate.scenes.gltf_export import EXPORT_SEGMENTS, rotate, sphere_mesh
 from validate.scenes.manifest import (
     MANIFEST_SCHEMA,
+    PROBE_ROUGHNESS,
     SCHEMA,
     TRUTH_SAMPLES,
     check_manifest,
@@ -147,6 +148,12 @@ def test_truth_samples_are_the_renders_settings() -> None:
     for set_name, s in (("quick", QUICK), ("full", FULL)):
         assert set(TRUTH_SAMPLES[set_name]) <= names
         assert {k: getattr(s, k) for k in TRUTH_SAMPLES[set_name]} == TRUTH_SAMPLES[set_name]
+
+
+def test_probe_roughness_is_the_renders_settings() -> None:
+    from validate.experiments.renders.settings import FULL, QUICK
+
+    assert PROBE_ROUGHNESS == {"quick": QUICK.probe_roughness, "full": FULL.probe_roughness}
 
 
 def test_stated_orientation_is_mitsubas_envmap() -> None:

@@ -133,6 +133,9 @@ def _parser() -> argparse.ArgumentParser:
                          "full (adds the glTF metallic 0.5 spheres; the full settings' samples); default quick")
     ex.add_argument("--resolution", type=_positive_int, default=64, metavar="R",
                     help="image size R x R of every scene (16..1024, default 64)")
+    ex.add_argument("--probes", type=Path, default=None, metavar="DIR",
+                    help="add the probe scenes: ict_uffizi_256x128.hdr of DIR under metal spheres and the "
+                         "Lambertian sphere (default: none)")
     j = sub.add_parser("judge", help="judge a folder of images rendered anywhere against the scenes' Mitsuba truth",
                        description="Per scene of the manifest, <scene>.exr or <scene>.pfm of IMAGES_DIR judged per "
                                    "pixel against Mitsuba (the renders experiment's z-test, Sidak, edge mask), with "
@@ -309,7 +312,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.command == "scenes":
             from ..scenes.manifest import export_scenes
 
-            doc = export_scenes(args.dir, args.scene_set, args.resolution)
+            doc = export_scenes(args.dir, args.scene_set, args.resolution, args.probes)
             print(f"{args.dir}: {len(doc['scenes'])} scenes ({args.scene_set}, {args.resolution}² px), "
                   f"manifest.json ({doc['schema']}); render them, then: python -m validate judge IMAGES_DIR "
                   f"--engine NAME --scenes {args.dir}")

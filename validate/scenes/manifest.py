@@ -6,9 +6,12 @@ says per scene what to render and what to write back for ``python -m validate ju
 The scene set (:func:`scene_set`) is the ``renders`` experiment's (``validate.experiments.renders.compute``
 ``scene_list``) minus what glTF cannot carry: the white furnace spheres (a), the Lambertian sphere under the sun,
 the point light over the plane and beside the sphere, the spot over the plane (c), the hemisphere light (f); the
-full set adds the white glTF spheres at metallic 0.5 in the furnace. Left out, with the reason in the manifest:
-the rectangular area lights (d) — KHR_lights_punctual has directional, point and spot lights only — and the probe
-scenes (b), which need the probe file (``--probes``) that the export does not read yet.
+full set adds the white glTF spheres at metallic 0.5 in the furnace. With ``probes_dir`` (``--probes DIR``) the probe
+scenes (b) join: white metal spheres over the set's roughness and the Lambertian sphere under ``rs.PROBE_FILE``
+resampled to ``rs.PROBE_SIZE`` (its texels are the exported ``uffizi.exr``, which the judge reads back to rebuild
+the scenes). Left out, with the reason in the manifest: the rectangular area lights (d) — KHR_lights_punctual has
+directional, point and spot lights only — the probe scenes without ``--probes``, and the glTF material grid under
+the probe (its multiscatter reference is a mix of two renders).
 
 Each scene names the references its truth is made of (:data:`REFERENCES`); the first is the one that decides
 whether the scene passes. The truth is the renders experiment's: Mitsuba's ``path`` integrator with
@@ -40,8 +43,10 @@ MANIFEST = "manifest.json"
 SETS = ("quick", "full")
 MIN_RESOLUTION, MAX_RESOLUTION = 16, 1024  # below 16² the sphere keeps too few pixels inside its 2-px edge mask
 # the renders experiment's samples (validate/experiments/renders/settings.py QUICK and FULL; a test holds them equal)
-TRUTH_SAMPLES = {"quick": {"spp": 16, "env_spp": 256, "passes": 8, "seed": 0},
-                 "full": {"spp": 128, "env_spp": 1024, "passes": 8, "seed": 0}}
+TRUTH_SAMPLES = {"quick": {"spp": 16, "env_spp": 256, "probe_spp": 128, "passes": 8, "seed": 0},
+                 "full": {"spp": 128, "env_spp": 1024, "probe_spp": 256, "passes": 8, "seed": 0}}
+PROBE_ROUGHNESS = {"quick": (0.25, 0.5), "full": (0.1, 0.2, 0.25, 0.3, 0.5, 0.75, 1.0)}  # the settings' too
+PROBE_NAME = "uffizi"
 REFERENCES = {
     "energy": "exactly 1 per channel: a white, non-absorbing surface in a uniform radiance-1 furnace returns all "
               "of it (energy conservation, closed form)",
@@ -53,8 +58,10 @@ REFERENCES = {
 NOT_EXPORTED = {
     "rect_plane, rect_sphere": "rectangular area lights: glTF 2.0 has none (KHR_lights_punctual: directional, point, "
                                "spot)",
-    "probe_*": "the probe scenes need the probe file (--probes of the renders experiment); not exported yet",
+    "probe_gltf_*, probe_multiscatter_*": "the glTF material grid under the probe: its multiscatter reference mixes "
+                                          "two renders; not exported yet",
 }
+NO_PROBE = {"probe_*": "the probe scenes need the probe file: export with --probes DIR"}
 OUTPUT: dict[str, Any] = {
     "quantity": "linear radiance per channel (W/(sr m^2)) in glTF's units: 1 lux read as 1 W/m^2, 1 cd as 1 W/sr",
     "tone_mapping": "none", "exposure": "none (exposure 1, EV 0, no physical camera)", "bloom": "none",
@@ -87,8 +94,9 @@ def _kind_references(scene: rs.RenderScene, kind: str) -> tuple[str, ...]:
     return ("mitsuba",)
 
 
-def scene_set(name: str = "quick", resolution: int = 64) -> list[SetScene]:
-    """The exported scenes (module docstring) at ``resolution`` (module docstring)."""
+def scene_set(name: str = "quick", resolution: int = 64, probe: np.ndarray | None = None) -> list[SetScene]:
+    """The exported scenes (module docstring) at ``resolution``; ``probe``: the (H, W, 3) probe texels, which add
+    the probe scenes."""
     if name not in SETS:
         raise ValidateError(f"--set {name}: not one of {', '.join(SETS)}")
     if not MIN_RESOLUTION <= resolution <= MAX_RESOLUTION:
@@ -99,6 +107,10 @@ def scene_set(name: str = "quick", resolution: int = 64) -> list[SetScene]:
     pairs += [(rs.hemisphere_scene(resolution), "hemisphere")]
     if name == "full":
         pairs += [(sc, "furnace_material") for sc in rs.furnace_material_scenes(resolution)]
+    if probe is not None:
+        pairs += [(sc, "probe") for sc in rs.probe_scenes(probe, PROBE_NAME, resolution, PROBE_ROUGHNESS[name],
+                                                          (1.0,))]
+        pairs += [(rs.probe_lambert_scene(probe, PROBE_NAME, resolution), "probe_lambert")]
     return [SetScene(sc, kind, _kind_references(sc, kind)) for sc, kind in pairs]
 
 
@@ -134,6 +146,21 @@ def exr_bytes(rgb: np.ndarray) -> bytes:
         return path.read_bytes()
 
 
+def read_exr_rgb(path: Path) -> np.ndarray:
+    """(H, W, 3) float64 of an RGB OpenEXR (the exported environments); one-line errors."""
+    import OpenEXR
+
+    try:
+        with OpenEXR.File(str(path), separate_channels=True) as f:
+            ch = {k: np.asarray(v.pixels) for k, v in f.channels().items()}
+        return np.stack([ch[c].astype(np.float64) for c in "RGB"], axis=-1)
+    except KeyError as exc:
+        raise ValidateError(f"{path}: no channel {exc}: need R, G, B") from None
+    except Exception as exc:  # OpenEXR's own errors (missing, malformed)
+        first = (str(exc).strip().splitlines() or [type(exc).__name__])[-1]
+        raise ValidateError(f"{path}: cannot read OpenEXR ({first[:160]})") from None
+
+
 def scene_entry(item: SetScene, env_file: str | None, env_shape: tuple[int, int] | None,
                 constant: list[float] | None) -> dict[str, Any]:
     """The manifest's entry for one scene."""
@@ -163,9 +190,20 @@ def scene_entry(item: SetScene, env_file: str | None, env_shape: tuple[int, int]
     }
 
 
-def build_manifest(set_name: str, resolution: int) -> tuple[dict[str, Any], dict[str, bytes]]:
-    """The manifest and every file it names (name → bytes), nothing written."""
-    items = scene_set(set_name, resolution)
+def load_probe(probes_dir: Path) -> np.ndarray:
+    """``rs.PROBE_FILE`` of ``probes_dir`` resampled to ``rs.PROBE_SIZE`` (the renders experiment's probe)."""
+    from .loaders import load_environment
+
+    path = Path(probes_dir) / rs.PROBE_FILE
+    if not path.is_file():
+        raise ValidateError(f"{path}: no such file (--probes names the folder holding {rs.PROBE_FILE})")
+    return rs.resample_probe(load_environment(path, "latlong", False).radiance)
+
+
+def build_manifest(set_name: str, resolution: int,
+                   probe: np.ndarray | None = None) -> tuple[dict[str, Any], dict[str, bytes]]:
+    """The manifest and every file it names (name → bytes), nothing written; ``probe``: :func:`load_probe`."""
+    items = scene_set(set_name, resolution, probe)
     files: dict[str, bytes] = {}
     envs: dict[str, str] = {}  # file → digest of its texels (one file per distinct environment)
     entries = []
@@ -191,19 +229,23 @@ def build_manifest(set_name: str, resolution: int) -> tuple[dict[str, Any], dict
                      "photometric units as radiometric ones (1 cd = 1 W/sr), as KHR's sample renderers do",
             "environment": ORIENTATION},
         "output": OUTPUT, "truth_samples": TRUTH_SAMPLES[set_name], "scenes": entries,
-        "not_exported": [{"name": k, "reason": v} for k, v in NOT_EXPORTED.items()],
+        "probe": None if probe is None else {"file": f"{PROBE_NAME}.exr", "source": rs.PROBE_FILE,
+                                             "resampled_to": list(rs.PROBE_SIZE)},
+        "not_exported": [{"name": k, "reason": v} for k, v in {**NOT_EXPORTED,
+                                                               **(NO_PROBE if probe is None else {})}.items()],
     }
     check_manifest(doc, MANIFEST)
     return doc, files
 
 
-def export_scenes(out: Path, set_name: str = "quick", resolution: int = 64) -> dict[str, Any]:
+def export_scenes(out: Path, set_name: str = "quick", resolution: int = 64,
+                  probes_dir: Path | None = None) -> dict[str, Any]:
     """Write every file of :func:`build_manifest` into ``out``, then ``manifest.json`` and
     ``manifest.schema.json`` (each atomically; all are built before the first is written)."""
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise ValidateError(f"{out}: exists and is not a folder")
-    doc, files = build_manifest(set_name, resolution)
+    doc, files = build_manifest(set_name, resolution, None if probes_dir is None else load_probe(probes_dir))
     for name, data in files.items():
         with atomic_path(out / name) as tmp:
             tmp.write_bytes(data)
@@ -229,7 +271,7 @@ MANIFEST_SCHEMA: dict[str, Any] = {
         "output": {"type": "object", "required": ["quantity", "tone_mapping", "alpha", "formats", "row0"]},
         "truth_samples": {"type": "object", "required": ["spp", "env_spp", "passes", "seed"],
                           "properties": {k: {"type": "integer", "minimum": 0}
-                                         for k in ("spp", "env_spp", "passes", "seed")}},
+                                         for k in ("spp", "env_spp", "probe_spp", "passes", "seed")}},
         "scenes": {"type": "array", "minItems": 1, "items": {
             "type": "object",
             "required": ["name", "glb", "kind", "digest", "image", "camera", "material", "lights", "environment",
@@ -262,6 +304,8 @@ MANIFEST_SCHEMA: dict[str, Any] = {
                                                                      "enum": list(REFERENCES)}}}},
                                          "judged_by": {"type": "string", "enum": list(REFERENCES)}}},
             }}},
+        "probe": {"type": ["object", "null"], "required": ["file"],
+                  "properties": {"file": {"type": "string", "pattern": r"^[A-Za-z0-9_.+-]+\.exr$"}}},
         "not_exported": {"type": "array"},
     },
 }
@@ -347,8 +391,13 @@ def load_manifest(folder: Path) -> dict[str, Any]:
 
 def manifest_scenes(doc: dict[str, Any], path: Path | str) -> list[tuple[dict[str, Any], SetScene]]:
     """Each manifest entry with the suite's scene of that name, rebuilt (:func:`scene_set` of the manifest's set and
-    resolution); an entry this suite does not have, or whose digest differs, is an error naming it."""
-    items = {it.scene.name: it for it in scene_set(doc["set"], doc["resolution"])}
+    resolution, and the probe texels read back from the folder's probe file); an entry this suite does not have, or
+    whose digest differs, is an error naming it."""
+    probe = None
+    if doc.get("probe"):
+        folder = Path(path) if Path(path).is_dir() else Path(path).parent
+        probe = read_exr_rgb(folder / doc["probe"]["file"])
+    items = {it.scene.name: it for it in scene_set(doc["set"], doc["resolution"], probe)}
     out = []
     for e in doc["scenes"]:
         it = items.get(e["name"])
