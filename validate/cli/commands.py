@@ -1,5 +1,5 @@
 """Command line: ``python -m validate {list, run NAME [NAME ...], all, compare OLD NEW, export RESULTS --to DIR,
-history RESULTS... --out DIR, worst, bench, docs}``:
+history RESULTS... --out DIR, worst, bench, docs, setup, scenes export DIR, judge IMAGES_DIR}``:
 the argument parsing and the small commands; a run is :mod:`validate.run`, ``worst`` is :mod:`.worst`.
 
 Outputs go to ``--out`` (default ``reports/``): ``index.html``, ``results.json``, ``figures/``.
@@ -59,6 +59,8 @@ EPILOG = """examples:
   python -m validate history run1.json run2.json run3.json --out trend/   # one plot per changed value
   python -m validate docs --results reports/results.json   # docs/ figures from that run (--check: exit 1 if stale)
   python -m validate worst sh9 --budget 400            # worst lighting found for sh9 -> reports/worst_sh9_*.exr
+  python -m validate scenes export scenes/            # <scene>.glb + environments + manifest.json for any engine
+  python -m validate judge my_images/ --engine myengine --scenes scenes/ --strict   # their images vs Mitsuba
 
 environment variables:
   VALIDATE_PROBES   default for --probes
@@ -142,6 +144,32 @@ def _parser() -> argparse.ArgumentParser:
     h.add_argument("--all", action="store_true", dest="everything",
                    help="a plot for every value, changed or not (default: only those that changed)")
     add_worst_parser(sub)
+    sc = sub.add_parser("scenes", help="the render scenes as files any engine loads (glTF 2.0, equirect EXR, "
+                                       "manifest.json); see docs/scenes.md")
+    scs = sc.add_subparsers(dest="scenes_command", metavar="ACTION", required=True)
+    ex = scs.add_parser("export", help="write <scene>.glb, the environments and manifest.json into DIR")
+    ex.add_argument("dir", type=Path, metavar="DIR", help="output folder (created if missing)")
+    ex.add_argument("--set", choices=["quick", "full"], default="quick", dest="scene_set",
+                    help="which scenes and the truth's samples: quick (the renders experiment's quick settings) or "
+                         "full (adds the glTF metallic 0.5 spheres; the full settings' samples); default quick")
+    ex.add_argument("--resolution", type=_positive_int, default=64, metavar="R",
+                    help="image size R x R of every scene (16..1024, default 64)")
+    ex.add_argument("--probes", type=Path, default=None, metavar="DIR",
+                    help="add the probe scenes: ict_uffizi_256x128.hdr of DIR under metal spheres and the "
+                         "Lambertian sphere (default: none)")
+    j = sub.add_parser("judge", help="judge a folder of images rendered anywhere against the scenes' Mitsuba truth",
+                       description="Per scene of the manifest, <scene>.exr or <scene>.pfm of IMAGES_DIR judged per "
+                                   "pixel against Mitsuba (the renders experiment's z-test, Sidak, edge mask), with "
+                                   "diagnoses for a failed scene (a global scale such as pi or 683, an environment "
+                                   "turn or flip, a half-pixel shift). Writes results.json and index.html.")
+    j.add_argument("images", type=Path, metavar="IMAGES_DIR", help="folder of the engine's images")
+    j.add_argument("--engine", required=True, metavar="NAME", help="the engine's name (results.json, the page)")
+    j.add_argument("--scenes", type=Path, default=None, metavar="DIR",
+                   help="the exported scenes folder (its manifest.json; default: IMAGES_DIR)")
+    j.add_argument("--out", type=Path, default=None, metavar="DIR",
+                   help="output folder for results.json and index.html (default: reports/judge_NAME)")
+    j.add_argument("--strict", action="store_true",
+                   help="exit with status 1 when a scene fails or has no image")
     b = sub.add_parser("bench", help="benchmarks: drjit local models vs numpy, reference cost")
     b.add_argument("--out", type=Path, default=Path("reports"), metavar="DIR")
     b.add_argument("--sizes", default="1024,2048,4096,8192", metavar="H,H,...",
@@ -328,6 +356,18 @@ def main(argv: list[str] | None = None) -> int:
             return _cmd_export(args.results, args.to, args.format, list(sys.argv[1:] if argv is None else argv))
         if args.command == "history":
             return _cmd_history(args.runs, args.out, args.everything)
+        if args.command == "scenes":
+            from ..scenes.manifest import export_scenes
+
+            doc = export_scenes(args.dir, args.scene_set, args.resolution, args.probes)
+            print(f"{args.dir}: {len(doc['scenes'])} scenes ({args.scene_set}, {args.resolution}² px), "
+                  f"manifest.json ({doc['schema']}); render them, then: python -m validate judge IMAGES_DIR "
+                  f"--engine NAME --scenes {args.dir}")
+            return 0
+        if args.command == "judge":
+            from ..judge.folder import run_judge
+
+            return run_judge(args.images, args.engine, args.scenes, args.out, args.strict)
         if args.command == "docs":
             return _cmd_docs(args.results, args.docs, args.check)
         if args.command == "setup":

@@ -59,6 +59,10 @@ examples/``).
     An engine's rendered pixels against the path tracer, per pixel with uncertainty
     (:mod:`validate.testing.render`, the ``renders`` experiment's judgement).
 
+``check_render_folder(images_dir, engine="engine", scenes=None)``
+    Images rendered anywhere (``<scene>.exr``/``.pfm``) for the scenes ``python -m validate scenes export`` wrote,
+    judged as ``python -m validate judge`` judges them (docs/scenes.md); ``r.passed``, ``r.summary()``.
+
 ``compare(old, new) -> Comparison``
     Two runs' ``results.json`` (paths, their folders, or loaded dicts) compared claim by claim and
     technique metric by metric (:mod:`validate.report.compare`): ``c.regressions`` lists the claims that passed
@@ -86,8 +90,8 @@ from .checks import (
     check_uberlight,
     compare,
 )
-from .render import check_render
+from .render import check_render, check_render_folder
 
 __all__ = ["CheckResult", "MissingProbe", "Stat", "check_arealight", "check_brdf", "check_irradiance", "check_render",
-           "check_shadow", "check_specular", "check_uberlight", "compare", "find_probe", "load_named_environment",
-           "probe_dirs"]
+           "check_render_folder", "check_shadow", "check_specular", "check_uberlight", "compare", "find_probe",
+           "load_named_environment", "probe_dirs"]

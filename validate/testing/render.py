@@ -14,11 +14,13 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
 from ..errors import ValidateError
 from ..experiments.renders.compute import budget, references, truth
+from ..judge.folder import JudgeResult, judge_folder
 from ..metrics.pixel_z import MIN_ACCEPTED, PixelJudgement, interior_mask, judge
 from ..scenes import render_scenes as rs
 
@@ -86,4 +88,19 @@ class _Settings:
         return self.spp
 
 
-__all__ = ["check_render", "RenderCheck", "default_scenes"]
+__all__ = ["check_render", "check_render_folder", "RenderCheck", "default_scenes"]
+
+
+def check_render_folder(images_dir: str | Path, engine: str = "engine",
+                        scenes: str | Path | None = None) -> JudgeResult:
+    """An engine team's CI on images rendered anywhere: ``images_dir`` holds ``<scene>.exr`` (or ``.pfm``) for the
+    scenes of ``scenes`` (a folder written by ``python -m validate scenes export``; default ``images_dir``), judged
+    as ``python -m validate judge`` does (:func:`validate.judge.folder.judge_folder`) without writing anything.
+    ``r.passed`` (every scene passed, none missing), ``r.failed``, ``r.missing``, ``r.summary()``; each scene's
+    judgements and diagnoses in ``r.scenes``. Bad input raises :class:`~validate.errors.ValidateError`::
+
+        def test_my_engine():
+            r = check_render_folder("out/images", engine="myengine", scenes="out/scenes")
+            assert r.passed, r.summary()
+    """
+    return judge_folder(images_dir, engine, scenes)
