@@ -200,3 +200,78 @@ def test_layout_at_1280_and_the_comparison_widget(tmp_path):
     assert cmp["technique"] == ["cmp-technique", "cmp-technique"]
     assert cmp["truth"] == ["cmp-truth", "cmp-truth"]
     assert cmp["wipe80"] == ["cmp-truth", "cmp-technique"] and cmp["state"] == "wipe"
+
+
+# Every experiment page at 1280 × 800: the summary (a figure, or the renders page's acceptance grid) inside the
+# first screen; a figure's smallest text (its data-font-px, the size summary_plots draws every text at, times the
+# rendered / natural width) at least the body's font size; every grid cell a link to an element holding an image
+# that decoded.
+SUMMARY_HARNESS = """<!DOCTYPE html><html><body style="margin:0"><pre id="out">pending</pre><script>
+const pages = %s;
+const loadFrame = src => new Promise(res => { const f = document.createElement('iframe');
+  f.style.width = '1280px'; f.style.height = '800px'; f.style.border = '0'; f.onload = () => res(f); f.src = src;
+  document.body.insertBefore(f, document.body.firstChild); });
+const settle = im => im.complete ? Promise.resolve() : new Promise(r => { im.onload = im.onerror = r; });
+async function measure(p) {
+  const f = await loadFrame(p), d = f.contentDocument, w = f.contentWindow;
+  for (const im of Array.from(d.images)) { im.loading = 'eager'; await settle(im); }
+  const res = {page: p, body: parseFloat(w.getComputedStyle(d.body).fontSize), height: w.innerHeight};
+  const el = d.querySelector('.at-a-glance .summary-grid, .at-a-glance .summary img');
+  if (el) {
+    const r = el.getBoundingClientRect();
+    res.summary = {tag: el.tagName, top: r.top, bottom: r.bottom, width: r.width, natural: el.naturalWidth || 0,
+                   font: parseFloat(el.dataset.fontPx || '0')};
+  }
+  res.cells = Array.from(d.querySelectorAll('.summary-grid a.accept-cell')).map(a => {
+    const t = d.getElementById(a.getAttribute('href').slice(1)), im = t && t.querySelector('img');
+    return [a.getAttribute('href'), !!im && im.complete && im.naturalWidth > 0, im ? im.getAttribute('src') : null];
+  });
+  f.remove();
+  return res;
+}
+async function main() { const out = []; for (const p of pages) out.push(await measure(p));
+  document.getElementById('out').textContent = JSON.stringify({pages: out}); }
+main().catch(e => { document.getElementById('out').textContent = 'error: ' + e; });
+</script></body></html>"""
+
+
+def _summary_results(out: Path) -> dict:
+    """The four pages with summaries of their own (sh9, worstcase, listings, renders, as test_report_summary
+    builds them) and a plug-in page (the generic matrix), with the renders strips as PNGs."""
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from test_report_summary import PAGE_ENTRIES
+
+    entries = {name: make() for name, make in PAGE_ENTRIES.items()}
+    for f in entries["renders"]["report"]["sections"][0]["figures"]:
+        plots.save_image(out / f["path"], np.full((16, 48, 3), 0.5))
+    entries["plugin"] = {"techniques": {f"t{i}": {"metrics": {"err.a": {"value": 0.01 * (i + 1), "uncertainty": 0.0},
+                                                              "err.b": {"value": 0.02, "uncertainty": 0.0}}}
+                                        for i in range(4)}}
+    for name, e in entries.items():
+        e.update(title=f"The {name} experiment", claims=[Claim(f"{name}.c", "a claim", "m", 0.01, 0.002, 0.0)
+                                                         .with_power("× 10", 0.02).to_json()])
+    return {"meta": {"backend": "llvm_ad_rgb"}, "experiments": entries}
+
+
+def test_summary_figures_are_above_the_fold_and_readable(tmp_path):
+    results = _summary_results(tmp_path)
+    write_report(tmp_path, results)
+    pages = [f"exp-{n}.html" for n in results["experiments"]]
+    out = _run_harness(tmp_path, SUMMARY_HARNESS % json.dumps(pages), "1280,800")
+    by_page = {p["page"]: p for p in out["pages"]}
+    assert set(by_page) == set(pages)
+    for p in by_page.values():
+        s = p.get("summary")
+        assert s is not None, f"{p['page']}: no summary figure"
+        assert 0 <= s["top"] and s["bottom"] <= p["height"] == 800, (p["page"], s)  # inside the first screen
+        if s["tag"] == "IMG":
+            assert s["natural"] > 0 and s["font"] > 0, (p["page"], s)
+            shown = s["font"] * s["width"] / s["natural"]  # the figure's smallest text, as drawn on the screen
+            assert shown >= p["body"] - 0.01, (p["page"], shown, p["body"])
+    cells = by_page["exp-renders.html"]["cells"]
+    assert by_page["exp-renders.html"]["summary"]["tag"] == "DIV"
+    assert len(cells) == 4, cells  # every cell of the 2 scenes × 2 engines (a skipped one too) opens the strip
+    for href, decoded, src in cells:
+        assert decoded and (tmp_path / src).is_file(), (href, src)

@@ -27,7 +27,7 @@ def _sh9_entry() -> dict:
 
 
 def test_sh9_matrix_and_verdict():
-    s = summary.summary_for("sh9", _sh9_entry())
+    s = summary.summary_for("sh9", _sh9_entry()).matrix  # the full matrix below the spread
     assert isinstance(s, summary.Matrix)
     assert s.rows == ["sh9", "sh1"] and s.cols == ["sky", "probe"]
     assert s.values == [[0.012, 0.032], [0.05, 0.25]]
@@ -72,7 +72,7 @@ def test_shadows_curves_carry_their_uncertainty_bands():
 def test_summary_figures_are_drawn(tmp_path):
     from validate.report import summary_plots
 
-    for name, spec in (("m", summary.summary_for("sh9", _sh9_entry())),
+    for name, spec in (("m", summary.summary_for("sh9", _sh9_entry()).matrix),
                        ("c", summary.Curves("t", "err, %", "x", [1.0, 2.0], {"a": [0.1, 0.0]}, {"a": [0.01, 0.01]}))):
         path = tmp_path / f"{name}.png"
         summary_plots.draw(spec, path)
@@ -157,3 +157,142 @@ def test_overview_names_the_environments_whose_noise_negatives_were_clamped(tmp_
     page = html.render_pages(tmp_path, results)["index.html"]
     assert "Negative texels clamped" in page and "blender_world_interior" in page and "-2.3e-06" in page
     assert "grace_probe" not in page.split('id="clamped"')[1].split("</section>")[0]
+
+
+# ---------------------------------------------------------------------------------------------------
+# The pages' own summaries: sh9 spread, worst case, listings, renders acceptance
+# ---------------------------------------------------------------------------------------------------
+
+def _sh9_spread_entry() -> dict:
+    errors = {"sh9": {"sky": 0.012, "grace_probe": 0.032, "sun": 0.2}, "sh1": {"sky": 0.05, "grace_probe": 0.25},
+              "sh4": {"sky": 0.001, "grace_probe": 0.01, "sun": 0.09}}
+    e = _sh9_entry()
+    e["techniques"] = {t: {"metrics": {env: {"flux_luminance": _stat(v, 0.0004)} for env, v in envs.items()}}
+                       for t, envs in errors.items()}
+    e["environments"] = {"sky": {"kind": "procedural"}, "grace_probe": {"kind": "probe", "published": {}},
+                         "sun": {"kind": "procedural"}}
+    return e
+
+
+def _worstcase_entry() -> dict:
+    cert = {"value": 0.09375, "uncertainty": 1e-6, "direction": [0.0, 1.0, 0.0]}
+    lum = [[0.0] * 8 for _ in range(4)]
+    lum[1][2] = 1.0
+    return {"certificates": {"sh9": {"flux_luminance.max": cert}, "sh9_lanczos": {"flux_luminance.max": {
+        "value": 0.2, "uncertainty": 1e-5, "direction": [1.0, 0.0, 0.0]}}},
+        "searches": {"sh9": {"flux_luminance.max": {"value": 0.0936, "uncertainty": 1e-5}},
+                     "zh3": {"flux_luminance.max": {"value": 0.25, "uncertainty": 0.002}}},
+        "worst_lighting": {"sh9": {"height": 4, "width": 8, "luminance": lum}}}
+
+
+def _listings_entry() -> dict:
+    def m(v, s=0.0):
+        return {"value": v, "uncertainty": s, "unit": ""}
+    return {"gl": {"available": True}, "index": [
+        {"name": "redbook_7_4", "seed": "redbook", "listing": "Example 7.4", "status": "with an edit", "runs": True,
+         "transcription": m(3e-7), "mitsuba": m(4e-7, 1e-6)},
+        {"name": "orange_12_6_12_7", "seed": "orange", "listing": "Listings 12.6", "status": "as printed",
+         "runs": True, "transcription": m(8e-7), "mitsuba": m(12.0, 0.01)},
+        {"name": "ganovelli_6_12", "seed": "ganovelli", "listing": "Listing 6.12", "status": "not runnable",
+         "runs": True, "transcription": None, "mitsuba": None}]}
+
+
+def _judgement(f: float) -> dict:
+    return {"n_pixels": 100, "fraction_accepted": {"value": f, "uncertainty": 0.0, "unit": "%", "better": "higher"}}
+
+
+def _renders_entry() -> dict:
+    return {"scenes": {
+        "point_plane": {"kind": "point", "skipped": {}, "engines": {
+            "three": {"judgements": {"mitsuba": _judgement(1.0)}},
+            "filament": {"judgements": {"mitsuba": _judgement(0.5)}}}},
+        "furnace_metal_r1": {"kind": "furnace", "skipped": {"filament": "no IBL"}, "engines": {
+            "three": {"judgements": {"energy": _judgement(1.0), "model": _judgement(0.011)}}}}},
+        "report": {"sections": [{"figures": [{"path": "figures/renders/point_plane_r64.png", "caption": "strip"},
+                                             {"path": "figures/renders/furnace_metal_r1_r64.png", "caption": "s"}]}]}}
+
+
+PAGE_ENTRIES = {"sh9": _sh9_spread_entry, "worstcase": _worstcase_entry, "listings": _listings_entry,
+                "renders": _renders_entry}
+
+
+def test_sh9_spread_sorts_by_median_and_marks_the_papers_probes():
+    s = summary.summary_for("sh9", _sh9_spread_entry())
+    assert isinstance(s, summary.Spread)
+    assert s.rows == ["sh4", "sh9", "sh1"]  # median of the max over the environments: 1 %, 3.2 %, 15 %
+    assert s.marked == ["grace_probe"] and list(s.panels) == ["mean over the normals", "max over the normals"]
+    assert s.hlines["max over the normals"] == {"R&H: max < 5 %": 0.05}
+    assert s.matrix is not None and s.matrix.rows == ["sh9", "sh1", "sh4"]  # the full matrix, as measured
+    assert summary.verdict(s, [])[0].startswith("Best: sh4 — 9")  # worst over the environments: 9 %
+
+
+def test_worstcase_certificate_beside_search_with_the_lighting():
+    s = summary.summary_for("worstcase", _worstcase_entry())
+    assert isinstance(s, summary.Worst)
+    assert s.rows == ["sh9", "sh9_lanczos", "zh3"]
+    assert s.certificate[0] == (0.09375, 1e-6) and math.isnan(s.certificate[2][0])
+    assert s.search[2] == (0.25, 0.002) and math.isnan(s.search[1][0])
+    assert s.maps[0][1][2] == 1.0 and s.maps[1] is None
+    assert s.stars[0][1] == pytest.approx(0.0)  # +y: θ = 0, the top row of the map
+    assert s.stars[1] == (pytest.approx(0.25), pytest.approx(0.5))  # +x: φ = 90°, the horizon
+    assert [r[0] for r in s.ranking()] == ["sh9", "sh9_lanczos", "zh3"]
+
+
+def test_listings_rows_status_and_errors():
+    s = summary.summary_for("listings", _listings_entry())
+    assert isinstance(s, summary.Listings)
+    assert s.rows == ["Red Book 7.4", "Orange Book 12.6 12.7", "Ganovelli 6.12"]
+    assert s.status == ["with an edit", "as printed", "not runnable"]
+    assert s.transcription[0] == (3e-7, 0.0) and s.mitsuba[1] == (12.0, 0.01) and s.why[2] == "not run"
+    assert "Listings: 1 with an edit, 1 as printed, 1 not runnable (3 catalogued)." in summary.verdict(s, [])
+
+
+def test_renders_acceptance_names_the_reference_and_the_strip():
+    s = summary.summary_for("renders", _renders_entry())
+    assert isinstance(s, summary.Acceptance)
+    assert s.rows == ["three", "filament"] and s.cols == ["point_plane", "furnace_metal_r1"]
+    assert s.values[0] == [1.0, 0.011] and s.refs[0] == ["mitsuba", "model"]  # model before energy
+    assert s.others[0][1] == "energy 100.0 %"
+    assert math.isnan(s.values[1][1]) and s.skipped[1][1] == "no IBL"
+    assert s.strips == ["figures/renders/point_plane_r64.png", "figures/renders/furnace_metal_r1_r64.png"]
+    assert [r[0] for r in s.ranking()] == ["filament", "three"]  # lowest fraction accepted: 50 % > 1.1 %
+
+
+@pytest.mark.parametrize("name", [*PAGE_ENTRIES, "engines", "shadows", "ibl"])
+def test_summary_figures_are_readable(name, tmp_path):
+    """Every text at the body's size or larger, none past the edge, none overlapping another; the figure fits
+    the page column and the fold; it leaves as PNG and SVG."""
+    from validate.report import summary_plots
+
+    entry = PAGE_ENTRIES[name]() if name in PAGE_ENTRIES else None
+    if name == "engines":
+        entry = _sh9_entry()
+    elif name == "shadows":
+        entry = {"resolution_sweep": {str(n): {"0.02": {t: {"total": {"mean": k / n, "uncertainty": 0.1 / n}}
+                                                        for k, t in enumerate(["hard", "pcf", "vsm"], 1)}}
+                                      for n in (256, 512, 1024, 2048)}}
+    elif name == "ibl":
+        entry = {"comparisons": [{"approximation": f"technique_{i}", "group": "Lambertian", "mean": 0.01 * (i + 1),
+                                  "mean_uncertainty": 0.001} for i in range(12)]}
+    spec = summary.summary_for(name, entry)
+    assert spec is not None
+    fig = summary_plots.figure(spec)
+    assert summary_plots.text_problems(fig) == []
+    w, h = fig.get_size_inches()
+    assert w <= summary_plots.MAX_WIDTH_IN + 1e-9 and h <= summary_plots.MAX_HEIGHT_IN + 1e-9
+    for ext in ("png", "svg"):
+        summary_plots.draw(spec, tmp_path / f"{name}.{ext}")
+    assert png_size(tmp_path / f"{name}.png")[0] == round(w * plots.FIG_DPI)
+
+
+def test_text_problems_sees_small_overlapping_and_clipped_text():
+    from validate.report import summary_plots
+
+    fig = plots._new_figure((3.0, 2.0), layout=None)
+    fig.text(0.1, 0.5, "small", fontsize=6)
+    fig.text(0.1, 0.5, "overlapping", fontsize=summary.FONT_PT)
+    fig.text(0.9, 0.1, "past the right edge", fontsize=summary.FONT_PT)
+    problems = summary_plots.text_problems(fig)
+    assert any("'small' at 6 pt" in p for p in problems)
+    assert any("overlaps" in p for p in problems)
+    assert any("past the edge" in p for p in problems)

@@ -298,19 +298,69 @@ def summary_path(experiment: str, spec: summary.Summary) -> str:
     return f"{SUMMARY_DIR}/{anchor(experiment)}-{digest}.png"
 
 
+def matrix_path(experiment: str, spec: summary.Spread) -> str:
+    """Report-relative path of the full matrix beside a :class:`~.summary.Spread` summary."""
+    return summary_path(experiment, spec).replace(".png", "-matrix.png")
+
+
+def _accept_grid(spec: summary.Acceptance, out_dir: Path) -> dict[str, Any]:
+    """The engine × scene acceptance matrix as HTML cells (scenes down, engines across, in two blocks side by
+    side): per cell its per cent, reference, colour, title and the anchor of the scene's strip."""
+    from .summary_plots import accept_colour  # matplotlib's colour maps: loaded only when pages are written
+
+    rows = []
+    for j, scene in enumerate(spec.cols):
+        strip = spec.strips[j]
+        cells = []
+        for i, engine in enumerate(spec.rows):
+            v, ref, skipped = spec.values[i][j], spec.refs[i][j], spec.skipped[i][j]
+            measured = math.isfinite(v)
+            text = f"{100 * v:.1f} %" if measured else ("skipped" if skipped else "—")
+            title = (f"{engine} on {scene}: {text} of the pixels accepted against the {ref} reference"
+                     + (f"; also {spec.others[i][j]}" if spec.others[i][j] else "") if measured else
+                     f"{engine} on {scene}: skipped — {skipped}" if skipped else f"{engine} did not render {scene}")
+            cells.append({"text": text, "ref": ref if measured else "", "colour": accept_colour(v),
+                          "title": title, "measured": measured})
+        rows.append({"scene": scene, "cells": cells, "href": f"#{strip_anchor(scene)}" if strip else "",
+                     "strip": strip})
+    half = (len(rows) + 1) // 2
+    return {"engines": list(spec.rows), "blocks": [rows[:half], rows[half:]] if len(rows) > 8 else [rows]}
+
+
+def strip_anchor(scene: str) -> str:
+    """HTML id of a scene's image strip on the renders page."""
+    return "strip-" + re.sub(r"[^A-Za-z0-9_-]", "-", str(scene))
+
+
 def _summary(name: str, e: Mapping[str, Any], claims: list[dict[str, Any]], out_dir: Path) -> dict[str, Any]:
-    """The summary figure (path, caption, whether drawn) and the verdict lines of one experiment."""
+    """The summary figure (path, caption, whether drawn, the size its text is drawn at), the verdict lines, and
+    where the spec has them: the acceptance grid and its image strips, the full matrix further down."""
     spec = summary.summary_for(name, e)
-    fig = None
-    if spec is not None:
-        fig = _figure({"path": summary_path(name, spec), "caption": f"{spec.title} — {spec.metric}"}, out_dir)
-    return {"figure": fig, "verdict": summary.verdict(spec, claims)}
+    out: dict[str, Any] = {"figure": None, "verdict": summary.verdict(spec, claims), "grid": None, "strips": [],
+                           "matrix": None, "font_px": round(summary.FONT_PX, 2)}
+    if spec is None:
+        return out
+    out["figure"] = _figure({"path": summary_path(name, spec), "caption": f"{spec.title} — {spec.metric}"}, out_dir)
+    if isinstance(spec, summary.Acceptance):
+        out["grid"] = _accept_grid(spec, out_dir)
+        out["strips"] = [dict(_figure({"path": p, "caption": f"{scene}: truth | engine | error"}, out_dir),
+                              anchor=strip_anchor(scene), scene=scene)
+                         for scene, p in zip(spec.cols, spec.strips, strict=True) if p]
+    if isinstance(spec, summary.Spread) and spec.matrix is not None:
+        out["matrix"] = _figure({"path": matrix_path(name, spec),
+                                 "caption": f"{spec.matrix.title} — {spec.matrix.metric}"}, out_dir)
+    return out
 
 
 def _experiment(name: str, e: Mapping[str, Any], out_dir: Path) -> dict[str, Any]:
     claims = [_claim(c, name) for c in e.get("claims") or []]
     techniques = _techniques(e.get("techniques"))
     findings = list(e.get("findings") or [])
+    overview = _summary(name, e, claims, out_dir)
+    sections = [_section(s, out_dir, name, i) for i, s in enumerate((e.get("report") or {}).get("sections") or [])]
+    strips = {f["src"] for f in overview["strips"]}
+    for s in sections:  # the strips are shown once, beside the findings
+        s["figures"] = [f for f in s["figures"] if f["src"] not in strips]
     return {
         "name": name,
         "anchor": anchor(name),
@@ -327,10 +377,9 @@ def _experiment(name: str, e: Mapping[str, Any], out_dir: Path) -> dict[str, Any
         "n_power_fails": sum(bool((c.get("power") or {}).get("fails")) for c in claims),
         "page": page_name(name),
         "techniques": techniques,
-        "overview": _summary(name, e, claims, out_dir),
+        "overview": overview,
         "not_run": [_not_run_line(n) for n in e.get("not_run") or []],
-        "sections": [_section(s, out_dir, name, i)
-                     for i, s in enumerate((e.get("report") or {}).get("sections") or [])],
+        "sections": sections,
     }
 
 
@@ -482,6 +531,11 @@ def draw_summaries(out_dir: Path, results: Mapping[str, Any]) -> list[Path]:
             if not path.is_file():
                 summary_plots.draw(spec, path)
             written.append(path)
+            if isinstance(spec, summary.Spread) and spec.matrix is not None:
+                path = out_dir / matrix_path(name, spec)
+                if not path.is_file():
+                    summary_plots.draw_matrix(spec.matrix, path)
+                written.append(path)
     for stale in (out_dir / SUMMARY_DIR).glob("*.png"):
         if stale not in written:
             stale.unlink(missing_ok=True)

@@ -22,6 +22,7 @@ the inputs or the sweep (:meth:`Matrix.ranking`, :meth:`Curves.ranking`).
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -29,7 +30,10 @@ from typing import Any
 from ..format import pm
 
 Entry = Mapping[str, Any]
-FIGURE_VERSION = 1  # part of a summary figure's file name: bump when the drawing changes
+FIGURE_VERSION = 2  # part of a summary figure's file name: bump when the drawing changes
+FONT_PT = 11.5  # every text of a summary figure (points): at FIG_DPI 100, 16 px on screen ≥ the pages' 15-px body
+FIG_DPI = 100.0  # pixels per inch of the summary PNGs (validate.figures.plots.FIG_DPI)
+FONT_PX = FONT_PT * FIG_DPI / 72.0  # the smallest text of a summary PNG shown at its own size, in pixels
 
 
 @dataclass(frozen=True)
@@ -107,7 +111,111 @@ class Bars:
         return sorted(((lab, v, s) for lab, (v, s) in worst.items()), key=lambda r: r[1])
 
 
-Summary = Matrix | Curves | Bars
+@dataclass(frozen=True)
+class Spread:
+    """Per technique (row), its values over every input (columns), one panel per statistic: a box per row (the
+    spread over the inputs) with each input a dot, rows sorted by their median in the last panel; ``marked``
+    inputs drawn apart (the paper's probes); ``hlines``: per panel, labelled reference levels; ``matrix``: the full
+    technique × input matrix, drawn as a second figure further down the page."""
+
+    title: str
+    metric: str  # the x axis ("|ΔE|/Φ over the sphere's normals, %")
+    rows: list[str]
+    cols: list[str]
+    panels: dict[str, list[list[float]]]  # panel title → rows × cols values (NaN = not measured)
+    hlines: dict[str, dict[str, float]] = field(default_factory=dict)  # panel title → {label: level}
+    marked: list[str] = field(default_factory=list)
+    marked_label: str = ""
+    unit: str = "%"
+    over: str = "environments"
+    matrix: Matrix | None = None
+
+    def ranking(self) -> list[tuple[str, float, float]]:
+        """(row, worst value of the last panel over the inputs, 0), best first."""
+        last = list(self.panels.values())[-1]
+        out = [(r, max(v for v in vs if math.isfinite(v)), 0.0) for r, vs in zip(self.rows, last, strict=True)
+               if any(math.isfinite(v) for v in vs)]
+        return sorted(out, key=lambda r: r[1])
+
+
+@dataclass(frozen=True)
+class Worst:
+    """Per technique: its certificate (the largest error any non-negative lighting can cause) beside the worst
+    error a search found, each ± σ (NaN: not computed), and the worst lighting found as a small equirect map
+    (rows θ = 0 … π, columns φ = 0 … 2π, luminance relative to its largest texel; None: no search) with the
+    certificate's worst light (a delta) at ``star`` = (φ/2π, θ/π)."""
+
+    title: str
+    metric: str
+    rows: list[str]
+    certificate: list[tuple[float, float]]
+    search: list[tuple[float, float]]
+    maps: list[list[list[float]] | None]
+    stars: list[tuple[float, float] | None]
+    unit: str = "%"
+    over: str = "techniques (certificate)"
+
+    def ranking(self) -> list[tuple[str, float, float]]:
+        """(technique, certificate ± σ — the search's value where there is no certificate), best first."""
+        out = []
+        for r, c, f in zip(self.rows, self.certificate, self.search, strict=True):
+            v, sg = c if math.isfinite(c[0]) else f
+            if math.isfinite(v):
+                out.append((r, v, sg if math.isfinite(sg) else 0.0))
+        return sorted(out, key=lambda r: r[1])
+
+
+@dataclass(frozen=True)
+class Listings:
+    """Per listing (row): its status (as printed / with an edit / not runnable), and its largest relative error
+    against its float64 transcription and against Mitsuba, ± σ (NaN: not measured; ``why``: the reason shown
+    instead)."""
+
+    title: str
+    metric: str
+    rows: list[str]
+    status: list[str]
+    transcription: list[tuple[float, float]]
+    mitsuba: list[tuple[float, float]]
+    why: list[str]
+    bound: float = 1e-5  # the transcription claim's bound
+    unit: str = ""
+    over: str = "listings"
+
+    def ranking(self) -> list[tuple[str, float, float]]:
+        return []
+
+    def lines(self) -> list[str]:
+        counts = {w: self.status.count(w) for w in dict.fromkeys(self.status)}
+        return ["Listings: " + ", ".join(f"{n} {w}" for w, n in counts.items()) + f" ({len(self.rows)} catalogued)."]
+
+
+@dataclass(frozen=True)
+class Acceptance:
+    """Engine (row) × scene (column): the fraction of pixels accepted against one reference (named per cell,
+    ``refs``; the others in ``others``), NaN where the engine did not render the scene (``skipped`` says why);
+    ``strips``: per scene, the report-relative path of its image strip (truth | engine | error), or ""."""
+
+    title: str
+    metric: str
+    rows: list[str]
+    cols: list[str]
+    values: list[list[float]]
+    refs: list[list[str]]
+    others: list[list[str]]
+    skipped: list[list[str]]
+    strips: list[str]
+    unit: str = "%"
+    over: str = "scenes"
+
+    def ranking(self) -> list[tuple[str, float, float]]:
+        """(engine, its lowest fraction accepted over the scenes, 0), best (highest) first."""
+        out = [(r, min(v for v in vs if math.isfinite(v)), 0.0) for r, vs in zip(self.rows, self.values, strict=True)
+               if any(math.isfinite(v) for v in vs)]
+        return sorted(out, key=lambda r: -r[1])
+
+
+Summary = Matrix | Curves | Bars | Spread | Worst | Listings | Acceptance
 
 
 def _f(x: Any) -> float:
@@ -159,10 +267,37 @@ def _tech_metrics(e: Entry) -> dict[str, Any]:
     return {k: (v or {}).get("metrics") or {} for k, v in (e.get("techniques") or {}).items()}
 
 
+PAPER_LEVELS = {"mean": {"R&H: mean < 1 %": 0.01}, "max": {"R&H: max < 5 %": 0.05}}  # R&H 2001, §4
+
+
 def sh9(e: Entry) -> Summary | None:
-    """Technique × environment: worst flux-normalised luminance error max_ω |E′ − E| / Φ."""
-    return _matrix("Irradiance techniques against the Mitsuba quadrature",
-                   "max flux-normalised error |ΔE|/Φ, %", _env_stat_cells(_tech_metrics(e)), "environments")
+    """Per technique, its mean and max flux-normalised error |E′ − E| / Φ over the sphere's normals, spread over
+    the environments (techniques sorted by their median max), R&H's 1 % / 5 % lines, the paper's probes marked;
+    the full technique × environment matrix of the max below it."""
+    metrics = _tech_metrics(e)
+    cells = {stat: _env_stat_cells(metrics, stat) for stat in ("mean", "max")}
+    full = _matrix("Irradiance techniques against the Mitsuba quadrature", "max flux-normalised error |ΔE|/Φ, %",
+                   cells["max"], "environments")
+    if full is None:
+        return None
+    panels = {f"{stat} over the normals": [[cells[stat].get((r, c), (math.nan, 0.0))[0] for c in full.cols]
+                                           for r in full.rows] for stat in ("mean", "max")}
+    order = sorted(range(len(full.rows)), key=lambda i: _median(panels["max over the normals"][i]))
+    panels = {k: [v[i] for i in order] for k, v in panels.items()}
+    envs = e.get("environments") or {}
+    paper = [c for c in full.cols if isinstance(envs.get(c), Mapping) and "published" in envs[c]]
+    return Spread("Irradiance error over the environments (techniques by median)",
+                  "flux-normalised error |E′ − E| / Φ, %", [full.rows[i] for i in order], full.cols, panels,
+                  {f"{stat} over the normals": PAPER_LEVELS[stat] for stat in ("mean", "max")}, paper,
+                  "the paper's probes" + (f" ({', '.join(paper)})" if paper else ""), matrix=full)
+
+
+def _median(vs: list[float]) -> float:
+    f = sorted(v for v in vs if math.isfinite(v))
+    if not f:
+        return math.inf
+    n = len(f)
+    return f[n // 2] if n % 2 else 0.5 * (f[n // 2 - 1] + f[n // 2])
 
 
 def engines(e: Entry) -> Summary | None:
@@ -279,6 +414,113 @@ def shadows(e: Entry) -> Summary | None:
                   {t: bands[t] for t in series}, logx=True) if series else None
 
 
+def _measured(v: Any) -> tuple[float, float]:
+    """(value, σ) of a measured value's JSON (or a bare number); (NaN, 0) when absent."""
+    if isinstance(v, Mapping):
+        return _f(v.get("value")), _f(v.get("uncertainty", 0.0))
+    return _f(v), 0.0
+
+
+def _direction_fraction(d: Any) -> tuple[float, float] | None:
+    """A unit direction [x, y, z] → (φ/2π, θ/π) on the equirect map (θ from +y, φ = atan2(x, −z);
+    :mod:`validate.scenes.latlong`)."""
+    if not isinstance(d, list) or len(d) != 3:
+        return None
+    x, y, z = (_f(c) for c in d)
+    if not all(math.isfinite(c) for c in (x, y, z)):
+        return None
+    theta = math.acos(max(-1.0, min(1.0, y)))
+    phi = math.atan2(x, -z) % (2.0 * math.pi)
+    return phi / (2.0 * math.pi), theta / math.pi
+
+
+def worstcase(e: Entry) -> Summary | None:
+    """Per technique, the certificate of max |E′ − E| / Φ beside the worst the search found (± σ), and the worst
+    lighting found as a small equirect map with the certificate's worst light on it."""
+    certs, searches = e.get("certificates") or {}, e.get("searches") or {}
+    lights = e.get("worst_lighting") or {}
+    key = "flux_luminance.max"
+    rows = [t for t in _ordered([*certs, *searches]) if key in (certs.get(t) or {}) or key in (searches.get(t) or {})]
+    if not rows:
+        return None
+    maps: list[list[list[float]] | None] = []
+    for t in rows:
+        lum = (lights.get(t) or {}).get("luminance")
+        ok = isinstance(lum, list) and lum and all(isinstance(r, list) and len(r) == len(lum[0]) for r in lum)
+        maps.append([[_f(v) for v in r] for r in lum] if ok else None)
+    return Worst("Worst case over any lighting: certificate and search",
+                 "max over normals of |E′ − E| / Φ, %", rows,
+                 [_measured((certs.get(t) or {}).get(key)) for t in rows],
+                 [_measured((searches.get(t) or {}).get(key)) for t in rows], maps,
+                 [_direction_fraction(((certs.get(t) or {}).get(key) or {}).get("direction")) for t in rows])
+
+
+_SEEDS = {"forejune": "Fore June", "usc420": "USC 420", "orange": "Orange Book", "ganovelli": "Ganovelli",
+          "redbook": "Red Book"}
+
+
+def _listing_label(x: Mapping[str, Any]) -> str:
+    """"Red Book 7.4", "Fore June 20.4 disc": the seed and the listing's catalogue name (numbers joined by a dot)."""
+    seed, name = str(x.get("seed") or ""), str(x.get("name") or x.get("listing") or "")
+    rest = name[len(seed) + 1:] if seed and name.startswith(seed + "_") else name
+    rest = re.sub(r"(\d+)_(\d+)", r"\1.\2", rest).replace("_", " ")
+    return f"{_SEEDS.get(seed, seed)} {rest}".strip()[:24]
+
+
+def listings(e: Entry) -> Summary | None:
+    """Per catalogued listing: its status and its error against its transcription and against Mitsuba."""
+    index = [x for x in e.get("index") or [] if isinstance(x, Mapping)]
+    if not index:
+        return None
+    gl = (e.get("gl") or {}).get("available", True)
+    why = []
+    for x in index:
+        if x.get("status") == "not runnable" or not x.get("runs"):
+            why.append("not run")
+        elif x.get("transcription") is None:
+            why.append("no GL here" if not gl else "—")
+        else:
+            why.append("")
+    return Listings("Listings: status, against the transcription and against Mitsuba",
+                    "largest relative error (–)", [_listing_label(x) for x in index],
+                    [str(x.get("status") or "") for x in index], [_measured(x.get("transcription")) for x in index],
+                    [_measured(x.get("mitsuba")) for x in index], why)
+
+
+REFERENCE_ORDER = ("mitsuba", "gltf", "model", "energy")  # the reference a renders cell is coloured by
+
+
+def renders(e: Entry) -> Summary | None:
+    """Engine × scene: the fraction of pixels accepted against the scene's first reference of
+    :data:`REFERENCE_ORDER` (any other after them), each cell linking to the scene's image strip."""
+    scenes = {k: v for k, v in (e.get("scenes") or {}).items() if isinstance(v, Mapping)}
+    rows = _ordered(en for sc in scenes.values() for en in [*(sc.get("engines") or {}), *(sc.get("skipped") or {})])
+    cols = [k for k, sc in scenes.items() if sc.get("engines") or sc.get("skipped")]
+    if not rows or not cols:
+        return None
+    figs = [str(f.get("path") or "") for sec in (e.get("report") or {}).get("sections") or []
+            for f in (sec or {}).get("figures") or [] if isinstance(f, Mapping)]
+    values, refs, others, skipped = [], [], [], []
+    for en in rows:
+        vr, rr, orr, sr = [], [], [], []
+        for sc in cols:
+            js = ((scenes[sc].get("engines") or {}).get(en) or {}).get("judgements") or {}
+            kinds = sorted(js, key=lambda k: REFERENCE_ORDER.index(k) if k in REFERENCE_ORDER else len(REFERENCE_ORDER))
+            ref = kinds[0] if kinds else ""
+            vr.append(_measured((js.get(ref) or {}).get("fraction_accepted"))[0] if ref else math.nan)
+            rr.append(ref)
+            orr.append("; ".join(f"{k} {100 * _measured(js[k].get('fraction_accepted'))[0]:.1f} %"
+                                 for k in kinds[1:] if isinstance(js[k], Mapping)))
+            sr.append(str((scenes[sc].get("skipped") or {}).get(en) or ""))
+        values.append(vr)
+        refs.append(rr)
+        others.append(orr)
+        skipped.append(sr)
+    strips = [next((f for f in figs if f.rsplit("/", 1)[-1].startswith(f"{sc}_r")), "") for sc in cols]
+    return Acceptance("Engines against Mitsuba: pixels accepted per scene", "pixels accepted, %", rows, cols,
+                      values, refs, others, skipped, strips)
+
+
 # ---------------------------------------------------------------------------------------------------
 # Generic: any experiment's techniques.<t>.metrics
 # ---------------------------------------------------------------------------------------------------
@@ -332,6 +574,7 @@ def generic(e: Entry) -> Summary | None:
 SUMMARIES: dict[str, Callable[[Entry], Summary | None]] = {
     "sh9": sh9, "engines": engines, "hemisphere": hemisphere, "ibl": ibl, "uberlight": uberlight,
     "arealights": arealights, "lights": lights, "brdfs": brdfs, "multiscatter": multiscatter, "shadows": shadows,
+    "worstcase": worstcase, "listings": listings, "renders": renders,
 }
 
 
@@ -358,6 +601,8 @@ def verdict(s: Summary | None, claims: list[Mapping[str, Any]]) -> list[str]:
     if rank:
         for label, (name, v, sig) in (("Best", rank[0]), ("Worst", rank[-1])):
             lines.append(f"{label}: {name} — {pm(v, sig, s.unit)} ({s.metric.split(',')[0]}, worst over {over})")
+    if isinstance(s, Listings):
+        lines += s.lines()
     n = len(claims)
     passed = sum(bool(c.get("passed")) for c in claims)
     power = [c.get("power") for c in claims]

@@ -6,6 +6,7 @@ from dataclasses import asdict
 from typing import Any
 
 from ...local_models.listings.catalog import LISTINGS, SEED_FILES
+from ...stats import Measured
 from ..base import Context, NotRun, Section, Table
 from .compute import Measurements
 
@@ -198,5 +199,39 @@ __all__ = ["findings", "index_counts", "not_run", "sections"]
 
 
 def data(m: Measurements) -> dict[str, Any]:
-    """The measurements as results.json data (the settings go under ``settings``)."""
-    return {k: v for k, v in asdict(m).items() if k != "settings"}
+    """The measurements as results.json data (the settings go under ``settings``), and ``index``: per catalogued
+    listing its status and its errors (:func:`index_data`)."""
+    return {**{k: v for k, v in asdict(m).items() if k != "settings"}, "index": index_data(m)}
+
+
+def mitsuba_measured(m: Measurements) -> dict[str, Measured]:
+    """Per listing measured against Mitsuba here, its largest relative error (dimensionless: |E/E_ref − 1| over the
+    receivers for the point lights, |Δ|/peak over the pixels for the projectors) ± its uncertainty."""
+    p, b, o = m.point, m.uberlight_book["models"], m.orange["models"]
+    lamp = next(v for k, v in p.items() if k.startswith("ganovelli_6_9 (") and isinstance(v, dict))
+    red = next(v for k, v in p.items() if k.startswith("redbook_7_4 (") and isinstance(v, dict))
+    fj = next(v for k, v in b.items() if k.startswith("as printed"))
+    oo = o["as printed (no falloff)"]
+    point = {"reference": "point emitter", "over": "receivers"}
+    return {"ganovelli_6_9": Measured(max(abs(lamp["ratio_min"] - 1.0), abs(lamp["ratio_max"] - 1.0)), 1e-6,
+                                      stat="max", params=point),
+            "redbook_7_4": Measured(red["max_rel"], 1e-6, stat="max", params=point),
+            "forejune_20_5": Measured(fj["max_rel"], fj["uncertainty"], stat="max",
+                                      params={"reference": "projector", "over": "pixels, of the peak"}),
+            "orange_12_6_12_7": Measured(oo["max_rel"], oo["uncertainty"], stat="max",
+                                         params={"reference": "projector", "over": "pixels, of the peak"})}
+
+
+def index_data(m: Measurements) -> list[dict[str, Any]]:
+    """One entry per catalogued listing: seed, listing, status (as printed / with an edit / not runnable), whether
+    it runs, and its error against its float64 Python transcription (GLSL run; absent when it did not run) and
+    against Mitsuba (absent where this experiment measures none), as measured values."""
+    vs = mitsuba_measured(m)
+    out = []
+    for x in LISTINGS:
+        t = m.transcription.get(x.name)
+        out.append({"name": x.name, "seed": x.seed, "listing": x.number, "status": STATUS_WORDS[x.status],
+                    "runs": bool(x.runs),
+                    "transcription": Measured(t["rel"], stat="max").to_json() if t else None,
+                    "mitsuba": vs[x.name].to_json() if x.name in vs else None})
+    return out

@@ -14,6 +14,7 @@ from ..base import Context, Figure, Section, Table
 from ..formatting import pct
 from ..techniques import technique_entry
 from .compute import NAME, Measurements
+from .lighting import LUMINANCE
 
 
 def pct4(x: float) -> str:
@@ -105,7 +106,27 @@ def data(m: Measurements) -> dict[str, Any]:
             "certificates": {n: {k: c.to_json() for k, c in v.items()} for n, v in m.certificates.items()},
             "sh9_power": m.sh9_power, "threshold_power": m.threshold_power,
             "searches": {n: {k: r.to_json() for k, r in v.items()} for n, v in m.searches.items()},
-            "probes": m.probes}
+            "probes": m.probes,
+            "worst_lighting": {n: lighting_map(r["flux_luminance.max"].radiance)
+                               for n, r in m.searches.items() if "flux_luminance.max" in r}}
+
+
+MAP_HEIGHT = 16  # rows of the worst lighting's thumbnail in results.json (2 × as many columns)
+
+
+def lighting_map(radiance: np.ndarray, height: int = MAP_HEIGHT) -> dict[str, Any]:
+    """The worst lighting found, for the report's thumbnail: its luminance on an equirect map (rows θ = 0 … π
+    from +y, columns φ = 0 … 2π; :mod:`validate.scenes.latlong`), box-averaged down to ``height`` rows when the
+    map's height is a multiple of it, divided by its largest texel and written to 3 significant digits."""
+    lum = np.asarray(radiance, dtype=np.float64) @ np.asarray(LUMINANCE)
+    h = lum.shape[0]
+    if h > height and h % height == 0:
+        k = h // height
+        lum = lum.reshape(height, k, lum.shape[1] // k, k).mean(axis=(1, 3))
+    top = float(lum.max()) if lum.size and np.isfinite(lum).all() else 0.0
+    rel = lum / top if top > 0 else np.zeros_like(lum)
+    return {"height": int(rel.shape[0]), "width": int(rel.shape[1]), "scale": "luminance / its largest texel",
+            "luminance": [[float(f"{v:.3g}") for v in row] for row in rel]}
 
 
 def techniques(m: Measurements) -> dict[str, Any]:
