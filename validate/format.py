@@ -181,7 +181,8 @@ def pm(value: Any, sigma: Any, unit: str = "", scale: float = 1.0) -> str:
         e = _exponent(v) if v != 0.0 and abs(v) >= abs(s) else _exponent(s)
         m = 10.0 ** e
         dm = decimals_for(s / m)
-        return f"({_fixed(v / m, dm)} ± {_fixed(round_sigma(s / m), dm)})e{e}{_unit_suffix(unit)}"
+        body = f"{_fixed(v / m, dm)} ± {_fixed(round_sigma(s / m), dm)}"
+        return (body if e == 0 else f"({body})e{e}") + _unit_suffix(unit)
     return f"{_fixed(v, d)} ± {_fixed(round_sigma(s), d)}{_unit_suffix(unit)}"
 
 
