@@ -136,12 +136,14 @@ def scene_figure(sr: SceneResult, ctx: Any) -> Figure | None:
     for name, er in sr.engines.items():
         images.append(er.image)
         titles.append(name)
-        rel = er.judgements[kind].rel_image
-        images.append(np.repeat(np.nan_to_num(np.abs(rel))[..., None] * 10.0, 3, axis=-1))
-        titles.append(f"{name} |rel| × 10")
+        j = er.judgements[kind]
+        z = np.nan_to_num(j.z_image) / j.critical_z  # the per-pixel test: white = rejected (|z| ≥ z*)
+        images.append(np.repeat(z[..., None], 3, axis=-1))
+        titles.append(f"{name} |z| / z*")
     path, rel_path = ctx.figure_path("renders", f"{sr.scene.name}_r{sr.scene.resolution}.png")
     plots.save_image_grid(path, images, titles, exposure=1.0)
-    return Figure(rel_path, f"{sr.scene.name}: truth | engine | relative error × 10 (white = 10 %)")
+    return Figure(rel_path, f"{sr.scene.name}: truth | engine | z-map: the per-pixel |z| over the Šidák critical z* "
+                            "(white: rejected, |z| ≥ z*; black: the engine equals the truth)")
 
 
 def findings(m: Measurements) -> list[str]:
