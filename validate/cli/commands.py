@@ -1,6 +1,7 @@
 """Command line: ``python -m validate {list, run NAME [NAME ...], all, compare OLD NEW, export RESULTS --to DIR,
-history RESULTS... --out DIR, worst, bench, docs, setup, scenes export DIR, judge IMAGES_DIR}``:
-the argument parsing and the small commands; a run is :mod:`validate.run`, ``worst`` is :mod:`.worst`.
+history RESULTS... --out DIR, worst, bench, docs, setup, scenes export DIR, scenes truth FILE,
+judge IMAGES_DIR [--gltf FILE]}``: the argument parsing and the small commands; a run is :mod:`validate.run`,
+``worst`` is :mod:`.worst`.
 
 Outputs go to ``--out`` (default ``reports/``): ``index.html``, ``results.json``, ``figures/``.
 Work is staged in a temporary folder inside ``--out`` (:mod:`validate.run.output`); when every experiment
@@ -61,6 +62,8 @@ EPILOG = """examples:
   python -m validate worst sh9 --budget 400            # worst lighting found for sh9 -> reports/worst_sh9_*.exr
   python -m validate scenes export scenes/            # <scene>.glb + environments + manifest.json for any engine
   python -m validate judge my_images/ --engine myengine --scenes scenes/ --strict   # their images vs Mitsuba
+  python -m validate scenes truth my.glb --env studio.exr --size 256   # Mitsuba truth of your own glTF
+  python -m validate judge my_images/ --gltf my.glb --env studio.exr --engine myengine   # your image of it
 
 environment variables:
   VALIDATE_PROBES   default for --probes
@@ -157,6 +160,20 @@ def _parser() -> argparse.ArgumentParser:
     ex.add_argument("--probes", type=Path, default=None, metavar="DIR",
                     help="add the probe scenes: ict_uffizi_256x128.hdr of DIR under metal spheres and the "
                          "Lambertian sphere (default: none)")
+    tr = scs.add_parser("truth", help="the Mitsuba truth of your own glTF: <stem>.exr, <stem>.stderr.exr, truth.json",
+                        description="Read a .glb/.gltf (meshes, metallic-roughness materials and their textures, "
+                                    "KHR_lights_punctual, the first camera; an unsupported feature is one line naming "
+                                    "it) and trace its truth at every pixel centre: several seeded passes, mean and "
+                                    "standard error per pixel, cached by content hash. See docs/scenes.md.")
+    tr.add_argument("gltf", type=Path, metavar="FILE", help="the .glb or .gltf file")
+    tr.add_argument("--env", type=Path, default=None, metavar="FILE",
+                    help="an equirect environment (.exr, .hdr, .pfm; 2:1) in the orientation of docs/scenes.md "
+                         "(default: none)")
+    tr.add_argument("--out", type=Path, default=None, metavar="DIR",
+                    help="output folder (default: reports/truth_<file stem>)")
+    tr.add_argument("--size", default=None, metavar="WxH|H",
+                    help="image size; H alone takes the width from the camera's aspect (default: height 128)")
+    _truth_options(tr)
     j = sub.add_parser("judge", help="judge a folder of images rendered anywhere against the scenes' Mitsuba truth",
                        description="Per scene of the manifest, <scene>.exr or <scene>.pfm of IMAGES_DIR judged per "
                                    "pixel against Mitsuba (the renders experiment's z-test, Sidak, edge mask), with "
@@ -170,6 +187,12 @@ def _parser() -> argparse.ArgumentParser:
                    help="output folder for results.json and index.html (default: reports/judge_NAME)")
     j.add_argument("--strict", action="store_true",
                    help="exit with status 1 when a scene fails or has no image")
+    j.add_argument("--gltf", type=Path, default=None, metavar="FILE",
+                   help="judge IMAGES_DIR/<file stem>.exr (or IMAGES_DIR itself, an image) against the Mitsuba truth "
+                        "of your own glTF instead of the exported scenes; its size is the image's")
+    j.add_argument("--env", type=Path, default=None, metavar="FILE",
+                   help="with --gltf: the equirect environment lighting it (default: none)")
+    _truth_options(j)
     b = sub.add_parser("bench", help="benchmarks: drjit local models vs numpy, reference cost")
     b.add_argument("--out", type=Path, default=Path("reports"), metavar="DIR")
     b.add_argument("--sizes", default="1024,2048,4096,8192", metavar="H,H,...",
@@ -193,6 +216,17 @@ def _parser() -> argparse.ArgumentParser:
     d.add_argument("--check", action="store_true",
                    help="write nothing; exit 1 naming each file whose blocks differ from the results")
     return p
+
+
+def _truth_options(p: argparse.ArgumentParser) -> None:
+    """--spp, --passes, --transport of a user glTF's truth (``scenes truth``, ``judge --gltf``)."""
+    p.add_argument("--spp", type=_positive_int, default=64, metavar="N",
+                   help="with a glTF: samples per pixel and pass (default 64)")
+    p.add_argument("--passes", type=_positive_int, default=8, metavar="P",
+                   help="with a glTF: independent passes, for the per-pixel standard error (4..1024, default 8)")
+    p.add_argument("--transport", choices=["direct", "full"], default="direct",
+                   help="with a glTF: direct (one bounce, what an engine without GI computes; default) or full "
+                        "(unbounded path tracing)")
 
 
 def _positive_int(text: str) -> int:
@@ -356,6 +390,10 @@ def main(argv: list[str] | None = None) -> int:
             return _cmd_export(args.results, args.to, args.format, list(sys.argv[1:] if argv is None else argv))
         if args.command == "history":
             return _cmd_history(args.runs, args.out, args.everything)
+        if args.command == "scenes" and args.scenes_command == "truth":
+            from ..judge.gltf import run_truth
+
+            return run_truth(args.gltf, args.env, args.out, args.size, args.spp, args.passes, args.transport)
         if args.command == "scenes":
             from ..scenes.manifest import export_scenes
 
@@ -367,6 +405,15 @@ def main(argv: list[str] | None = None) -> int:
         if args.command == "judge":
             from ..judge.folder import run_judge
 
+            if args.gltf is not None:
+                if args.scenes is not None:
+                    raise ValidateError("--gltf and --scenes: judge either your own glTF or the exported scenes")
+                from ..judge.gltf import run_judge_gltf
+
+                return run_judge_gltf(args.images, args.gltf, args.engine, args.env, args.out, args.strict,
+                                      args.spp, args.passes, args.transport)
+            if args.env is not None:
+                raise ValidateError("--env is for --gltf (the exported scenes name their own environments)")
             return run_judge(args.images, args.engine, args.scenes, args.out, args.strict)
         if args.command == "docs":
             return _cmd_docs(args.results, args.docs, args.check)

@@ -151,23 +151,46 @@ def _passes(j: PixelJudgement) -> bool:
     return j.fraction_accepted >= MIN_ACCEPTED
 
 
+def scale_diagnosis(img: EngineImage, m: np.ndarray, se: np.ndarray, dof: int, mask: np.ndarray,
+                    b: np.ndarray | float, text: str) -> dict[str, Any]:
+    """The global scale k of the image against the truth m ± se (named when it matches a constant) and whether
+    the image divided by it passes."""
+    n = int(mask.sum())
+    zc = sidak_critical(3 * n, 0.01)
+    sig = np.sqrt(se**2 + img.readback_stderr**2 + (np.broadcast_to(np.asarray(b, float), m.shape) / zc) ** 2)
+    k, u = global_scale(img.rgb, m, sig, mask)
+    name = named_factor(k, u)
+    j = judge(img.rgb / k, m, np.sqrt(se**2 + (img.readback_stderr / k) ** 2), dof, mask, b, text)
+    return {"factor": Measured(k, u).to_json(), "named": name, "passes_when_divided": _passes(j),
+            "fraction_accepted_when_divided": j.fraction_accepted,
+            "text": (f"the image is {k:.4g} ± {u:.2g} × the truth" + (f" (= {name})" if name else "")
+                     + ("; divided by it, it passes" if _passes(j) else "; dividing by it does not pass"))}
+
+
+def shift_diagnosis(img: EngineImage, m: np.ndarray, se: np.ndarray, dof: int, mask: np.ndarray,
+                    b: np.ndarray | float, text: str) -> dict[str, Any]:
+    """The half-pixel shifts of the raster tried (:data:`SHIFTS`) and the one named (:data:`SHIFT_NAMED_MIN`)."""
+    inner = interior_mask(mask, np.ones(mask.shape), edge_px=1)  # resampling mixes in the next pixel
+    tried = []
+    for dy, dx in SHIFTS:
+        js = judge(shifted(img.rgb, dy, dx), m, np.sqrt(se**2 + shifted(img.readback_stderr, dy, dx) ** 2), dof,
+                   inner, b, text)
+        tried.append({"dy": dy, "dx": dx, "fraction_accepted": js.fraction_accepted, "passes": _passes(js)})
+    best = max(tried, key=lambda t: t["fraction_accepted"])
+    named = best if best["fraction_accepted"] >= SHIFT_NAMED_MIN else None
+    return {"tried": tried, "named": None if named is None else [named["dy"], named["dx"]], "text": (
+        f"the image matches the truth shifted by ({named['dy']:+g}, {named['dx']:+g}) px (rows, columns): engine "
+        f"pixel (i, j) shows the truth at (i {named['dy']:+g}, j {named['dx']:+g}) ({named['fraction_accepted']:.1%} "
+        f"of the pixels accepted once resampled back)" if named else "no half-pixel shift explains it")}
+
+
 def diagnose(item: SetScene, img: EngineImage, s: Any, truths: dict[str, tuple[np.ndarray, np.ndarray, int]],
              mask: np.ndarray) -> dict[str, Any]:
     """Scale, environment orientation and raster shift (module docstring) for the deciding reference."""
     key = item.references[0]
     m, se, dof = truths[key]
     b, text = budget(item.kind, m)
-    n = int(mask.sum())
-    zc = sidak_critical(3 * n, 0.01)
-    sig = np.sqrt(se**2 + img.readback_stderr**2 + (np.broadcast_to(np.asarray(b, float), m.shape) / zc) ** 2)
-    out: dict[str, Any] = {}
-    k, u = global_scale(img.rgb, m, sig, mask)
-    name = named_factor(k, u)
-    j = judge(img.rgb / k, m, np.sqrt(se**2 + (img.readback_stderr / k) ** 2), dof, mask, b, text)
-    out["scale"] = {"factor": Measured(k, u).to_json(), "named": name, "passes_when_divided": _passes(j),
-                    "fraction_accepted_when_divided": j.fraction_accepted,
-                    "text": (f"the image is {k:.4g} ± {u:.2g} × the truth" + (f" (= {name})" if name else "")
-                             + ("; divided by it, it passes" if _passes(j) else "; dividing by it does not pass"))}
+    out: dict[str, Any] = {"scale": scale_diagnosis(img, m, se, dof, mask, b, text)}
     env = []
     for variant in variants_of(item.scene):
         jv, _, _ = judge_against(item, img, s, turned_scene(item.scene, variant))
@@ -177,18 +200,7 @@ def diagnose(item: SetScene, img: EngineImage, s: Any, truths: dict[str, tuple[n
         out["environment"] = {"tried": env, "passes_with": hits,
                               "text": (f"the image matches the truth with the environment {hits[0]}" if hits else
                                        "no turn, mirror or flip of the environment passes")}
-    inner = interior_mask(mask, np.ones(mask.shape), edge_px=1)  # resampling mixes in the next pixel
-    tried = []
-    for dy, dx in SHIFTS:
-        js = judge(shifted(img.rgb, dy, dx), m, np.sqrt(se**2 + shifted(img.readback_stderr, dy, dx) ** 2), dof,
-                   inner, b, text)
-        tried.append({"dy": dy, "dx": dx, "fraction_accepted": js.fraction_accepted, "passes": _passes(js)})
-    best = max(tried, key=lambda t: t["fraction_accepted"])
-    named = best if best["fraction_accepted"] >= SHIFT_NAMED_MIN else None
-    out["raster_shift"] = {"tried": tried, "named": None if named is None else [named["dy"], named["dx"]], "text": (
-        f"the image matches the truth shifted by ({named['dy']:+g}, {named['dx']:+g}) px (rows, columns): engine "
-        f"pixel (i, j) shows the truth at (i {named['dy']:+g}, j {named['dx']:+g}) ({named['fraction_accepted']:.1%} "
-        f"of the pixels accepted once resampled back)" if named else "no half-pixel shift explains it")}
+    out["raster_shift"] = shift_diagnosis(img, m, se, dof, mask, b, text)
     return out
 
 
@@ -270,6 +282,12 @@ def run_judge(images_dir: Path, engine: str, scenes_dir: Path | None, out: Path 
     r = judge_folder(images_dir, engine, scenes_dir)
     out = out if out is not None else Path("reports") / f"judge_{engine}"
     write_outputs(r, out, images_dir, scenes_dir if scenes_dir is not None else images_dir)
+    print_result(r, out)
+    return 1 if strict and not r.passed else 0
+
+
+def print_result(r: JudgeResult, out: Path) -> None:
+    """One line per scene (and its diagnoses), the missing and extra files, the summary."""
     for sj in r.scenes:
         j = sj.judgements.get(sj.judged_by)
         head = (f"{sj.name}: {'pass' if sj.passed else 'FAIL'}" +
@@ -283,4 +301,3 @@ def run_judge(images_dir: Path, engine: str, scenes_dir: Path | None, out: Path 
     for name in r.extra:
         print(f"{name}: names no scene of the manifest")
     print(f"{r.summary()} -> {out / 'index.html'}")
-    return 1 if strict and not r.passed else 0

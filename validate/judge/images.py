@@ -89,6 +89,28 @@ def _read_pfm(path: Path) -> tuple[np.ndarray, None, str]:
     return arr[::-1].astype(np.float64), None, "float"
 
 
+def image_size(path: Path) -> tuple[int, int]:
+    """(width, height) of an image the judge reads (module docstring), from its header; one-line errors."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix in REFUSED_SUFFIXES:
+        raise ValidateError(f"{path}: {REFUSED_SUFFIXES[suffix]}; write linear radiance as OpenEXR (half or float) "
+                            f"or PFM")
+    if suffix == ".pfm":
+        try:
+            lines = path.read_bytes()[:64].split(b"\n")
+            w, h = (int(v) for v in lines[1].split())
+        except OSError as exc:
+            raise ValidateError(f"{path}: cannot read ({exc.strerror or exc})") from None
+        except (ValueError, IndexError):
+            raise ValidateError(f"{path}: not a PFM file (header 'PF', 'W H', scale)") from None
+        return w, h
+    if suffix != ".exr":
+        raise ValidateError(f"{path}: unsupported file type {suffix!r} (use .exr or .pfm)")
+    rgb, _, _ = _read_exr(path)
+    return rgb.shape[1], rgb.shape[0]
+
+
 def read_engine_image(path: Path, width: int, height: int) -> EngineImage:
     """The image at ``path`` for a scene of ``width`` × ``height`` (module docstring); one-line errors."""
     path = Path(path)

@@ -64,6 +64,11 @@ def _scene(sj: Any) -> str:
             + (f"<ul>{diag}</ul>" if diag else "") + "</section>")
 
 
+def _size(resolution: Any) -> str:
+    """"64²" for the exported sets' R, "W×H" for a user's glTF ([W, H])."""
+    return f"{resolution[0]}×{resolution[1]}" if isinstance(resolution, (list, tuple)) else f"{resolution}²"
+
+
 def judge_page(r: Any) -> str:
     """The whole page (module docstring) of a :class:`validate.judge.folder.JudgeResult`."""
     m: dict[str, Any] = r.manifest
@@ -76,7 +81,7 @@ def judge_page(r: Any) -> str:
             "td,th{border:1px solid #ccc;padding:.2em .5em;font-size:.9em}.pass{color:#1b7837}.fail{color:#b2182b}"
             "</style></head><body>"
             f"<h1>{html.escape(r.engine)} judged against Mitsuba</h1><p>{html.escape(r.summary())}</p>"
-            f"<p>Scenes: {html.escape(m['schema'])}, set {html.escape(m['set'])}, {m['resolution']}² px; truth "
+            f"<p>Scenes: {html.escape(m['schema'])}, set {html.escape(m['set'])}, {_size(m['resolution'])} px; truth "
             f"{html.escape(str(m['truth_samples']))}. A scene passes when at least 99.75 % of its judged pixels are "
             f"accepted by the per-pixel z-test (Šidák, α = 0.01) against the reference named first.</p>"
             f"{lists}{''.join(_scene(sj) for sj in r.scenes)}</body></html>\n")

@@ -10,7 +10,7 @@ llvm       drjit's LLVM backend (libLLVM ≥ 16; Debian 12 has 14/15)     apt ``
 gl         GLSL techniques and listings: Mesa llvmpipe through EGL       apt Mesa EGL/GL packages
 chromium   WebGL2 engines, the report page test                         apt ``chromium``
 node       Node.js and npm for the npm engines                          apt ``nodejs npm``
-engines    three.js, Babylon.js, Filament at the pinned versions        ``npm ci`` into the per-user folder
+engines    three.js, Babylon.js, Filament, gltf-validator (pinned)       ``npm ci`` into the per-user folder
 =========  ===========================================================  ==================================
 
 System packages come from apt when this user is root (or has sudo); otherwise the command to run is printed.
@@ -166,7 +166,8 @@ PIECES: tuple[Piece, ...] = (
     Piece("gl", "GLSL techniques and listings (Mesa llvmpipe, EGL)", check_gl, _apt_installer("gl")),
     Piece("chromium", "WebGL2 engines and the report page test", check_chromium, _apt_installer("chromium")),
     Piece("node", "Node.js and npm, for the npm engines", check_node, _apt_installer("node")),
-    Piece("engines", "three.js, Babylon.js, Filament (pinned, per-user folder)", check_engines, install_engines),
+    Piece("engines", "three.js, Babylon.js, Filament, glTF Validator (pinned, per-user)", check_engines,
+          install_engines),
 )
 GROUPS = {"engines": ("node", "engines"), "system": ("llvm", "gl", "chromium", "node")}
 
