@@ -201,13 +201,15 @@ def _parser() -> argparse.ArgumentParser:
                    help="run only these sections of kernels, gl, sizes, fits, render (default: all)")
     s = sub.add_parser("setup", help="install and check what the suite runs besides Python (npm engines, GL, ...)",
                        description="Install what is missing, then print every piece with its version: drjit's "
-                                   "LLVM backend, the GL runtime, Chromium, Node.js and the npm engines "
+                                   "LLVM backend, the GL runtime, Chromium, Node.js, the npm engines and Blender "
                                    "(pinned, into the per-user folder $VALIDATE_HOME, default "
                                    "~/.local/share/validate). System packages come from apt as root.")
     s.add_argument("--engines", action="append_const", const="engines", dest="groups",
                    help="only Node.js and the npm engines (three.js, Babylon.js, Filament)")
     s.add_argument("--system", action="append_const", const="system", dest="groups",
                    help="only the system packages (libLLVM, Mesa GL, Chromium, Node.js)")
+    s.add_argument("--blender", action="append_const", const="blender", dest="groups",
+                   help="only Blender (bpy 5.0.1 in its own python3.11 venv, ~1 GB: Cycles and EEVEE)")
     s.add_argument("--check", action="store_true", help="install nothing; exit 1 when a piece is missing")
     d = sub.add_parser("docs", help="rewrite the measured-figure blocks of docs/ from a results.json")
     d.add_argument("--results", type=Path, default=Path("reports") / "results.json", metavar="FILE",
@@ -266,6 +268,13 @@ def _cmd_list(plugins: list[str]) -> int:
 
     for kind, why in STATUS.items():
         print(f"GLSL techniques ({kind}): " + (f"not registered: {why}" if why else "registered"))
+    from ..local_models.render import blender, blender_cycles, blender_eevee
+
+    version = blender.installed_version()
+    print("render engines (Blender, its own venv; the blender experiment):")
+    for e in (blender_cycles.ENGINE, blender_eevee.ENGINE):
+        state = f"Blender {version}" if version else f"not installed ({blender.FIX})"
+        print(f"  {e.name:24s} {e.product}: {state}; {e.precision} output; renders {', '.join(e.supports)}")
     return 0
 
 

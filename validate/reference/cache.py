@@ -111,3 +111,22 @@ def cached(kind: str, parts: dict, compute: Callable[[], dict[str, np.ndarray]])
             with open(tmp, "wb") as fh:
                 np.savez(fh, **result)
     return result
+
+
+def lookup(kind: str, parts: dict) -> dict[str, np.ndarray] | None:
+    """The cached arrays for (kind, parts), or None (a miss, or the cache off): for callers that compute many
+    misses together (one Blender process for a batch of scenes) and :func:`store` each."""
+    root = cache_dir()
+    return None if root is None else _load(root / kind / f"{key_of(parts)}.npz")
+
+
+def store(kind: str, parts: dict, arrays: dict[str, np.ndarray]) -> None:
+    """Write the entry (kind, parts) atomically (a no-op when the cache is off)."""
+    root = cache_dir()
+    if root is None:
+        return
+    path = root / kind / f"{key_of(parts)}.npz"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with atomic_path(path, suffix=".npz") as tmp:
+        with open(tmp, "wb") as fh:
+            np.savez(fh, **arrays)

@@ -11,10 +11,15 @@ gl         GLSL techniques and listings: Mesa llvmpipe through EGL       apt Mes
 chromium   WebGL2 engines, the report page test                         apt ``chromium``
 node       Node.js and npm for the npm engines                          apt ``nodejs npm``
 engines    three.js, Babylon.js, Filament, gltf-validator (pinned)       ``npm ci`` into the per-user folder
+blender    Blender 5.0.1 as ``bpy`` (Cycles, EEVEE), ≈1 GB, optional     a venv of python3.11 + ``pip``
 =========  ===========================================================  ==================================
 
 System packages come from apt when this user is root (or has sudo); otherwise the command to run is printed.
 The npm engines go to :func:`validate.setup.paths.node_modules` from the lock file shipped in the package.
+Blender goes to its own virtual environment, :func:`validate.setup.paths.blender_venv`, made with the system's
+``python3.11`` (bpy's wheels exist for CPython 3.11 only, and bpy pins numpy < 2: never the suite's venv); measured
+here: 32 s and 968 MB. It is part of a plain ``setup`` (``scripts/setup.sh``) and of ``setup --blender``; like every
+piece, a failure is a warning: the ``blender`` experiment then reports its engines as not run and its tests skip.
 A piece that cannot be installed is a warning, never an abort: the experiments that need it say so when
 they run. ``--check`` installs nothing and exits 1 when a piece is missing.
 """
@@ -109,6 +114,46 @@ def check_engines() -> State:
     return State(True, ", ".join(f"{p} {v}" for p, v in want.items()) + f" in {paths.node_modules()}")
 
 
+_BPY_PROBE = "import bpy; print('Blender', bpy.app.version_string)"
+
+
+def check_blender() -> State:
+    """The Blender venv's interpreter imports bpy at the pinned version."""
+    py = paths.blender_python()
+    if not py.is_file():
+        return State(False, f"no Blender venv at {paths.blender_venv()}")
+    try:
+        r = subprocess.run([str(py), "-c", _BPY_PROBE], capture_output=True, text=True, timeout=120)
+    except (OSError, subprocess.TimeoutExpired) as exc:
+        return State(False, f"{py}: {exc}")
+    if r.returncode != 0:
+        return State(False, ((r.stderr.strip().splitlines() or [f"exit status {r.returncode}"])[-1])[:200])
+    line = (r.stdout.strip().splitlines() or [""])[-1]
+    want = paths.BLENDER_BPY.split("==")[1]
+    if line != f"Blender {want}":
+        return State(False, f"{line or 'no version'} in {paths.blender_venv()} (pinned {want})")
+    return State(True, f"{line} in {paths.blender_venv()}")
+
+
+def install_blender(log: Callable[[str], None]) -> bool:
+    """A venv of ``python3.11`` at :func:`paths.blender_venv` and ``pip install bpy==…`` into it."""
+    exe = shutil.which(paths.BLENDER_PYTHON)
+    if exe is None:
+        log(f"setup: WARNING: {paths.BLENDER_PYTHON} not found on PATH; {paths.BLENDER_BPY} has wheels for "
+            f"CPython 3.11 only (install python3.11, then run python -m validate setup --blender)")
+        return False
+    venv = paths.blender_venv()
+    steps = ([exe, "-m", "venv", "--clear", str(venv)],
+             [str(paths.blender_python()), "-m", "pip", "install", "--quiet", paths.BLENDER_BPY])
+    for cmd in steps:
+        r = subprocess.run(cmd, capture_output=True, text=True)
+        if r.returncode != 0:
+            why = (r.stderr.strip().splitlines() or [f"exit status {r.returncode}"])[-1]
+            log(f"setup: WARNING: {' '.join(cmd[:3])} … failed: {why[:200]}")
+            return False
+    return True
+
+
 def _apt(packages: list[str], log: Callable[[str], None]) -> bool:
     """``apt-get install`` as root (or through sudo); False when that is not possible here."""
     if shutil.which("apt-get") is None:
@@ -168,8 +213,9 @@ PIECES: tuple[Piece, ...] = (
     Piece("node", "Node.js and npm, for the npm engines", check_node, _apt_installer("node")),
     Piece("engines", "three.js, Babylon.js, Filament, glTF Validator (pinned, per-user)", check_engines,
           install_engines),
+    Piece("blender", "Blender's Cycles and EEVEE (bpy, own venv, ~1 GB)", check_blender, install_blender),
 )
-GROUPS = {"engines": ("node", "engines"), "system": ("llvm", "gl", "chromium", "node")}
+GROUPS = {"engines": ("node", "engines"), "system": ("llvm", "gl", "chromium", "node"), "blender": ("blender",)}
 
 
 def setup(only: tuple[str, ...] = (), check: bool = False, log: Callable[[str], None] = print) -> int:

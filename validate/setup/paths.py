@@ -6,6 +6,9 @@
   (:data:`ENGINE_LOCK`, the pinned versions) and ``node_modules/`` written by ``npm ci``;
   ``engines/scripts-<hash>/`` holds copies of the package's Node scripts, so that Node resolves their bare
   imports (``import 'three'``) from ``engines/node_modules`` wherever the package itself is installed.
+* ``blender-venv/`` — Blender as a Python module (``bpy``, :data:`BLENDER_BPY`) in a virtual environment of its own,
+  made with the system's Python 3.11 (the only Python the bpy wheels are built for); it holds numpy < 2, which is
+  why it is never the suite's own environment. The Blender engines run its interpreter as a child process.
 
 Nothing here installs anything (:mod:`validate.setup.install` does); it only says where things are.
 """
@@ -19,6 +22,8 @@ import shutil
 from pathlib import Path
 
 ENGINE_LOCK = Path(__file__).resolve().parent / "engines"  # package.json + package-lock.json, shipped
+BLENDER_BPY = "bpy==5.0.1"  # Blender 5.0.1 as a Python module: ≈1 GB installed, CPython 3.11 wheels only
+BLENDER_PYTHON = "python3.11"  # the interpreter the bpy wheel needs (looked up on PATH)
 
 
 def home() -> Path:
@@ -36,6 +41,16 @@ def engines_dir() -> Path:
 def node_modules() -> Path:
     """Where ``npm ci`` puts the engines (``python -m validate setup --engines``)."""
     return engines_dir() / "node_modules"
+
+
+def blender_venv() -> Path:
+    """The Blender engines' own virtual environment (``python -m validate setup --blender``)."""
+    return home() / "blender-venv"
+
+
+def blender_python() -> Path:
+    """The interpreter of :func:`blender_venv` (it imports ``bpy``); may not exist."""
+    return blender_venv() / "bin" / "python"
 
 
 def lock_digest() -> str:

@@ -1,0 +1,257 @@
+"""Numbers only: Blender's renders of the exported scenes, judged per pixel against Mitsuba.
+
+Every scene of the exported set (:func:`validate.scenes.manifest.scene_set`) whose kind both renderers describe
+identically — Lambertian sphere and plane under a sun, a point and a spot light; white spheres in the furnace — goes
+through Blender's glTF importer (mode ``COMPAT``, :mod:`validate.local_models.render.blender`) into Cycles:
+``passes`` frames of independent seeds, their mean and standard error per pixel (``passes − 1`` dof), as the suite's
+Mitsuba passes. The truth is the renders experiment's (:func:`validate.experiments.renders.compute.references`, its
+samples for the set: the same cache entries), judged with its budgets (:func:`~validate.experiments.renders.compute.
+budget`) by :func:`validate.metrics.pixel_z.judge`. The spot has a third reference, ``blender``: the same light with
+Blender's own cone — smoothstep between the outer cone and cos θ_b = cos θ_o + (1 − cos θ_o)·blend, blend = 1 −
+inner/outer as the importer sets it (Cycles ``spot_attenuation``) — the scene as Blender describes it.
+
+Masks, each stated with its root (report findings): pixels whose centre lies exactly on the plane's shared triangle
+edge (row + column = R − 1; :data:`SEAM`) and, on the sphere under the sun or the point light, pixels with
+|n·l| < :data:`TERMINATOR_COS` (the terminator band) are judged apart: Blender lights both wrongly, and Mitsuba on the
+same exported mesh and normals does not (docs/experiments/blender.md). The power check scales Blender's image by 1.01.
+The importer's light conversion is measured: the ``conversion`` scenes rendered again under SPEC and RAW, their
+radiance over COMPAT's. Renders are cached by (Blender version, .glb content hash, settings) in the reference cache.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import tempfile
+import time
+from dataclasses import asdict, dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ...local_models.render import blender as bl
+from ...local_models.render.blender_cycles import ENGINE as CYCLES
+from ...local_models.render.blender_eevee import ENGINE as EEVEE
+from ...metrics.pixel_z import PixelJudgement, interior_mask, judge
+from ...reference.cache import lookup, store
+from ...reference.render_reference import render_reference
+from ...scenes import render_scenes as rs
+from ...scenes.gltf_export import glb_bytes
+from ...scenes.manifest import SetScene, scene_set
+from ..base import NotRun
+from ..renders import settings as renders_settings
+from ..renders.compute import budget, references, truth
+from .settings import Settings
+
+POWER_SCALE = 1.01  # the power check: Blender's image 1 % brighter
+TERMINATOR_COS = 0.01  # the sun-lit sphere's pixels with |n·l| < this are judged apart (report: the finding)
+SEAM = "pixels whose centre lies on the plane's shared triangle edge (row + column = R − 1)"
+CONVERSION_SCENES = ("lambert_directional", "point_plane")
+WORKER_VERSION = 1  # bump when blender_worker.py changes what it renders
+
+
+@dataclass
+class Judged:
+    """One engine's render of one scene against each reference."""
+
+    scene: str
+    kind: str
+    engine: str
+    frames: int
+    samples: int
+    judgements: dict[str, PixelJudgement]
+    power: dict[str, PixelJudgement]  # the image × POWER_SCALE against the same reference
+    energy: dict[str, tuple[float, float]]  # reference → (mean Blender / mean truth over the mask, its uncertainty)
+    apart: dict[str, dict[str, float]] = field(default_factory=dict)  # masked-out region → its numbers
+    lights: list[dict[str, Any]] = field(default_factory=list)  # what the importer made of the lights
+    precision: str = "float"
+
+
+@dataclass
+class Measurements:
+    settings: Settings
+    version: str = ""
+    missing: NotRun | None = None
+    scenes: list[Judged] = field(default_factory=list)
+    conversion: dict[str, dict[str, Any]] = field(default_factory=dict)  # mode → light type → numbers
+    costs: dict[str, Any] = field(default_factory=dict)
+
+
+def truth_settings(s: Settings) -> Any:
+    return renders_settings.QUICK if s.scene_set == "quick" else renders_settings.FULL
+
+
+def selected(s: Settings) -> list[SetScene]:
+    items = [it for it in scene_set(s.scene_set, s.resolution) if it.kind in s.kinds]
+    return [it for it in items if not s.scenes or it.scene.name in s.scenes]
+
+
+def blender_spot(scene: rs.RenderScene) -> rs.RenderScene:
+    """The spot scene with Blender's cone (module docstring): smoothstep profile, inner cone at cos θ_b."""
+    [li] = [x for x in scene.lights if isinstance(x, rs.SpotLight)]
+    blend = 1.0 - li.inner_deg / li.outer_deg
+    co = math.cos(math.radians(li.outer_deg))
+    inner = math.degrees(math.acos(co + (1.0 - co) * blend))
+    return replace(scene, lights=(replace(li, profile="smoothstep", inner_deg=inner),))
+
+
+def job_for(it: SetScene, engine: bl.BlenderEngine, s: Settings, glb: Path, out: Path, mode: str = bl.TRUTH_MODE,
+            frames: int | None = None, samples: int | None = None) -> bl.Job:
+    furnace = it.kind == "furnace"
+    if engine is EEVEE:
+        n, spp = s.eevee_passes, s.eevee_samples
+    else:
+        n, spp = s.passes, (s.furnace_spp if furnace else s.spp)
+    n, spp = frames or n, samples or spp
+    world = tuple(float(v) for v in it.scene.environment.radiance) if furnace else None
+    return bl.Job(str(glb), str(out), engine.engine, it.scene.resolution, spp,
+                  tuple(s.seed * 1000 + k for k in range(n)), mode, world)
+
+
+def cache_parts(job: bl.Job, version: str, digest: str) -> dict[str, Any]:
+    d = asdict(job)
+    d.pop("glb")
+    d.pop("out")
+    return {"blender": version, "glb_sha256": digest, "worker": WORKER_VERSION, **d}
+
+
+def render_all(jobs: list[tuple[bl.Job, str]], version: str, work: Path) -> tuple[list[dict], dict[str, Any]]:
+    """Every job's frames and lights, from the cache or from one Blender batch of the misses; the batch's costs."""
+    out: list[dict | None] = []
+    for job, digest in jobs:
+        hit = lookup("blender_render", cache_parts(job, version, digest))
+        out.append(None if hit is None else {"frames": hit["frames"], "lights": json.loads(str(hit["lights"])),
+                                             "frame_s": [], "cached": True})
+    misses = [k for k, v in enumerate(out) if v is None]
+    costs: dict[str, Any] = {"jobs": len(jobs), "rendered": len(misses)}
+    if misses:
+        batch = bl.render_batch([jobs[k][0] for k in misses], work)
+        costs.update(import_s=batch.import_s, process_wall_s=batch.wall_s,
+                     setup_s=[r.setup_s for r in batch.results])
+        for k, r in zip(misses, batch.results, strict=True):
+            job, digest = jobs[k]
+            store("blender_render", cache_parts(job, version, digest),
+                  {"frames": r.frames, "lights": np.array(json.dumps(r.lights))})
+            out[k] = {"frames": r.frames, "lights": r.lights, "frame_s": r.frame_s, "cached": False}
+    return out, costs  # type: ignore[return-value]
+
+
+def half_stderr(v: np.ndarray) -> np.ndarray:
+    """σ = ulp/√12 of a value rounded to binary16 (uniform rounding error)."""
+    return np.spacing(np.abs(v).astype(np.float16)).astype(np.float64) / np.sqrt(12.0)
+
+
+def apart_mask(it: SetScene, tm: np.ndarray) -> tuple[np.ndarray, str]:
+    """(R, R) pixels judged apart (module docstring: the seam, a lit sphere's terminator band) and what they are."""
+    r = it.scene.resolution
+    if it.scene.geometry == "plane":
+        i, j = np.indices((r, r))
+        return i + j == r - 1, SEAM
+    if it.scene.geometry == "sphere" and it.kind in ("directional", "point"):
+        [li] = it.scene.lights
+        p = it.scene.surface_points()  # unit sphere: n = p
+        to_light = -li.unit_direction() if it.kind == "directional" else np.asarray(li.position) - p
+        cos = np.nan_to_num((p * to_light).sum(-1) / np.linalg.norm(to_light, axis=-1))
+        return it.scene.hit_mask() & (np.abs(cos) < TERMINATOR_COS), f"the terminator band (|n·l| < {TERMINATOR_COS:g})"
+    return np.zeros((r, r), bool), ""
+
+
+def judge_scene(it: SetScene, engine: bl.BlenderEngine, res: dict, s: Settings) -> Judged:
+    f = res["frames"].astype(np.float64)
+    img, cov = f[..., :3].mean(axis=0), f[..., 3].min(axis=0)
+    se = f[..., :3].std(axis=0, ddof=1) / math.sqrt(len(f)) if len(f) > 1 else np.zeros_like(img)
+    precision = "half" if engine.precision == "half" or bl.half_exact(f[..., :3]) else "float"
+    if precision == "half":
+        se = np.sqrt(se**2 + half_stderr(img) ** 2)
+    ts = truth_settings(s)
+    refs, hit = references(it.scene, it.kind, ts)
+    if it.kind == "spot":
+        refs["blender"] = render_reference(blender_spot(it.scene), ts.spp, ts.passes, ts.seed)
+    spp = s.eevee_samples if engine is EEVEE else (s.furnace_spp if it.kind == "furnace" else s.spp)
+    j = Judged(it.scene.name, it.kind, engine.name, len(f), spp, {}, {}, {}, lights=res["lights"], precision=precision)
+    for k, ref in refs.items():
+        tm, ts_err, dof = truth(ref, hit, ts.passes)
+        apart, what = apart_mask(it, tm)
+        mask = interior_mask(hit, cov) & ~apart
+        b, text = budget(it.kind, tm)
+        sig = np.sqrt(ts_err**2 + se**2)
+        j.judgements[k] = judge(img, tm, sig, dof, mask, b, text)
+        j.power[k] = judge(img * POWER_SCALE, tm, sig, dof, mask, b, text)
+        j.energy[k] = energy_ratio(img, se, tm, ts_err, mask)
+        region = interior_mask(hit, cov) & apart
+        if region.any():
+            jr = judge(img, tm, sig, dof, region, b, text)
+            j.apart[k] = {"what": what, "pixels": int(region.sum()), "fraction_accepted": jr.fraction_accepted,
+                          "mean_abs_diff_of_peak": float(np.abs(img - tm)[region].mean() / np.nanmax(tm)),
+                          "mean_ratio": float(img[region].sum() / max(tm[region].sum(), 1e-30))}
+    return j
+
+
+def energy_ratio(img: np.ndarray, se: np.ndarray, tm: np.ndarray, ts: np.ndarray, mask: np.ndarray
+                 ) -> tuple[float, float]:
+    """Mean Blender over mean truth on ``mask``, ± from both standard errors (pixels independent)."""
+    a, b = float(img[mask].mean()), float(tm[mask].mean())
+    n = img[mask].size
+    ua, ub = math.sqrt(float((se[mask] ** 2).sum())) / n, math.sqrt(float((ts[mask] ** 2).sum())) / n
+    r = a / b
+    return r, r * math.hypot(ua / a, ub / b)
+
+
+def conversion(items: dict[str, SetScene], results: dict[tuple[str, str, str], dict]) -> dict[str, dict[str, Any]]:
+    """Per importer mode and light type: the energy Blender's light got, and the radiance over COMPAT's."""
+    out: dict[str, dict[str, Any]] = {}
+    for mode in bl.LIGHTING_MODES:
+        for name in CONVERSION_SCENES:
+            r, ref = results.get((name, mode, "conv")), results.get((name, bl.TRUTH_MODE, "conv"))
+            if r is None or ref is None:
+                continue
+            li = items[name].scene.lights[0]
+            mask = items[name].scene.hit_mask() & (ref["frames"][0, ..., 0] > 1e-3)
+            ratio = float(r["frames"][0, ..., :3][mask].sum() / ref["frames"][0, ..., :3][mask].sum())
+            out.setdefault(mode, {})[r["lights"][0]["type"]] = {
+                "gltf_intensity": li.intensity, "gltf_unit": "lx" if r["lights"][0]["type"] == "SUN" else "cd",
+                "blender_energy": r["lights"][0]["energy"],
+                "blender_unit": "W/m²" if r["lights"][0]["type"] == "SUN" else "W",
+                "radiance_over_compat": ratio}
+    return out
+
+
+def compute(ctx: Any, s: Settings) -> Measurements:
+    version, why = bl.available()
+    if version is None:
+        what = f"{CYCLES.name}, {EEVEE.name}"
+        return Measurements(s, missing=NotRun(what, f"Blender not installed ({why})", bl.FIX))
+    t0 = time.perf_counter()
+    items = {it.scene.name: it for it in selected(s)}
+    conv = {n: it for n, it in ((n, it) for it in scene_set(s.scene_set, s.resolution) for n in [it.scene.name])
+            if n in CONVERSION_SCENES}
+    with tempfile.TemporaryDirectory(prefix="validate-blender-") as d:
+        work = Path(d)
+        keyed: list[tuple[tuple[str, str, str], bl.Job, str]] = []
+        for name, it in {**items, **conv}.items():
+            data = glb_bytes(it.scene)
+            glb = work / f"{name}.glb"
+            glb.write_bytes(data)
+            digest = hashlib.sha256(data).hexdigest()
+            if name in items:
+                keyed.append(((name, bl.TRUTH_MODE, CYCLES.name), job_for(it, CYCLES, s, glb, work / name), digest))
+            if name in s.eevee_scenes:
+                keyed.append(((name, bl.TRUTH_MODE, EEVEE.name), job_for(it, EEVEE, s, glb, work / f"{name}_e"),
+                              digest))
+            if name in conv:
+                for mode in bl.LIGHTING_MODES:
+                    keyed.append(((name, mode, "conv"), job_for(it, CYCLES, s, glb, work / f"{name}_{mode}", mode,
+                                                                 1, s.conversion_spp), digest))
+        res, costs = render_all([(j, dg) for _, j, dg in keyed], version, work)
+    results = {k: r for (k, _, _), r in zip(keyed, res, strict=True)}
+    frame_s = {e: [t for (n, m, eng), r in results.items() if eng == e for t in r["frame_s"]]
+               for e in (CYCLES.name, EEVEE.name, "conv")}
+    m = Measurements(s, version, conversion=conversion(conv, results),
+                     costs={**costs, "frame_s": frame_s, "blender_wall_s": time.perf_counter() - t0})
+    for (name, _, eng), r in results.items():
+        if eng in (CYCLES.name, EEVEE.name):
+            m.scenes.append(judge_scene(items[name], CYCLES if eng == CYCLES.name else EEVEE, r, s))
+    m.costs["total_s"] = time.perf_counter() - t0
+    return m

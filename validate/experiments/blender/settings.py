@@ -1,0 +1,39 @@
+"""Settings of the ``blender`` experiment: which scenes Blender renders, with how many samples and passes.
+
+Costs measured on the 2-core machine (Blender 5.0.1, 64² px): the child process starts and imports bpy in 0.5 s;
+a glTF import and scene set-up 0.05–0.2 s; a Cycles frame 0.03–0.06 s at 8–16 spp (sun, point, spot) and 0.1–0.14 s
+at 64 spp (the furnace); EEVEE's first frame in a process 18 s (its shaders compiled on llvmpipe). A first FULL at 16
+and 64 spp took 23 s cold with another job on the machine (80 Cycles frames: 13.8 s), over the experiment's ~15 s
+share of the report budget, so FULL renders 8 spp (punctual) and 16 spp (furnace) × 8 passes; nothing warm
+(cached). EEVEE renders only when ``VALIDATE_EEVEE=1`` is set (``eevee_scenes``), the Cycles settings unchanged.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+
+EEVEE_SCENES = ("lambert_directional", "point_sphere", "furnace_metal_r0.5")
+
+
+@dataclass(frozen=True)
+class Settings:
+    scene_set: str = "full"  # the exported set (validate.scenes.manifest.scene_set) and the renders truth's samples
+    resolution: int = 64
+    kinds: tuple[str, ...] = ("furnace", "directional", "point", "spot")
+    scenes: tuple[str, ...] = ()  # only these scenes of the set (empty: every scene of ``kinds``)
+    passes: int = 8  # independent Cycles frames (seeds) per scene → per-pixel standard error with passes − 1 dof
+    spp: int = 8  # Cycles samples per frame, punctual lights (next-event estimation: the noise is the 0.01 px filter)
+    furnace_spp: int = 16  # Cycles samples per frame in the furnace (environment sampling: Monte Carlo noise)
+    seed: int = 0
+    conversion_spp: int = 4  # the importer's SPEC and RAW modes: one frame each of the conversion scenes
+    eevee_scenes: tuple[str, ...] = ()
+    eevee_samples: int = 16  # EEVEE's taa_render_samples per frame
+    eevee_passes: int = 1  # EEVEE renders deterministically: one frame; its uncertainty is its half-float rounding
+
+
+_EEVEE = EEVEE_SCENES if os.environ.get("VALIDATE_EEVEE") == "1" else ()
+QUICK = Settings(scene_set="quick", passes=4, spp=4, furnace_spp=16, eevee_scenes=_EEVEE,
+                 scenes=("furnace_dielectric_r0.5", "furnace_metal_r0.5", "lambert_directional", "point_plane",
+                         "point_sphere", "spot_plane"))
+FULL = Settings(eevee_scenes=_EEVEE)

@@ -1,0 +1,154 @@
+"""Blender's side of the Blender engines: run by Blender's own Python (the ``bpy`` venv), never imported by the suite.
+
+    <blender-venv>/bin/python blender_worker.py JOBS.json RESULT.json
+
+One process renders a batch of scenes (start-up once). ``JOBS.json``::
+
+    {"jobs": [{"glb": ".../scene.glb", "out": ".../scene",  # frames go to <out>_<k>.exr
+               "engine": "CYCLES" | "BLENDER_EEVEE", "resolution": 64, "samples": 16, "seeds": [0, 1, 2, 3],
+               "lighting_mode": "SPEC" | "COMPAT" | "RAW",    # the glTF importer's light conversion
+               "world": [1, 1, 1] | null,                      # a constant world radiance (the furnace), else black
+               "punctual": true}]}                             # lights made punctual (radius 0, sun angle 0)
+
+Each job: factory settings (empty), ``bpy.ops.import_scene.gltf`` with the stated light conversion, the file's
+camera made the scene camera, the render settings below, one still per seed written as an RGBA float32 OpenEXR
+(row 0 = top, alpha = coverage: film transparent). ``RESULT.json`` holds per job what the importer made of every
+light (type, energy in W or W/m², radius, sun angle, spot size and blend: the conversion is *read back*, not
+assumed), the seconds per frame, and Blender's version; on an error, the job's one-line error.
+
+Render settings (what makes Blender's images comparable with the suite's pixel-centre truth):
+* Colour: view transform Standard, exposure 0, gamma 1 (an EXR is written scene-linear either way).
+* Cycles: CPU, ``samples`` per frame with adaptive sampling and denoising off, the seed of the frame; the pixel
+  filter a box of the minimum width 0.01 px (one ray through the pixel centre, as the truth traces); light
+  threshold 0 and no clamping (both bias the estimate); Filter Glossy 0.
+* EEVEE: ``taa_render_samples`` = samples, film filter 0.01 px; shadows on.
+This file imports nothing of the suite and no numpy (Blender's venv has its own numpy < 2).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+import time
+
+
+def _light_info(obj: object) -> dict:
+    li = obj.data  # type: ignore[attr-defined]
+    out = {"name": obj.name, "type": li.type, "energy": float(li.energy),  # type: ignore[attr-defined]
+           "color": [float(c) for c in li.color]}
+    if li.type in ("POINT", "SPOT"):
+        out["radius"] = float(li.shadow_soft_size)
+        out["soft_falloff"] = bool(getattr(li, "use_soft_falloff", False))
+    if li.type == "SPOT":
+        out["spot_size"] = float(li.spot_size)
+        out["spot_blend"] = float(li.spot_blend)
+    if li.type == "SUN":
+        out["angle"] = float(li.angle)
+    return out
+
+
+def _settings(scene: object, job: dict) -> None:
+    import bpy  # noqa: F401  (the settings below are bpy's)
+
+    r = scene.render  # type: ignore[attr-defined]
+    r.engine = job["engine"]
+    r.resolution_x = r.resolution_y = int(job["resolution"])
+    r.resolution_percentage = 100
+    r.pixel_aspect_x = r.pixel_aspect_y = 1.0
+    r.film_transparent = True
+    r.use_compositing = False
+    r.use_sequencer = False
+    r.image_settings.file_format = "OPEN_EXR"
+    r.image_settings.color_mode = "RGBA"
+    r.image_settings.color_depth = "32"
+    r.image_settings.exr_codec = "ZIP"
+    vs = scene.view_settings  # type: ignore[attr-defined]
+    vs.view_transform = "Standard"
+    vs.look = "None"
+    vs.exposure = 0.0
+    vs.gamma = 1.0
+    if job["engine"] == "CYCLES":
+        c = scene.cycles  # type: ignore[attr-defined]
+        c.device = "CPU"
+        c.samples = int(job["samples"])
+        c.use_adaptive_sampling = False
+        c.use_denoising = False
+        c.pixel_filter_type = "BOX"
+        c.filter_width = 0.01
+        c.light_sampling_threshold = 0.0
+        c.sample_clamp_direct = 0.0
+        c.sample_clamp_indirect = 0.0
+        c.blur_glossy = 0.0
+    else:
+        scene.eevee.taa_render_samples = int(job["samples"])  # type: ignore[attr-defined]
+        r.filter_size = 0.01
+
+
+def _world(scene: object, rgb: list | None) -> None:
+    import bpy
+
+    w = bpy.data.worlds.new("validate_world")
+    w.use_nodes = True
+    bg = w.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (*(rgb or (0.0, 0.0, 0.0)), 1.0)
+    bg.inputs["Strength"].default_value = 1.0
+    scene.world = w  # type: ignore[attr-defined]
+
+
+def run_job(job: dict) -> dict:
+    import bpy
+
+    t0 = time.perf_counter()
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    bpy.ops.import_scene.gltf(filepath=job["glb"], export_import_convert_lighting_mode=job["lighting_mode"])
+    scene = bpy.context.scene
+    cams = [o for o in scene.objects if o.type == "CAMERA"]
+    if len(cams) != 1:
+        raise RuntimeError(f"{job['glb']}: {len(cams)} cameras after import (need 1)")
+    scene.camera = cams[0]
+    lights = [o for o in scene.objects if o.type == "LIGHT"]
+    imported = [_light_info(o) for o in lights]
+    if job.get("punctual", True):
+        for o in lights:
+            if o.data.type in ("POINT", "SPOT"):
+                o.data.shadow_soft_size = 0.0
+            if o.data.type == "SUN":
+                o.data.angle = 0.0
+    _settings(scene, job)
+    _world(scene, job.get("world"))
+    t_setup = time.perf_counter() - t0
+    frames = []
+    for k, seed in enumerate(job["seeds"]):
+        if job["engine"] == "CYCLES":
+            scene.cycles.seed = int(seed)
+        scene.render.filepath = f"{job['out']}_{k}.exr"
+        t1 = time.perf_counter()
+        bpy.ops.render.render(write_still=True)
+        frames.append(time.perf_counter() - t1)
+    return {"lights": imported, "rendered_lights": [_light_info(o) for o in lights], "setup_s": t_setup,
+            "frame_s": frames, "camera": {"type": cams[0].data.type, "ortho_scale": float(cams[0].data.ortho_scale)},
+            "files": [f"{job['out']}_{k}.exr" for k in range(len(job["seeds"]))]}
+
+
+def main(argv: list[str]) -> int:
+    t0 = time.perf_counter()
+    import bpy
+
+    t_import = time.perf_counter() - t0
+    jobs = json.loads(open(argv[1], encoding="utf-8").read())["jobs"]
+    results = []
+    for job in jobs:
+        try:
+            results.append(run_job(job))
+        except Exception as exc:  # one line per failed job; the batch goes on
+            results.append({"error": f"{type(exc).__name__}: {' '.join(str(exc).split())[:300]}"})
+    out = {"version": bpy.app.version_string, "import_s": t_import, "total_s": time.perf_counter() - t0,
+           "pi": math.pi, "jobs": results}
+    with open(argv[2], "w", encoding="utf-8") as fh:
+        json.dump(out, fh)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main(sys.argv))
