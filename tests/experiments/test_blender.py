@@ -59,8 +59,8 @@ def test_cycles_agrees_with_mitsuba_and_a_one_percent_scale_fails(tmp_path, monk
                               scenes=("lambert_directional", "point_plane"))
     m = compute_mod.compute(None, s)
     cs = claims_mod.claims(m)
-    assert [c.id for c in cs] == ["cycles_lambert_directional_agrees_with_mitsuba",
-                                  "cycles_point_plane_agrees_with_mitsuba"]
+    assert [c.id for c in cs] == ["blender.cycles.lambert_directional.agrees_with_mitsuba",
+                                  "blender.cycles.point_plane.agrees_with_mitsuba"]
     assert all(c.passed and c.power.fails for c in cs)
     # the importer's units, measured in pixels: SPEC is 1/683 of COMPAT (1 W = 683 lm); RAW's point 1/(4π)
     assert m.conversion["SPEC"]["SUN"]["radiance_over_compat"] == pytest.approx(1 / 683, rel=1e-3)

@@ -28,7 +28,7 @@ def claims(m: Measurements) -> list[Claim]:
         if j.engine != "blender_cycles" or ref is None:
             continue
         pj, pw = j.judgements[ref], j.power[ref]
-        c = Claim(id=f"cycles_{j.scene}_agrees_with_mitsuba",
+        c = Claim(id=f"blender.cycles.{j.scene}.agrees_with_mitsuba",
                   description=f"Cycles ({j.frames} × {j.samples} spp) and Mitsuba agree per pixel on {j.scene} "
                               f"(reference {ref}; {j.judgements[ref].n_pixels} px judged)",
                   metric="fraction of pixels accepted", threshold=MIN_ACCEPTED, measured=pj.fraction_accepted,
