@@ -8,6 +8,11 @@ with Šidák's correction of :func:`validate.metrics.pixel_z.judge`, the readbac
 quadrature with the truth's standard error. A scene passes when its deciding reference (the manifest's
 ``judged_by``) accepts at least ``MIN_ACCEPTED`` of its pixels.
 
+The manifest's ``gltf_scenes`` (the scenes the suite authors as glTF files, :mod:`validate.scenes.gltf_scenes`)
+are judged the way ``judge --gltf`` judges a user's file (:func:`judge_gltf_scene`): the truth traced from the
+``.glb`` itself (:mod:`validate.reference.gltf_truth`) under its environment file, at the entry's samples, with
+the budget of the suite's direct-lit scenes.
+
 A failed scene gets the diagnoses people need first (:func:`diagnose`): the global scale k that fits the image
 to the truth, named when it matches π, 1/π, 4π, 683 … (:mod:`validate.metrics.diagnoses`), and whether dividing
 by it passes; for a scene with an environment that is not uniform, the turn, mirror or flip of the environment

@@ -208,7 +208,8 @@ PERSPECTIVE_PIXELS = ("pixel (i, j) (row i from the top) shows the ray through i
 def authored_entry(sc: AuthoredScene, resolution: int, samples: dict[str, int],
                    env_shape: tuple[int, int] | None) -> dict[str, Any]:
     """The manifest's entry for one scene authored as a glTF file (:mod:`.gltf_scenes`): square images of
-    ``resolution`` × the scene's ``image_scale``, the truth traced from the file at ``env_spp`` with an environment, ``spp`` without."""
+    ``resolution`` × the scene's ``image_scale``, the truth traced from the file at ``env_spp`` with an
+    environment, ``spp`` without."""
     return {
         "name": sc.name, "glb": f"{sc.name}.glb", "digest": hashlib.sha256(sc.glb).hexdigest()[:16],
         "purpose": sc.purpose,
