@@ -83,7 +83,7 @@ def marker_texels(height: int = ENV_SIZE[0], width: int = ENV_SIZE[1]) -> np.nda
 
 def sky_texels(height: int = ENV_SIZE[0], width: int = ENV_SIZE[1]) -> np.ndarray:
     """(H, W, 3) procedural sky: blue above the horizon brightening towards it, brown ground below, and a soft
-    warm sun (a Gaussian lobe of 12° about (0.5, 0.6, 0.62)) — smooth, so a rough sphere's truth converges fast."""
+    warm sun (a Gaussian lobe of 20° about (0.5, 0.6, 0.62)) — smooth, so a rough sphere's truth converges fast."""
     i, j = np.meshgrid(np.arange(height), np.arange(width), indexing="ij")
     d = texel_direction(i, j, height, width)
     up = d[..., 1:2]
@@ -91,7 +91,7 @@ def sky_texels(height: int = ENV_SIZE[0], width: int = ENV_SIZE[1]) -> np.ndarra
     sun = np.array([0.5, 0.6, 0.62])
     sun /= np.linalg.norm(sun)
     ang = np.arccos(np.clip(d @ sun, -1.0, 1.0))[..., None]
-    return sky + np.array([6.0, 5.0, 3.5]) * np.exp(-0.5 * (ang / math.radians(12.0)) ** 2)
+    return sky + np.array([3.0, 2.5, 1.8]) * np.exp(-0.5 * (ang / math.radians(20.0)) ** 2)
 
 
 # ---------------------------------------------------------------- meshes
