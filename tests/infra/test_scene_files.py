@@ -111,8 +111,12 @@ def test_every_glb_loads_and_matches_its_scene(exported: Path) -> None:
 
 def test_trimesh_reads_every_glb(exported: Path) -> None:
     trimesh = pytest.importorskip("trimesh")
+    doc = json.loads((exported / "manifest.json").read_text())
+    meshes = {e["glb"]: 1 for e in doc["scenes"]}  # a sphere or a plane; the authored scenes have one or more
+    assert sorted(p.name for p in exported.glob("*.glb")) == sorted([*meshes, *(e["glb"] for e in doc["gltf_scenes"])])
     for p in sorted(exported.glob("*.glb")):
-        assert len(trimesh.load(str(p), force="scene").geometry) == 1
+        n = len(trimesh.load(str(p), force="scene").geometry)
+        assert n == meshes[p.name] if p.name in meshes else n >= 1, (p.name, n)
 
 
 def test_environment_files_hold_the_truths_texels(exported: Path) -> None:

@@ -407,7 +407,8 @@ def main(argv: list[str] | None = None) -> int:
             from ..scenes.manifest import export_scenes
 
             doc = export_scenes(args.dir, args.scene_set, args.resolution, args.probes)
-            print(f"{args.dir}: {len(doc['scenes'])} scenes ({args.scene_set}, {args.resolution}² px), "
+            print(f"{args.dir}: {len(doc['scenes'])} scenes + {len(doc.get('gltf_scenes', []))} authored glTF scenes "
+                  f"({args.scene_set}, {args.resolution}² px), "
                   f"manifest.json ({doc['schema']}); render them, then: python -m validate judge IMAGES_DIR "
                   f"--engine NAME --scenes {args.dir}")
             return 0

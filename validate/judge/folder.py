@@ -8,6 +8,11 @@ with Šidák's correction of :func:`validate.metrics.pixel_z.judge`, the readbac
 quadrature with the truth's standard error. A scene passes when its deciding reference (the manifest's
 ``judged_by``) accepts at least ``MIN_ACCEPTED`` of its pixels.
 
+The manifest's ``gltf_scenes`` (the scenes the suite authors as glTF files, :mod:`validate.scenes.gltf_scenes`)
+are judged the way ``judge --gltf`` judges a user's file (:func:`judge_gltf_scene`): the truth traced from the
+``.glb`` itself (:mod:`validate.reference.gltf_truth`) under its environment file, at the entry's samples, with
+the budget of the suite's direct-lit scenes.
+
 A failed scene gets the diagnoses people need first (:func:`diagnose`): the global scale k that fits the image
 to the truth, named when it matches π, 1/π, 4π, 683 … (:mod:`validate.metrics.diagnoses`), and whether dividing
 by it passes; for a scene with an environment that is not uniform, the turn, mirror or flip of the environment
@@ -37,9 +42,11 @@ from ..experiments.renders.compute import budget, references, truth
 from ..experiments.renders.settings import QUICK
 from ..metrics.diagnoses import SHIFTS, global_scale, named_factor, shifted
 from ..metrics.pixel_z import MIN_ACCEPTED, PixelJudgement, interior_mask, judge
-from ..scenes.env_orientation import turned_scene, variants_of
+from ..reference.gltf_truth import render_gltf_truth
+from ..scenes.env_orientation import VARIANTS, turned_scene, turned_texels, variants_of
 from ..scenes.gltf_export import check_glb
-from ..scenes.manifest import SetScene, load_manifest, manifest_scenes
+from ..scenes.gltf_import import GltfScene, read_gltf
+from ..scenes.manifest import SetScene, load_manifest, manifest_scenes, read_exr_rgb
 from ..stats import Measured, sidak_critical
 from .images import IMAGE_SUFFIXES, REFUSED_SUFFIXES, EngineImage, read_engine_image
 
@@ -204,6 +211,68 @@ def diagnose(item: SetScene, img: EngineImage, s: Any, truths: dict[str, tuple[n
     return out
 
 
+GLTF_BUDGET_KIND = "directional"  # the budget of the suite's direct-lit scenes (0.25 % of the peak radiance)
+
+
+def judge_gltf_scene(scene: GltfScene, img: EngineImage, image_name: str, texels: np.ndarray | None, spp: int,
+                     passes: int, seed: int = 0, transport: str = "direct") -> SceneJudgement:
+    """Judge ``img`` against the Mitsuba truth of the glTF ``scene`` (:mod:`validate.reference.gltf_truth`) under
+    the environment ``texels``; a failed image gets the scale, the environment's turns and flips (with
+    ``texels``) and the half-pixel shifts."""
+    h, w = img.rgb.shape[:2]
+    t = render_gltf_truth(scene, w, h, texels, spp, passes, seed, transport)
+    m, se, dof = t.mean, t.stderr, t.dof
+    try:
+        mask = interior_mask(t.hit, img.coverage)
+        b, text = budget(GLTF_BUDGET_KIND, m)
+        j = judge(img.rgb, m, np.sqrt(se**2 + img.readback_stderr**2), dof, mask, b, text)
+    except ValidateError as exc:
+        return SceneJudgement(scene.name, "gltf", "mitsuba", image_name, img.precision, {}, m, img.rgb, False,
+                              note=str(exc))
+    sj = SceneJudgement(scene.name, "gltf", "mitsuba", image_name, img.precision, {"mitsuba": j}, m, img.rgb,
+                        _passes(j), note="; ".join(scene.notes))
+    if sj.passed:
+        return sj
+    sj.diagnoses = {"scale": scale_diagnosis(img, m, se, dof, mask, b, text)}
+    if texels is not None and texels.shape[1] % 4 == 0 and np.ptp(texels) > 0:
+        tried = []
+        for variant in VARIANTS:
+            tv = render_gltf_truth(scene, w, h, turned_texels(texels, variant), spp, passes, seed, transport)
+            jv = judge(img.rgb, tv.mean, np.sqrt(tv.stderr**2 + img.readback_stderr**2), dof, mask, b, text)
+            tried.append({"variant": variant, "fraction_accepted": jv.fraction_accepted, "passes": _passes(jv)})
+        hits = [e["variant"] for e in tried if e["passes"]]
+        sj.diagnoses["environment"] = {
+            "tried": tried, "passes_with": hits,
+            "text": (f"the image matches the truth with the environment {hits[0]}" if hits else
+                     "no turn, mirror or flip of the environment passes")}
+    sj.diagnoses["raster_shift"] = shift_diagnosis(img, m, se, dof, mask, b, text)
+    return sj
+
+
+def authored_scenes_of(manifest: dict[str, Any], folder: Path) -> dict[str, tuple[GltfScene, np.ndarray | None]]:
+    """The manifest's scenes authored as glTF files (``gltf_scenes``), each read back from the folder with its
+    environment's texels; a file whose content differs from the manifest's digest is an error naming it."""
+    import hashlib
+
+    out = {}
+    envs: dict[str, np.ndarray] = {}
+    for e in manifest.get("gltf_scenes", []):
+        path = folder / e["glb"]
+        check_glb(path)
+        if hashlib.sha256(path.read_bytes()).hexdigest()[:16] != e["digest"]:
+            raise ValidateError(f"{path}: differs from the manifest (digest {e['digest']}): export the scenes again")
+        texels = None
+        if e["environment"]:
+            f = e["environment"]["file"]
+            if f not in envs:
+                if not (folder / f).is_file():
+                    raise ValidateError(f"{folder / f}: no such file (named by {folder / 'manifest.json'})")
+                envs[f] = read_exr_rgb(folder / f)
+            texels = envs[f]
+        out[e["name"]] = (read_gltf(path), texels)
+    return out
+
+
 def judge_folder(images_dir: Path | str, engine: str, scenes_dir: Path | str | None = None) -> JudgeResult:
     """Judge every manifest scene's image in ``images_dir`` (module docstring); nothing is written."""
     check_engine_name(engine)
@@ -216,14 +285,16 @@ def judge_folder(images_dir: Path | str, engine: str, scenes_dir: Path | str | N
         check_glb(mpath.parent / e["glb"])
         if e["environment"] and not (mpath.parent / e["environment"]["file"]).is_file():
             raise ValidateError(f"{mpath.parent / e['environment']['file']}: no such file (named by {mpath})")
-    own = {e["environment"]["file"] for e in manifest["scenes"] if e["environment"]}
-    found, missing, extra = find_images(images_dir, manifest["scenes"],
+    authored = authored_scenes_of(manifest, mpath.parent)
+    entries = manifest["scenes"] + manifest.get("gltf_scenes", [])
+    own = {e["environment"]["file"] for e in entries if e["environment"]}
+    found, missing, extra = find_images(images_dir, entries,
                                         own if images_dir.resolve() == mpath.parent.resolve() else set())
     if not found:
         raise ValidateError(f"{images_dir}: no image of any scene of {mpath} (expected e.g. "
                             f"{manifest['scenes'][0]['image']['expected']})")
     images = {e["name"]: read_engine_image(found[e["name"]], e["image"]["width"], e["image"]["height"])
-              for e, _ in pairs if e["name"] in found}  # every image checked before anything is traced
+              for e in entries if e["name"] in found}  # every image checked before anything is traced
     s = truth_settings(manifest)
     scenes = []
     for e, item in pairs:
@@ -242,6 +313,13 @@ def judge_folder(images_dir: Path | str, engine: str, scenes_dir: Path | str | N
         if not sj.passed:
             sj.diagnoses = diagnose(item, img, s, truths, mask)
         scenes.append(sj)
+    for e in manifest.get("gltf_scenes", []):
+        img = images.get(e["name"])
+        if img is not None:
+            scene, texels = authored[e["name"]]
+            t = e["truth"]
+            scenes.append(judge_gltf_scene(scene, img, found[e["name"]].name, texels, t["spp"], t["passes"],
+                                           t["seed"], t["transport"]))
     return JudgeResult(engine, scenes, missing, extra, manifest)
 
 

@@ -28,24 +28,18 @@ import numpy as np
 
 from ..atomic import atomic_path, write_text
 from ..errors import ValidateError
-from ..experiments.renders.compute import budget
-from ..metrics.pixel_z import MIN_ACCEPTED, interior_mask, judge
 from ..reference.gltf_truth import TRANSPORTS, GltfTruth, render_gltf_truth
-from ..scenes.env_orientation import VARIANTS, turned_texels
 from ..scenes.gltf_import import GltfScene, read_gltf
 from .folder import (
     JudgeResult,
-    SceneJudgement,
     check_engine_name,
+    judge_gltf_scene,
     print_result,
-    scale_diagnosis,
-    shift_diagnosis,
     write_outputs,
 )
 from .images import IMAGE_SUFFIXES, REFUSED_SUFFIXES, image_size, read_engine_image, write_exr
 
 DEFAULT_SPP, DEFAULT_PASSES = 64, 8
-BUDGET_KIND = "directional"  # the budget of the suite's direct-lit scenes (module docstring)
 
 
 def load_env(path: Path | str | None) -> np.ndarray | None:
@@ -71,10 +65,6 @@ def find_image(images: Path, stem: str) -> Path:
     return have[0]
 
 
-def _passes(j: Any) -> bool:
-    return j.fraction_accepted >= MIN_ACCEPTED
-
-
 def judge_gltf(images: Path | str, gltf: Path | str, engine: str, env: Path | str | None = None,
                spp: int = DEFAULT_SPP, passes: int = DEFAULT_PASSES, seed: int = 0,
                transport: str = "direct") -> tuple[JudgeResult, GltfScene]:
@@ -86,33 +76,7 @@ def judge_gltf(images: Path | str, gltf: Path | str, engine: str, env: Path | st
     path = find_image(Path(images), scene.name)
     w, h = image_size(path)
     img = read_engine_image(path, w, h)
-    t = render_gltf_truth(scene, w, h, texels, spp, passes, seed, transport)
-    m, se, dof = t.mean, t.stderr, t.dof
-    try:
-        mask = interior_mask(t.hit, img.coverage)
-        b, text = budget(BUDGET_KIND, m)
-        j = judge(img.rgb, m, np.sqrt(se**2 + img.readback_stderr**2), dof, mask, b, text)
-    except ValidateError as exc:
-        sj = SceneJudgement(scene.name, "gltf", "mitsuba", path.name, img.precision, {}, m, img.rgb, False,
-                            note=str(exc))
-    else:
-        sj = SceneJudgement(scene.name, "gltf", "mitsuba", path.name, img.precision, {"mitsuba": j}, m, img.rgb,
-                            _passes(j), note="; ".join(scene.notes))
-        if not sj.passed:
-            sj.diagnoses = {"scale": scale_diagnosis(img, m, se, dof, mask, b, text)}
-            if texels is not None and texels.shape[1] % 4 == 0:
-                tried = []
-                for variant in VARIANTS:
-                    tv = render_gltf_truth(scene, w, h, turned_texels(texels, variant), spp, passes, seed, transport)
-                    jv = judge(img.rgb, tv.mean, np.sqrt(tv.stderr**2 + img.readback_stderr**2), dof, mask, b, text)
-                    tried.append({"variant": variant, "fraction_accepted": jv.fraction_accepted,
-                                  "passes": _passes(jv)})
-                hits = [e["variant"] for e in tried if e["passes"]]
-                sj.diagnoses["environment"] = {
-                    "tried": tried, "passes_with": hits,
-                    "text": (f"the image matches the truth with the environment {hits[0]}" if hits else
-                             "no turn, mirror or flip of the environment passes")}
-            sj.diagnoses["raster_shift"] = shift_diagnosis(img, m, se, dof, mask, b, text)
+    sj = judge_gltf_scene(scene, img, path.name, texels, spp, passes, seed, transport)
     manifest = {"schema": "glTF (a user's file)", "set": Path(gltf).name, "resolution": [w, h],
                 "truth_samples": {"spp": spp, "passes": passes, "seed": seed, "transport": transport},
                 "gltf": {"file": str(gltf), "digest": scene.digest, "notes": scene.notes,

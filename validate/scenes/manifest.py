@@ -13,6 +13,12 @@ the scenes). Left out, with the reason in the manifest: the rectangular area lig
 directional, point and spot lights only — the probe scenes without ``--probes``, and the glTF material grid under
 the probe (its multiscatter reference is a mix of two renders).
 
+Beside them, ``gltf_scenes`` lists the scenes the suite authors as glTF files (:mod:`.gltf_scenes`: the
+orientation and units calibration, spheres over metallic × roughness, a box's hard shadows under a directional,
+a point and a spot light, a textured bumpy sphere), perspective, several meshes; their truth is traced from the
+file itself through :mod:`validate.reference.gltf_truth` (the route of a user's own glTF), and their digest is the
+file's. The key is an addition to schema 1 (a reader of the first version ignores it).
+
 Each scene names the references its truth is made of (:data:`REFERENCES`); the first is the one that decides
 whether the scene passes. The truth is the renders experiment's: Mitsuba's ``path`` integrator with
 ``max_depth = 2`` — direct lighting only, which for a lone convex sphere or a lone plane is the full light
@@ -35,6 +41,7 @@ from ..errors import ValidateError
 from . import render_scenes as rs
 from .env_orientation import ORIENTATION
 from .gltf_export import CAMERA_ZFAR, CAMERA_ZNEAR, EXPORT_SEGMENTS, glb_bytes, khr_light, punctual_lights
+from .gltf_scenes import ENVIRONMENTS, AuthoredScene, authored_scenes
 
 SCHEMA_NAME = "validate-scenes"
 SCHEMA_VERSION = 1
@@ -190,6 +197,37 @@ def scene_entry(item: SetScene, env_file: str | None, env_shape: tuple[int, int]
     }
 
 
+GLTF_TRUTH_MEANING = ("Mitsuba's path tracer (max_depth 2) on the .glb as validate.scenes.gltf_import reads it back "
+                      "(validate.reference.gltf_truth: glTF 2.0 Appendix B with its textures, KHR units, KHR's spot "
+                      "falloff), the environment file in conventions.environment")
+PERSPECTIVE_PIXELS = ("pixel (i, j) (row i from the top) shows the ray through its centre: NDC "
+                      "x = 2 (j + 1/2) / W - 1, y = 1 - 2 (i + 1/2) / H, "
+                      "camera-space direction (x aspectRatio tan(yfov/2), y tan(yfov/2), -1)")
+
+
+def authored_entry(sc: AuthoredScene, resolution: int, samples: dict[str, int],
+                   env_shape: tuple[int, int] | None) -> dict[str, Any]:
+    """The manifest's entry for one scene authored as a glTF file (:mod:`.gltf_scenes`): square images of
+    ``resolution`` × the scene's ``image_scale``, the truth traced from the file at ``env_spp`` with an
+    environment, ``spp`` without."""
+    return {
+        "name": sc.name, "glb": f"{sc.name}.glb", "digest": hashlib.sha256(sc.glb).hexdigest()[:16],
+        "purpose": sc.purpose,
+        "image": {"width": resolution * sc.image_scale, "height": resolution * sc.image_scale,
+                  "expected": f"{sc.name}.exr",
+                  "also_accepted": f"{sc.name}.pfm"},
+        "camera": {**sc.camera, "pixels": PERSPECTIVE_PIXELS},
+        "lights": [khr_light(li) for li in sc.lights],
+        "environment": None if sc.environment is None else {
+            "file": f"{sc.environment}.exr", "width": env_shape[1], "height": env_shape[0], "intensity": 1.0,
+            "visible_to_camera": False, "orientation": "see conventions.environment"},
+        "truth": {"transport": "direct", "route": "gltf", "note": sc.truth_note,
+                  "spp": samples["env_spp"] if sc.environment is not None else samples["spp"],
+                  "passes": samples["passes"], "seed": samples["seed"],
+                  "references": [{"name": "mitsuba", "meaning": GLTF_TRUTH_MEANING}], "judged_by": "mitsuba"},
+    }
+
+
 def load_probe(probes_dir: Path) -> np.ndarray:
     """``rs.PROBE_FILE`` of ``probes_dir`` resampled to ``rs.PROBE_SIZE`` (the renders experiment's probe)."""
     from .loaders import load_environment
@@ -221,6 +259,15 @@ def build_manifest(set_name: str, resolution: int,
             shape = texels.shape[:2]
         files[f"{item.scene.name}.glb"] = glb_bytes(item.scene)
         entries.append(scene_entry(item, env_file, shape, const))
+    authored = []
+    for sc in authored_scenes():
+        shape = None
+        if sc.environment is not None:
+            texels = ENVIRONMENTS[sc.environment]()
+            files.setdefault(f"{sc.environment}.exr", exr_bytes(texels))
+            shape = texels.shape[:2]
+        files[f"{sc.name}.glb"] = sc.glb
+        authored.append(authored_entry(sc, resolution, TRUTH_SAMPLES[set_name], shape))
     doc = {
         "schema": SCHEMA, "generator": "validate scenes export", "set": set_name, "resolution": resolution,
         "conventions": {
@@ -228,7 +275,7 @@ def build_manifest(set_name: str, resolution: int,
             "units": "KHR_lights_punctual: directional intensity in lux, point and spot in candela; the truth reads "
                      "photometric units as radiometric ones (1 cd = 1 W/sr), as KHR's sample renderers do",
             "environment": ORIENTATION},
-        "output": OUTPUT, "truth_samples": TRUTH_SAMPLES[set_name], "scenes": entries,
+        "output": OUTPUT, "truth_samples": TRUTH_SAMPLES[set_name], "scenes": entries, "gltf_scenes": authored,
         "probe": None if probe is None else {"file": f"{PROBE_NAME}.exr", "source": rs.PROBE_FILE,
                                              "resampled_to": list(rs.PROBE_SIZE)},
         "not_exported": [{"name": k, "reason": v} for k, v in {**NOT_EXPORTED,
@@ -304,6 +351,29 @@ MANIFEST_SCHEMA: dict[str, Any] = {
                                                                      "enum": list(REFERENCES)}}}},
                                          "judged_by": {"type": "string", "enum": list(REFERENCES)}}},
             }}},
+        "gltf_scenes": {"type": "array", "items": {
+            "type": "object", "required": ["name", "glb", "digest", "image", "camera", "environment", "truth"],
+            "properties": {
+                "name": _NAME, "glb": {"type": "string", "pattern": r"^[A-Za-z0-9_.+-]+\.glb$"},
+                "digest": {"type": "string", "pattern": "^[0-9a-f]{16}$"},
+                "image": {"type": "object", "required": ["width", "height", "expected"],
+                          "properties": {"width": {"type": "integer", "minimum": 1},
+                                         "height": {"type": "integer", "minimum": 1},
+                                         "expected": {"type": "string"}}},
+                "camera": {"type": "object", "required": ["type", "position", "target", "up", "yfov", "aspectRatio"],
+                           "properties": {"type": {"type": "string", "enum": ["perspective"]},
+                                          "position": _VEC3, "target": _VEC3, "up": _VEC3,
+                                          "yfov": {"type": "number", "minimum": 0}}},
+                "environment": {"type": ["object", "null"], "required": ["file", "width", "height"],
+                                "properties": {"file": {"type": "string", "pattern": r"^[A-Za-z0-9_.+-]+\.exr$"}}},
+                "truth": {"type": "object", "required": ["transport", "route", "spp", "passes", "seed", "judged_by"],
+                          "properties": {"transport": {"type": "string", "enum": ["direct", "full"]},
+                                         "route": {"type": "string", "const": "gltf"},
+                                         "spp": {"type": "integer", "minimum": 1},
+                                         "passes": {"type": "integer", "minimum": 2},
+                                         "seed": {"type": "integer", "minimum": 0},
+                                         "judged_by": {"type": "string", "const": "mitsuba"}}},
+            }}},
         "probe": {"type": ["object", "null"], "required": ["file"],
                   "properties": {"file": {"type": "string", "pattern": r"^[A-Za-z0-9_.+-]+\.exr$"}}},
         "not_exported": {"type": "array"},
@@ -367,7 +437,7 @@ def check_manifest(doc: Any, path: Path | str) -> None:
     errors = schema_errors(doc, MANIFEST_SCHEMA)
     if errors:
         raise ValidateError(f"{path}: {errors[0]}" + (f" (and {len(errors) - 1} more)" if len(errors) > 1 else ""))
-    names = [s["name"] for s in doc["scenes"]]
+    names = [s["name"] for s in doc["scenes"] + doc.get("gltf_scenes", [])]
     if len(set(names)) != len(names):
         raise ValidateError(f"{path}: a scene name appears twice")
 
