@@ -33,7 +33,7 @@ class Settings:
 
 
 _EEVEE = EEVEE_SCENES if os.environ.get("VALIDATE_EEVEE") == "1" else ()
-QUICK = Settings(scene_set="quick", passes=4, spp=4, furnace_spp=16, eevee_scenes=_EEVEE,
+QUICK = Settings(scene_set="quick", passes=8, spp=8, furnace_spp=16, eevee_scenes=_EEVEE,
                  scenes=("furnace_dielectric_r0.5", "furnace_metal_r0.5", "lambert_directional", "point_plane",
                          "point_sphere", "spot_plane"))
 FULL = Settings(eevee_scenes=_EEVEE)
