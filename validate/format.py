@@ -241,6 +241,9 @@ LABEL_COLUMNS = frozenset({
     # the report's own pages (validate/report/): claims, techniques, settings, overview, changes; the bench tables
     "experiment", "title", "claim", "description", "family", "origin", "key", "unit",
     "task", "map", "fit", "data", "runtime", "renderer", "experiment uses",
+    # the blender experiment: the importer's mode, the film's precision (words), and a light as glTF and Blender
+    # store it, each cell with its own unit ("3 lx", "37.6991 W")
+    "mode", "precision", "glTF", "Blender",
 })
 ROW_UNIT = "unit"  # "Threshold (unit)": in each row's own unit, which the table's "Unit" column shows
 

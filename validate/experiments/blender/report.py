@@ -27,7 +27,7 @@ def summary(m: Measurements) -> str:
 def _row(j: Judged, ref: str) -> list[Any]:
     pj = j.judgements[ref]
     r, u = j.energy[ref]
-    return [j.scene, j.engine, ref, f"{j.frames} × {j.samples}", j.precision, f"{pj.fraction_accepted:.2%}",
+    return [j.scene, j.engine, ref, j.frames, j.samples, j.precision, f"{100 * pj.fraction_accepted:.2f}",
             pj.n_pixels, f"{pj.max_abs_z:.3g}", ratio(r, u)]
 
 
@@ -82,12 +82,12 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
         "Each exported .glb goes through Blender's glTF importer (light conversion COMPAT) and renders with a 0.01 px "
         "box filter (the pixel-centre ray), no denoiser, no clamping. Rows: the fraction of judged pixels within the "
         "combined uncertainty (Mitsuba's rule: 99.75 %), and Blender's mean radiance over the truth's."],
-        tables=[Table(["scene", "engine", "reference", "frames × spp", "precision", "accepted", "pixels", "max |z|",
-                       "energy ratio"], table_rows(m), caption=f"Blender {m.version}")])
+        tables=[Table(["scene", "engine", "reference", "frames (count)", "spp (count)", "precision", "accepted (%)",
+                       "pixels (px)", "max |z| (–)", "energy ratio (–)"], table_rows(m), caption=f"Blender {m.version}")])
     conv = Section("The glTF importer's light conversion", [
         "What a KHR light becomes in Blender under each importer mode: the energy Blender stores (read back) and the "
         "rendered radiance over COMPAT's (measured in pixels)."],
-        tables=[Table(["mode", "light", "glTF", "Blender", "radiance / COMPAT"],
+        tables=[Table(["mode", "light", "glTF", "Blender", "radiance / COMPAT (×)"],
                       [[mode, t, f"{v['gltf_intensity']:g} {v['gltf_unit']}",
                         f"{v['blender_energy']:.6g} {v['blender_unit']}", f"{v['radiance_over_compat']:.6g}"]
                        for mode, lights in m.conversion.items() for t, v in lights.items()])])
