@@ -83,7 +83,8 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
         "box filter (the pixel-centre ray), no denoiser, no clamping. Rows: the fraction of judged pixels within the "
         "combined uncertainty (Mitsuba's rule: 99.75 %), and Blender's mean radiance over the truth's."],
         tables=[Table(["scene", "engine", "reference", "frames (count)", "spp (count)", "precision", "accepted (%)",
-                       "pixels (px)", "max |z| (–)", "energy ratio (–)"], table_rows(m), caption=f"Blender {m.version}")])
+                       "pixels (px)", "max |z| (–)", "energy ratio (–)"], table_rows(m),
+                      caption=f"Blender {m.version}")])
     conv = Section("The glTF importer's light conversion", [
         "What a KHR light becomes in Blender under each importer mode: the energy Blender stores (read back) and the "
         "rendered radiance over COMPAT's (measured in pixels)."],
