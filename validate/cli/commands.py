@@ -32,6 +32,7 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import Any
 
 from ..atomic import output_error
 from ..errors import ValidateError
@@ -75,6 +76,28 @@ environment variables:
 
 
 def _parser() -> argparse.ArgumentParser:
+    """The command line: the run options every experiment command shares, then each group of subcommands."""
+    common = _run_options()
+    p = argparse.ArgumentParser(prog="python -m validate", epilog=EPILOG,
+                                formatter_class=argparse.RawDescriptionHelpFormatter,
+                                description="Measure real-time lighting approximations against Mitsuba 3 "
+                                            "ground truth and write an HTML report.")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND")
+    lp = sub.add_parser("list", help="list experiments, built-in environments and every technique family")
+    lp.add_argument("--plugin", action="append", default=[], metavar="FILE|MODULE",
+                    help="import a plug-in first so that its techniques are listed (repeatable)")
+    r = sub.add_parser("run", parents=[common], help="run some experiments and update the report in place")
+    r.add_argument("name", nargs="+", help="experiment name(s) (see `list`), run in the order given")
+    sub.add_parser("all", parents=[common], help="run every experiment and write the report")
+    _add_results_commands(sub)
+    add_worst_parser(sub)
+    _add_scene_commands(sub)
+    _add_tool_commands(sub)
+    return p
+
+
+def _run_options() -> argparse.ArgumentParser:
+    """The options of ``run`` and ``all`` (a parent parser)."""
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("--out", type=Path, default=Path("reports"), metavar="DIR",
                         help="output folder for index.html, results.json, figures/ (default: reports)")
@@ -103,18 +126,11 @@ def _parser() -> argparse.ArgumentParser:
                              "in-process); with N > 1 experiments run in two lanes, this process and a child")
     common.add_argument("--scheduler", default=None, metavar="ADDRESS",
                         help="run the tasks on an existing Dask cluster (e.g. tcp://host:8786)")
+    return common
 
-    p = argparse.ArgumentParser(prog="python -m validate", epilog=EPILOG,
-                                formatter_class=argparse.RawDescriptionHelpFormatter,
-                                description="Measure real-time lighting approximations against Mitsuba 3 "
-                                            "ground truth and write an HTML report.")
-    sub = p.add_subparsers(dest="command", metavar="COMMAND")
-    lp = sub.add_parser("list", help="list experiments, built-in environments and every technique family")
-    lp.add_argument("--plugin", action="append", default=[], metavar="FILE|MODULE",
-                    help="import a plug-in first so that its techniques are listed (repeatable)")
-    r = sub.add_parser("run", parents=[common], help="run some experiments and update the report in place")
-    r.add_argument("name", nargs="+", help="experiment name(s) (see `list`), run in the order given")
-    sub.add_parser("all", parents=[common], help="run every experiment and write the report")
+
+def _add_results_commands(sub: Any) -> None:
+    """``compare``, ``export`` and ``history``: what a results.json becomes."""
     c = sub.add_parser("compare", help="what changed between two runs (claims, technique metrics, judgements)",
                        description="For every claim, technique metric and judgement in either results.json: the "
                                    "change and whether it exceeds the combined uncertainty sqrt(s_old^2 + s_new^2) "
@@ -146,7 +162,10 @@ def _parser() -> argparse.ArgumentParser:
     h.add_argument("--out", type=Path, required=True, metavar="DIR", help="folder to write into (created)")
     h.add_argument("--all", action="store_true", dest="everything",
                    help="a plot for every value, changed or not (default: only those that changed)")
-    add_worst_parser(sub)
+
+
+def _add_scene_commands(sub: Any) -> None:
+    """``scenes export|truth`` and ``judge``: scenes as files, images rendered anywhere."""
     sc = sub.add_parser("scenes", help="the render scenes as files any engine loads (glTF 2.0, equirect EXR, "
                                        "manifest.json); see docs/scenes.md")
     scs = sc.add_subparsers(dest="scenes_command", metavar="ACTION", required=True)
@@ -193,6 +212,10 @@ def _parser() -> argparse.ArgumentParser:
     j.add_argument("--env", type=Path, default=None, metavar="FILE",
                    help="with --gltf: the equirect environment lighting it (default: none)")
     _truth_options(j)
+
+
+def _add_tool_commands(sub: Any) -> None:
+    """``bench``, ``setup`` and ``docs``."""
     b = sub.add_parser("bench", help="benchmarks: drjit local models vs numpy, reference cost")
     b.add_argument("--out", type=Path, default=Path("reports"), metavar="DIR")
     b.add_argument("--sizes", default="1024,2048,4096,8192", metavar="H,H,...",
@@ -217,7 +240,6 @@ def _parser() -> argparse.ArgumentParser:
     d.add_argument("--docs", type=Path, default=Path("docs"), metavar="DIR", help="docs folder (default: docs)")
     d.add_argument("--check", action="store_true",
                    help="write nothing; exit 1 naming each file whose blocks differ from the results")
-    return p
 
 
 def _truth_options(p: argparse.ArgumentParser) -> None:
