@@ -174,13 +174,7 @@ def _plugin_class() -> type:
             pdf = mixture_pdf(wi, wo, self.p["alpha"], self.p_d)
             ok = self._active(si, active) & (wo.z > 0.0) & (pdf > 0.0)
             f = gltf_brdf_cos(wi, wo, self._base(), self.p["metallic"], self.p["alpha"], self.p["dielectric_f0"])
-            bs = dr.zeros(mi.BSDFSample3f)
-            bs.wo = wo
-            bs.pdf = dr.select(ok, pdf, 0.0)
-            bs.eta = 1.0
-            bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
-            bs.sampled_component = mi.UInt32(0)
-            return bs, dr.select(ok, f / dr.maximum(pdf, 1e-30), mi.Spectrum(0.0))
+            return reflection_sample(wo, pdf, ok, f)
 
         def eval(self, ctx: Any, si: Any, wo: Any, active: Any = True) -> Any:
             f = gltf_brdf_cos(si.wi, wo, self._base(), self.p["metallic"], self.p["alpha"], self.p["dielectric_f0"])
@@ -200,6 +194,21 @@ def _plugin_class() -> type:
 
     return GltfMetallicRoughness
 
+
+
+def reflection_sample(wo: Any, pdf: Any, ok: Any, f: Any) -> tuple[Any, Any]:
+    """Mitsuba's ``(BSDFSample3f, weight)`` of a sampled reflection: direction ``wo`` with density ``pdf``,
+    ``f`` = f_r·cos θ_o, weight f/pdf; zero where ``ok`` is false (the glTF plug-ins here and in gltf_truth)."""
+    import drjit as dr
+    import mitsuba as mi
+
+    bs = dr.zeros(mi.BSDFSample3f)
+    bs.wo = wo
+    bs.pdf = dr.select(ok, pdf, 0.0)
+    bs.eta = 1.0
+    bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
+    bs.sampled_component = mi.UInt32(0)
+    return bs, dr.select(ok, f / dr.maximum(pdf, 1e-30), mi.Spectrum(0.0))
 
 def bsdf_dict(base_color: tuple[float, float, float] = (1.0, 1.0, 1.0), metallic: float = 0.0,
               roughness: float = 0.5, **extra: Any) -> dict[str, Any]:

@@ -55,7 +55,7 @@ from ..scenes.gltf_import import GltfMaterial, GltfScene, MeshPart, Texture
 from ..scenes.render_scenes import Environment, mitsuba_environment, mitsuba_light
 from ..stats import mean_and_stderr
 from .cache import array_digest, cached
-from .gltf_bsdf import ALPHA_MIN, ggx_d, mixture_pdf, smith_v_height_correlated
+from .gltf_bsdf import ALPHA_MIN, ggx_d, mixture_pdf, reflection_sample, smith_v_height_correlated
 from .render_reference import MAX_PASSES, MIN_PASSES, RenderReference, trace_pass
 
 TRANSPORTS = {"direct": {"type": "path", "max_depth": 2, "hide_emitters": False},
@@ -134,12 +134,54 @@ def textured_brdf_cos(wi: Any, wo: Any, base: Any, metallic: Any, alpha: Any, f0
     return dr.select((wi.z > 0.0) & (wo.z > 0.0), f * wo.z, 0.0)
 
 
-def _plugin_class() -> type:
+def _spectrum(vals: list[Any]) -> Any:
     import drjit as dr
     import mitsuba as mi
 
-    def spectrum(vals: list[Any]) -> Any:
-        return mi.Spectrum(mi.Color3f(*vals)) if dr.is_array_v(mi.Spectrum) else mi.Spectrum(*vals)
+    return mi.Spectrum(mi.Color3f(*vals)) if dr.is_array_v(mi.Spectrum) else mi.Spectrum(*vals)
+
+
+def material_params(mat: GltfMaterial, tex: dict[str, Any], si: Any) -> tuple[Any, Any, Any]:
+    """(base colour, metallic, α = max(roughness², ALPHA_MIN)) at ``si``: the factors times their textures
+    (glTF 2.0 §3.9.2: metallic in B, roughness in G of the metallic-roughness texture)."""
+    import drjit as dr
+    import mitsuba as mi
+
+    base = [mi.Float(v) for v in mat.base_color[:3]]
+    if tex["base_color_texture"] is not None:
+        base = [b * t for b, t in zip(base, tex["base_color_texture"].eval(si.uv), strict=True)]
+    metallic, rough = mi.Float(mat.metallic), mi.Float(mat.roughness)
+    if tex["metallic_roughness_texture"] is not None:
+        _, g, b = tex["metallic_roughness_texture"].eval(si.uv)
+        metallic, rough = metallic * b, rough * g
+    return _spectrum(base), metallic, dr.maximum(rough * rough, ALPHA_MIN)
+
+
+def shading_frame(mat: GltfMaterial, tex: dict[str, Any], tangents: bool, si: Any, active: Any) -> tuple[Any, Any]:
+    """(the frame of the shading normal n' in world space, the sign: −1 on a double-sided back face); the normal
+    texture's n' = normalize((2c − 1)·(s, s, 1) in (t, b, n)) (glTF 2.0 §3.9.3), the tangents from the mesh or from
+    ∂p/∂u."""
+    import drjit as dr
+    import mitsuba as mi
+
+    n = si.sh_frame.n
+    sign = dr.select(si.wi.z < 0.0, -1.0, 1.0) if mat.double_sided else mi.Float(1.0)
+    if tex["normal_texture"] is not None:
+        if tangents:
+            t = mi.Vector3f(si.shape.eval_attribute_3("vertex_tangent", si, active))
+            b = mi.Vector3f(si.shape.eval_attribute_3("vertex_bitangent", si, active))
+        else:
+            t = dr.normalize(si.dp_du - n * dr.dot(n, si.dp_du))
+            b = dr.cross(n, t)
+        c = tex["normal_texture"].eval(si.uv)
+        s = mat.normal_scale
+        n = dr.normalize((2.0 * c[0] - 1.0) * s * t + (2.0 * c[1] - 1.0) * s * b + (2.0 * c[2] - 1.0) * n)
+    return mi.Frame3f(n * sign), sign
+
+
+def _plugin_class() -> type:
+    import drjit as dr
+    import mitsuba as mi
 
     class GltfTextured(mi.BSDF):
         """glTF metallic-roughness with textures (module docstring); configured by :meth:`configure`."""
@@ -159,35 +201,8 @@ def _plugin_class() -> type:
                 self.m_flags = self.m_flags | mi.BSDFFlags.BackSide
                 self.m_components = [self.m_flags]
 
-        def _params(self, si: Any) -> tuple[Any, Any, Any]:
-            m = self.mat
-            base = [mi.Float(v) for v in m.base_color[:3]]
-            if self.tex["base_color_texture"] is not None:
-                base = [b * t for b, t in zip(base, self.tex["base_color_texture"].eval(si.uv), strict=True)]
-            metallic, rough = mi.Float(m.metallic), mi.Float(m.roughness)
-            if self.tex["metallic_roughness_texture"] is not None:
-                _, g, b = self.tex["metallic_roughness_texture"].eval(si.uv)
-                metallic, rough = metallic * b, rough * g
-            return spectrum(base), metallic, dr.maximum(rough * rough, ALPHA_MIN)
-
-        def _frame(self, si: Any, active: Any) -> tuple[Any, Any]:
-            """(the frame of n' in world space, the sign: −1 on a double-sided back face)."""
-            n = si.sh_frame.n
-            sign = dr.select(si.wi.z < 0.0, -1.0, 1.0) if self.mat.double_sided else mi.Float(1.0)
-            if self.tex["normal_texture"] is not None:
-                if self.tangents:
-                    t = mi.Vector3f(si.shape.eval_attribute_3("vertex_tangent", si, active))
-                    b = mi.Vector3f(si.shape.eval_attribute_3("vertex_bitangent", si, active))
-                else:
-                    t = dr.normalize(si.dp_du - n * dr.dot(n, si.dp_du))
-                    b = dr.cross(n, t)
-                c = self.tex["normal_texture"].eval(si.uv)
-                s = self.mat.normal_scale
-                n = dr.normalize((2.0 * c[0] - 1.0) * s * t + (2.0 * c[1] - 1.0) * s * b + (2.0 * c[2] - 1.0) * n)
-            return mi.Frame3f(n * sign), sign
-
         def _local(self, si: Any, wo: Any, active: Any) -> tuple[Any, Any, Any, Any]:
-            frame, sign = self._frame(si, active)
+            frame, sign = shading_frame(self.mat, self.tex, self.tangents, si, active)
             wi_l = frame.to_local(si.to_world(si.wi))
             wo_l = frame.to_local(si.to_world(wo))
             ok = active & (si.wi.z * sign > 0.0) & (wo.z * sign > 0.0) & (wi_l.z > 0.0) & (wo_l.z > 0.0)
@@ -195,22 +210,22 @@ def _plugin_class() -> type:
 
         def eval(self, ctx: Any, si: Any, wo: Any, active: Any = True) -> Any:
             _, wi_l, wo_l, ok = self._local(si, wo, active)
-            base, metallic, alpha = self._params(si)
-            f = textured_brdf_cos(wi_l, wo_l, base, metallic, alpha, spectrum(self.f0), self.f90)
+            base, metallic, alpha = material_params(self.mat, self.tex, si)
+            f = textured_brdf_cos(wi_l, wo_l, base, metallic, alpha, _spectrum(self.f0), self.f90)
             return dr.select(ok, f, mi.Spectrum(0.0))
 
         def pdf(self, ctx: Any, si: Any, wo: Any, active: Any = True) -> Any:
             _, wi_l, wo_l, ok = self._local(si, wo, active)
-            _, metallic, alpha = self._params(si)
+            _, metallic, alpha = material_params(self.mat, self.tex, si)
             return dr.select(ok, mixture_pdf(wi_l, wo_l, alpha, 0.5 * (1.0 - metallic)), 0.0)
 
         def eval_pdf(self, ctx: Any, si: Any, wo: Any, active: Any = True) -> Any:
             return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
 
         def sample(self, ctx: Any, si: Any, sample1: Any, sample2: Any, active: Any = True) -> Any:
-            frame, sign = self._frame(si, active)
+            frame, sign = shading_frame(self.mat, self.tex, self.tangents, si, active)
             wi_l = frame.to_local(si.to_world(si.wi))
-            base, metallic, alpha = self._params(si)
+            base, metallic, alpha = material_params(self.mat, self.tex, si)
             p_d = 0.5 * (1.0 - metallic)
             md = mi.MicrofacetDistribution(mi.MicrofacetType.GGX, alpha, True)
             m, _ = md.sample(dr.select(wi_l.z > 0.0, wi_l, mi.Vector3f(0.0, 0.0, 1.0)), sample2)
@@ -219,14 +234,8 @@ def _plugin_class() -> type:
             pdf = mixture_pdf(wi_l, wo_l, alpha, p_d)
             ok = active & (si.wi.z * sign > 0.0) & (wo.z * sign > 0.0) & (wi_l.z > 0.0) & (wo_l.z > 0.0) & \
                 (pdf > 0.0)
-            f = textured_brdf_cos(wi_l, wo_l, base, metallic, alpha, spectrum(self.f0), self.f90)
-            bs = dr.zeros(mi.BSDFSample3f)
-            bs.wo = wo
-            bs.pdf = dr.select(ok, pdf, 0.0)
-            bs.eta = 1.0
-            bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
-            bs.sampled_component = mi.UInt32(0)
-            return bs, dr.select(ok, f / dr.maximum(pdf, 1e-30), mi.Spectrum(0.0))
+            f = textured_brdf_cos(wi_l, wo_l, base, metallic, alpha, _spectrum(self.f0), self.f90)
+            return reflection_sample(wo, pdf, ok, f)
 
         def traverse(self, callback: Any) -> None:
             return None
