@@ -304,6 +304,11 @@ def export_scenes(out: Path, set_name: str = "quick", resolution: int = 64,
 # ---------------------------------------------------------------- the schema, and a reader that holds files to it
 
 _VEC3 = {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3}
+_GLB = {"type": "string", "pattern": r"^[A-Za-z0-9_.+-]+\.glb$"}
+_DIGEST = {"type": "string", "pattern": "^[0-9a-f]{16}$"}
+_IMAGE = {"type": "object", "required": ["width", "height", "expected"],
+          "properties": {"width": {"type": "integer", "minimum": 1}, "height": {"type": "integer", "minimum": 1},
+                         "expected": {"type": "string"}}}
 _NAME = {"type": "string", "pattern": r"^[A-Za-z0-9_.+-]+$"}
 MANIFEST_SCHEMA: dict[str, Any] = {
     "$schema": "https://json-schema.org/draft/2020-12/schema",
@@ -324,12 +329,9 @@ MANIFEST_SCHEMA: dict[str, Any] = {
             "required": ["name", "glb", "kind", "digest", "image", "camera", "material", "lights", "environment",
                          "truth"],
             "properties": {
-                "name": _NAME, "glb": {"type": "string", "pattern": r"^[A-Za-z0-9_.+-]+\.glb$"},
-                "kind": {"type": "string"}, "digest": {"type": "string", "pattern": "^[0-9a-f]{16}$"},
-                "image": {"type": "object", "required": ["width", "height", "expected"],
-                          "properties": {"width": {"type": "integer", "minimum": 1},
-                                         "height": {"type": "integer", "minimum": 1},
-                                         "expected": {"type": "string"}}},
+                "name": _NAME, "glb": _GLB,
+                "kind": {"type": "string"}, "digest": _DIGEST,
+                "image": _IMAGE,
                 "camera": {"type": "object", "required": ["type", "position", "target", "up", "xmag", "ymag"],
                            "properties": {"type": {"type": "string", "enum": ["orthographic"]},
                                           "position": _VEC3, "target": _VEC3, "up": _VEC3,
@@ -354,12 +356,9 @@ MANIFEST_SCHEMA: dict[str, Any] = {
         "gltf_scenes": {"type": "array", "items": {
             "type": "object", "required": ["name", "glb", "digest", "image", "camera", "environment", "truth"],
             "properties": {
-                "name": _NAME, "glb": {"type": "string", "pattern": r"^[A-Za-z0-9_.+-]+\.glb$"},
-                "digest": {"type": "string", "pattern": "^[0-9a-f]{16}$"},
-                "image": {"type": "object", "required": ["width", "height", "expected"],
-                          "properties": {"width": {"type": "integer", "minimum": 1},
-                                         "height": {"type": "integer", "minimum": 1},
-                                         "expected": {"type": "string"}}},
+                "name": _NAME, "glb": _GLB,
+                "digest": _DIGEST,
+                "image": _IMAGE,
                 "camera": {"type": "object", "required": ["type", "position", "target", "up", "yfov", "aspectRatio"],
                            "properties": {"type": {"type": "string", "enum": ["perspective"]},
                                           "position": _VEC3, "target": _VEC3, "up": _VEC3,
