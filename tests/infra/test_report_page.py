@@ -102,17 +102,21 @@ def test_every_image_loads_and_every_internal_link_resolves(tmp_path):
     assert any(h.startswith("#") for h in hrefs)  # tables of contents
 
 
-# A harness that loads each page in a 1280 × 800 iframe (the issue's window), opens every <details>,
-# waits for the images, then measures: the summary figure's box, every table wrapper's scroll and
-# client widths (and whether it scrolls by design), the page's own scroll width, and — on pages with a
-# comparison widget — which image is visible at a point of the widget before and after each control.
-LAYOUT_HARNESS = """<!DOCTYPE html><html><body style="margin:0"><pre id="out">pending</pre><script>
+# The start of both harnesses below: the pages (a %s the caller fills), a 1280 × 800 iframe loader, an image waiter.
+FRAME_HARNESS = """<!DOCTYPE html><html><body style="margin:0"><pre id="out">pending</pre><script>
 const pages = %s;
 const loadFrame = src => new Promise(res => { const f = document.createElement('iframe');
   f.style.width = '1280px'; f.style.height = '800px'; f.style.border = '0'; f.onload = () => res(f); f.src = src;
   document.body.insertBefore(f, document.body.firstChild); });
 const settle = im => im.complete ? Promise.resolve() : new Promise(r => { im.onload = im.onerror = r; });
-async function measure(p) {
+"""
+
+
+# A harness that loads each page in a 1280 × 800 iframe (the issue's window), opens every <details>,
+# waits for the images, then measures: the summary figure's box, every table wrapper's scroll and
+# client widths (and whether it scrolls by design), the page's own scroll width, and — on pages with a
+# comparison widget — which image is visible at a point of the widget before and after each control.
+LAYOUT_HARNESS = FRAME_HARNESS + """async function measure(p) {
   const f = await loadFrame(p), d = f.contentDocument, w = f.contentWindow;
   for (const im of Array.from(d.images)) { im.loading = 'eager'; await settle(im); }
   const res = {page: p};
@@ -206,13 +210,7 @@ def test_layout_at_1280_and_the_comparison_widget(tmp_path):
 # first screen; a figure's smallest text (its data-font-px, the size summary_plots draws every text at, times the
 # rendered / natural width) at least the body's font size; every grid cell a link to an element holding an image
 # that decoded.
-SUMMARY_HARNESS = """<!DOCTYPE html><html><body style="margin:0"><pre id="out">pending</pre><script>
-const pages = %s;
-const loadFrame = src => new Promise(res => { const f = document.createElement('iframe');
-  f.style.width = '1280px'; f.style.height = '800px'; f.style.border = '0'; f.onload = () => res(f); f.src = src;
-  document.body.insertBefore(f, document.body.firstChild); });
-const settle = im => im.complete ? Promise.resolve() : new Promise(r => { im.onload = im.onerror = r; });
-async function measure(p) {
+SUMMARY_HARNESS = FRAME_HARNESS + """async function measure(p) {
   const f = await loadFrame(p), d = f.contentDocument, w = f.contentWindow;
   for (const im of Array.from(d.images)) { im.loading = 'eager'; await settle(im); }
   const res = {page: p, body: parseFloat(w.getComputedStyle(d.body).fontSize), height: w.innerHeight};
