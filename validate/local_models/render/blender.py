@@ -35,7 +35,7 @@ import json
 import os
 import subprocess
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
@@ -43,6 +43,7 @@ import numpy as np
 
 from ...errors import ValidateError
 from ...setup import paths
+from .engine import Engine, Unavailable
 
 WORKER = Path(__file__).resolve().parent / "blender_worker.py"
 LIGHTING_MODES = ("SPEC", "COMPAT", "RAW")
@@ -52,15 +53,17 @@ FIX = "python -m validate setup --blender"
 
 
 @dataclass(frozen=True)
-class BlenderEngine:
-    """One Blender render engine as the suite drives it."""
+class BlenderEngine(Engine):
+    """One Blender render engine as the suite drives it (the fields of :class:`.engine.Engine`, plus bpy's name)."""
 
-    name: str  # the suite's engine name
-    product: str  # for a person
-    engine: str  # bpy's RenderSettings.engine
-    precision: str  # "float" | "half": the precision of the radiance Blender renders into (not the file's)
-    supports: tuple[str, ...]  # scene kinds rendered as the truth describes them
-    defects: dict[str, str] = field(default_factory=dict)  # what it is known to get wrong → where that is stated
+    engine: str = "CYCLES"  # bpy's RenderSettings.engine
+
+    def version(self) -> str | None:
+        return installed_version()
+
+    def unavailable(self) -> Unavailable | None:
+        ver, why = available()
+        return None if ver else Unavailable("Blender (bpy)", why, FIX)
 
 
 @dataclass(frozen=True)
