@@ -11,7 +11,11 @@ quadrature with the truth's standard error. A scene passes when its deciding ref
 The manifest's ``gltf_scenes`` (the scenes the suite authors as glTF files, :mod:`validate.scenes.gltf_scenes`)
 are judged the way ``judge --gltf`` judges a user's file (:func:`judge_gltf_scene`): the truth traced from the
 ``.glb`` itself (:mod:`validate.reference.gltf_truth`) under its environment file, at the entry's samples, with
-the budget of the suite's direct-lit scenes.
+the budget of the suite's direct-lit scenes. An entry whose truth is the full light transport and which lists the
+direct-only truth under ``truth.also`` (the room lit through a skylight) is judged against both: the full truth
+decides; the direct-only one gives a figure (:func:`global_illumination`, :mod:`validate.metrics.transport_share`):
+the share of the full radiance that global illumination carries, the share the image misses, and whether the
+image matches direct-only lighting ("matches direct-only lighting: misses X % ± Y % (global illumination)").
 
 A failed scene gets the diagnoses people need first (:func:`diagnose`): the global scale k that fits the image
 to the truth, named when it matches π, 1/π, 4π, 683 … (:mod:`validate.metrics.diagnoses`), and whether dividing
@@ -42,12 +46,13 @@ from ..experiments.renders.compute import budget, references, truth
 from ..experiments.renders.settings import QUICK
 from ..metrics.diagnoses import SHIFTS, global_scale, named_factor, shifted
 from ..metrics.pixel_z import MIN_ACCEPTED, PixelJudgement, interior_mask, judge
-from ..reference.gltf_truth import render_gltf_truth
+from ..metrics.transport_share import UNLIT_OF_PEAK, missing_share, unlit_mask
+from ..reference.gltf_truth import GltfTruth, render_gltf_truth
 from ..scenes.env_orientation import VARIANTS, turned_scene, turned_texels, variants_of
 from ..scenes.gltf_export import check_glb
 from ..scenes.gltf_import import GltfScene, read_gltf
 from ..scenes.manifest import SetScene, load_manifest, manifest_scenes, read_exr_rgb
-from ..stats import Measured, sidak_critical
+from ..stats import Measured, measured_json, sidak_critical
 from .images import IMAGE_SUFFIXES, REFUSED_SUFFIXES, EngineImage, read_engine_image
 
 RESULTS_SCHEMA = "validate-judge/1"
@@ -74,6 +79,8 @@ class SceneJudgement:
     passed: bool
     diagnoses: dict[str, Any] = field(default_factory=dict)
     note: str = ""
+    figures: dict[str, Any] = field(default_factory=dict)  # findings that are no verdict (global illumination)
+    also: dict[str, np.ndarray] = field(default_factory=dict)  # the means of the truths judged beside (the page)
 
 
 @dataclass
@@ -214,11 +221,48 @@ def diagnose(item: SetScene, img: EngineImage, s: Any, truths: dict[str, tuple[n
 GLTF_BUDGET_KIND = "directional"  # the budget of the suite's direct-lit scenes (0.25 % of the peak radiance)
 
 
+def global_illumination(img: EngineImage, direct: GltfTruth, full: GltfTruth, mask: np.ndarray,
+                        jd: PixelJudgement) -> dict[str, Any]:
+    """The figure of a scene judged against its full-transport truth with the direct-only one beside
+    (:mod:`validate.metrics.transport_share`): the share of the full radiance the direct-only truth lacks (global
+    illumination) over the judged pixels and over those the direct light does not reach, the share the image
+    misses over both, and whether the image matches the direct-only truth (``jd``, its judgement). A finding,
+    never a verdict."""
+    unlit = unlit_mask(direct.mean, mask)
+    regions = {"image": mask, **({"unlit": unlit} if unlit.any() else {})}
+    hit = full.hit  # the passes are stored over the hit pixels; both truths trace the same rays
+    rgb, readback = img.rgb[hit], np.broadcast_to(np.asarray(img.readback_stderr, np.float64), img.rgb.shape)[hit]
+    share = {k: missing_share(direct.pass_values, full.pass_values, m[hit]) for k, m in regions.items()}
+    miss = {k: missing_share(rgb, full.pass_values, m[hit], readback) for k, m in regions.items()}
+    miss = {k: replace(v, better="zero") for k, v in miss.items()}
+    n, nu = int(mask.sum()), int(unlit.sum())
+
+    def pct(v: Measured) -> str:
+        return f"{100 * v.value:.1f} % ± {100 * v.uncertainty:.2g} %"
+
+    where = (f"; {pct(miss['unlit'])} over the {nu} px ({nu / n:.0%}) the direct light does not reach"
+             if "unlit" in miss else "")
+    lines = [f"global illumination: {pct(share['image'])} of the full radiance over the {n} judged px bounced more "
+             f"than once (the direct-only truth lacks it)"
+             + (f"; {pct(share['unlit'])} over the unlit {nu} px" if "unlit" in share else "")]
+    if _passes(jd):
+        lines.append(f"matches direct-only lighting: misses {pct(miss['image'])} (global illumination){where}")
+    else:
+        lines.append(f"misses {pct(miss['image'])} of the full radiance{where}; does not match the direct-only "
+                     f"truth ({jd.fraction_accepted:.1%} of the pixels accepted)")
+    return {"gi_share": share, "engine_missing": miss,
+            "unlit_pixels": Measured(nu / n, unit="%", better="zero",
+                                     params={"n_pixels": n, "unlit": f"direct truth <= {UNLIT_OF_PEAK:g} x its peak"}),
+            "matches_direct": _passes(jd), "direct_judgement": jd.to_json(), "text": lines}
+
+
 def judge_gltf_scene(scene: GltfScene, img: EngineImage, image_name: str, texels: np.ndarray | None, spp: int,
-                     passes: int, seed: int = 0, transport: str = "direct") -> SceneJudgement:
+                     passes: int, seed: int = 0, transport: str = "direct", also: tuple[str, ...] = ()
+                     ) -> SceneJudgement:
     """Judge ``img`` against the Mitsuba truth of the glTF ``scene`` (:mod:`validate.reference.gltf_truth`) under
     the environment ``texels``; a failed image gets the scale, the environment's turns and flips (with
-    ``texels``) and the half-pixel shifts."""
+    ``texels``) and the half-pixel shifts. With ``transport`` "full" and "direct" in ``also`` the image is also
+    judged against the direct-only truth, as a figure (:func:`global_illumination`), never deciding."""
     h, w = img.rgb.shape[:2]
     t = render_gltf_truth(scene, w, h, texels, spp, passes, seed, transport)
     m, se, dof = t.mean, t.stderr, t.dof
@@ -231,6 +275,12 @@ def judge_gltf_scene(scene: GltfScene, img: EngineImage, image_name: str, texels
                               note=str(exc))
     sj = SceneJudgement(scene.name, "gltf", "mitsuba", image_name, img.precision, {"mitsuba": j}, m, img.rgb,
                         _passes(j), note="; ".join(scene.notes))
+    if transport == "full" and "direct" in also:
+        td = render_gltf_truth(scene, w, h, texels, spp, passes, seed, "direct")
+        bd, textd = budget(GLTF_BUDGET_KIND, td.mean)
+        jd = judge(img.rgb, td.mean, np.sqrt(td.stderr**2 + img.readback_stderr**2), td.dof, mask, bd, textd)
+        sj.figures["global_illumination"] = global_illumination(img, td, t, mask, jd)
+        sj.also["direct"] = td.mean
     if sj.passed:
         return sj
     sj.diagnoses = {"scale": scale_diagnosis(img, m, se, dof, mask, b, text)}
@@ -319,7 +369,7 @@ def judge_folder(images_dir: Path | str, engine: str, scenes_dir: Path | str | N
             scene, texels = authored[e["name"]]
             t = e["truth"]
             scenes.append(judge_gltf_scene(scene, img, found[e["name"]].name, texels, t["spp"], t["passes"],
-                                           t["seed"], t["transport"]))
+                                           t["seed"], t["transport"], tuple(a["transport"] for a in t.get("also", []))))
     return JudgeResult(engine, scenes, missing, extra, manifest)
 
 
@@ -331,7 +381,7 @@ def results_json(r: JudgeResult, images_dir: Path, scenes_dir: Path) -> dict[str
             "kind": sj.kind, "judged_by": sj.judged_by, "passed": sj.passed, "image": sj.image_file,
             "precision": sj.precision, **({"note": sj.note} if sj.note else {}),
             "engines": {r.engine: {"judgements": {k: j.to_json() for k, j in sj.judgements.items()},
-                                   "diagnoses": sj.diagnoses}}}
+                                   "diagnoses": sj.diagnoses, **measured_json(sj.figures)}}}
     m = r.manifest
     return {"schema": RESULTS_SCHEMA, "engine": r.engine, "images": str(images_dir), "scenes": str(scenes_dir),
             "manifest": {"schema": m["schema"], "set": m["set"], "resolution": m["resolution"],
@@ -372,6 +422,9 @@ def print_result(r: JudgeResult, out: Path) -> None:
                 (f" ({j.fraction_accepted:.2%} of {j.n_pixels} px accepted vs {sj.judged_by})" if j else
                  f" ({sj.note})"))
         print(head)
+        for f in sj.figures.values():
+            for line in f["text"]:
+                print(f"  {line}")
         for d in sj.diagnoses.values():
             print(f"  {d['text']}")
     for name in r.missing:

@@ -1,5 +1,6 @@
 """The judge's page: one self-contained HTML file (images inline as PNG data URIs), truth | engine | z-map per
-scene, the numbers and the diagnoses after. Truth and engine share one exposure (the truth's automatic one,
+scene (and the direct-only truth where the scene is also judged against it), the numbers, the figures (the share
+of global illumination) and the diagnoses after. Truth and engine share one exposure (the truth's automatic one,
 :func:`validate.figures.plots.tonemap`), so a scale error shows as a brighter or darker picture; the z-map shows
 max |z| over the channels from 0 to 2 z* (z* the Šidák critical value: brighter than the middle is rejected),
 grey outside the judged pixels."""
@@ -42,8 +43,11 @@ def z_rgb(z: np.ndarray, critical: float) -> np.ndarray:
 def _scene(sj: Any) -> str:
     """One scene's section (``sj``: a :class:`validate.judge.folder.SceneJudgement`)."""
     k = auto_exposure(np.nan_to_num(sj.truth, nan=0.0))
-    cells = [("truth (Mitsuba, " + html.escape(sj.judged_by) + ")", png_uri(tonemap(sj.truth, k))),
+    full = ", full transport" if sj.also else ""
+    cells = [(f"truth (Mitsuba, {html.escape(sj.judged_by)}{full})", png_uri(tonemap(sj.truth, k))),
              ("engine", png_uri(tonemap(sj.engine, k)))]
+    cells[1:1] = [(f"{html.escape(name)}-only truth (Mitsuba; a figure, not the verdict)", png_uri(tonemap(m, k)))
+                  for name, m in sj.also.items()]
     j = sj.judgements.get(sj.judged_by)
     if j is not None:
         cells.append((f"|z| (0 … 2z*, z* = {j.critical_z:.2f})", png_uri(z_rgb(j.z_image, j.critical_z))))
@@ -54,6 +58,8 @@ def _scene(sj: Any) -> str:
         f"<td>{jj.mean_rel:.3%} ± {jj.mean_rel_unc:.1e}</td><td>{jj.max_rel:.3%}</td>"
         f"<td>{jj.mean_signed_rel:+.3%}</td><td>{html.escape(jj.budget)}</td></tr>"
         for ref, jj in sj.judgements.items())
+    figures = "".join(f"<li>{html.escape(line)}</li>" for f in sj.figures.values()
+                      for line in f["text"])
     diag = "".join(f"<li>{html.escape(d['text'])}</li>" for d in sj.diagnoses.values())
     verdict = "pass" if sj.passed else "FAIL"
     return (f'<section><h2>{html.escape(sj.name)} <span class="{verdict.lower()}">{verdict}</span></h2>'
@@ -61,6 +67,7 @@ def _scene(sj: Any) -> str:
             f"{'; ' + html.escape(sj.note) if sj.note else ''}</p><div class=row>{figs}</div>"
             + (f"<table><tr><th>reference</th><th>accepted</th><th>pixels</th><th>mean |rel|</th><th>max |rel|</th>"
                f"<th>mean rel</th><th>budget</th></tr>{rows}</table>" if rows else "")
+            + (f'<ul class="figures">{figures}</ul>' if figures else "")
             + (f"<ul>{diag}</ul>" if diag else "") + "</section>")
 
 

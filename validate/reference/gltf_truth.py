@@ -45,7 +45,7 @@ seeded seed·MAX_PASSES + i; per pixel the mean and s = std(passes, ddof 1)/√P
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -327,9 +327,13 @@ def mitsuba_scene(scene: GltfScene, env: np.ndarray | None, transport: str) -> A
 @dataclass
 class GltfTruth(RenderReference):
     """:class:`RenderReference` of a glTF scene: (H, W, 3) mean and standard error (NaN where the centre ray misses),
-    the (H, W) hit mask, and the transport traced."""
+    the (H, W) hit mask, the transport traced, and the passes themselves, (P, N, 3) over the N hit pixels in row
+    order (pass i seeded seed·MAX_PASSES + i, so two truths of one seed pair pass by pass; a figure summed over many
+    pixels takes its uncertainty from them: within one pass Mitsuba's samples of different pixels are not
+    independent enough for Σ stderr², :mod:`validate.metrics.transport_share`)."""
 
     transport: str = "direct"
+    pass_values: np.ndarray | None = field(default=None, repr=False)
 
 
 def render_gltf_truth(scene: GltfScene, width: int, height: int, env: np.ndarray | None = None, spp: int = 64,
@@ -376,4 +380,4 @@ def render_gltf_truth(scene: GltfScene, width: int, height: int, env: np.ndarray
     m, s = mean_and_stderr(p, axis=0)
     mean, stderr = np.full((height, width, 3), np.nan), np.full((height, width, 3), np.nan)
     mean[hit], stderr[hit] = m, s
-    return GltfTruth(mean, stderr, hit, spp, passes, seed, transport)
+    return GltfTruth(mean, stderr, hit, spp, passes, seed, transport, p)

@@ -27,9 +27,16 @@ glTF takes — so the file is the whole scene (its digest is the file's content 
 * ``textured_bumpy_sphere``: a sphere whose radius is modulated by a bump field, with UVs and tangents, and
   base-colour (checker), metallic-roughness (stripes) and normal (a bump pattern) textures made by the suite,
   under the sky, perspective.
+* ``room_opening``: a closed room (:data:`ROOM_MIN`–:data:`ROOM_MAX`), every wall single-sided facing in
+  (:func:`room_meshes`), Lambertian: white (:data:`WALL_ALBEDO`) but for the red left wall (:data:`RED_WALL`),
+  lit by the sun :data:`ROOM_SUN` through a skylight (:data:`ROOM_OPENING`) onto the floor and the back wall, no
+  environment, the camera in a corner. Most of what the camera sees is lit by light that bounced (and the red
+  wall bleeds): the truth that decides is the full light transport, and the direct-only truth is judged beside it
+  as a figure — the share an engine without global illumination misses (``AuthoredScene.also``).
 
-Truth: Mitsuba ``path`` with ``max_depth = 2`` at the manifest's samples (``spp`` for punctual lights, ``env_spp``
-with an environment), the manifest's passes and seed.
+Truth: Mitsuba ``path`` with ``max_depth = 2`` (``transport`` "direct"; the room: "full", max_depth −1 with
+Russian roulette, :data:`validate.reference.gltf_truth.TRANSPORTS`) at the manifest's samples (``spp`` for
+punctual lights, ``env_spp`` with an environment, × the scene's ``spp_factor``), the manifest's passes and seed.
 """
 
 from __future__ import annotations
@@ -66,6 +73,14 @@ GOLD = (1.0, 0.766, 0.336)
 BOX_HALF, BOX_GAP, GROUND_HALF = 0.4, 0.3, 2.5
 MIRROR_ROUGHNESS = 0.05  # alpha = 0.0025: a mirror to the 48-128 px images (exactly 0 gives the sampler NaNs)
 SEGMENTS = (128, 64)  # the authored spheres' (longitude, latitude) segments
+ROOM_MIN, ROOM_MAX = (-2.0, 0.0, -2.0), (2.0, 2.4, 2.0)  # the room's inside (x, y, z), metres
+ROOM_OPENING = ((-1.0, 1.0), (-1.2, 0.4))  # the skylight in the ceiling: x range, z range
+ROOM_SUN = DirectionalLight((-0.3, -1.0, -0.4), 5.0)  # through the skylight onto the floor and the back wall
+WALL_ALBEDO, RED_WALL = (0.8, 0.8, 0.8), (0.8, 0.15, 0.1)  # white walls; the left wall (x = −2) red
+# the full transport's noise: at 4 x the set's spp (64 x 8 passes, quick) the median relative standard error on the
+# walls the sun does not reach is 16 % at 64² (p95 28 %), so an image without their bounced light is rejected there
+ROOM_SPP_FACTOR = 4
+ROOM_OVERLAP = 0.02  # each wall runs this far past the room's edges, so no ray slips between two meshes
 
 
 def marker_texels(height: int = ENV_SIZE[0], width: int = ENV_SIZE[1]) -> np.ndarray:
@@ -118,6 +133,42 @@ def ground_mesh(half: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The square y = 0 of ``half``, normal +y, counter-clockwise seen from above."""
     p = np.array([[-half, 0, half], [half, 0, half], [half, 0, -half], [-half, 0, -half]], np.float32)
     return p, np.tile(np.array([0, 1, 0], np.float32), (4, 1)), np.array([[0, 1, 2], [0, 2, 3]], np.uint32)
+
+
+def rect_mesh(rects: list[tuple[int, float, float, tuple[float, float], tuple[float, float]]]
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Axis-aligned rectangles (axis, its value, the normal's sign, the ranges of the next two axes in cyclic order)
+    as one mesh: flat normals along ±axis, each counter-clockwise seen from the side its normal points to."""
+    pos, nrm, tri = [], [], []
+    for axis, value, sign, (a0, a1), (b0, b1) in rects:
+        ia, ib = (axis + 1) % 3, (axis + 2) % 3
+        k = len(pos)
+        corners = [(a0, b0), (a1, b0), (a1, b1), (a0, b1)]  # counter-clockwise about e_a × e_b = e_axis
+        for a, b in corners if sign > 0 else corners[::-1]:
+            p = np.zeros(3)
+            p[axis], p[ia], p[ib] = value, a, b
+            pos.append(p)
+        n = np.zeros(3)
+        n[axis] = sign
+        nrm += [n] * 4
+        tri += [[k, k + 1, k + 2], [k, k + 2, k + 3]]
+    return np.asarray(pos, np.float32), np.asarray(nrm, np.float32), np.asarray(tri, np.uint32)
+
+
+def room_meshes() -> tuple[list[tuple[int, float, float, tuple[float, float], tuple[float, float]]],
+                           list[tuple[int, float, float, tuple[float, float], tuple[float, float]]]]:
+    """(the white rectangles, the red one) of the closed room :data:`ROOM_MIN`–:data:`ROOM_MAX`, every normal
+    inward: floor, the ceiling around the skylight :data:`ROOM_OPENING` (four pieces), the back (z min), front
+    (z max) and right (x max) walls white, the left wall (x min) red."""
+    (x0, y0, z0), (x1, y1, z1), e = ROOM_MIN, ROOM_MAX, ROOM_OVERLAP
+    (hx0, hx1), (hz0, hz1) = ROOM_OPENING
+    white = [(1, y0, 1.0, (z0 - e, z1 + e), (x0 - e, x1 + e)),  # floor (axis y: ranges z, x)
+             (1, y1, -1.0, (z0 - e, z1 + e), (x0 - e, hx0)), (1, y1, -1.0, (z0 - e, z1 + e), (hx1, x1 + e)),
+             (1, y1, -1.0, (z0 - e, hz0), (hx0, hx1)), (1, y1, -1.0, (hz1, z1 + e), (hx0, hx1)),  # ceiling
+             (2, z0, 1.0, (x0 - e, x1 + e), (y0 - e, y1 + e)), (2, z1, -1.0, (x0 - e, x1 + e), (y0 - e, y1 + e)),
+             (0, x1, -1.0, (y0 - e, y1 + e), (z0 - e, z1 + e))]  # back, front (axis z: x, y), right (axis x: y, z)
+    red = [(0, x0, 1.0, (y0 - e, y1 + e), (z0 - e, z1 + e))]
+    return white, red
 
 
 def bump(p: np.ndarray) -> np.ndarray:
@@ -328,6 +379,9 @@ class AuthoredScene:
     truth_note: str
     lights: tuple[Any, ...] = ()
     image_scale: int = 1  # the image is image_scale x the export's resolution a side (small objects need pixels)
+    transport: str = "direct"  # the deciding truth's (validate.reference.gltf_truth.TRANSPORTS)
+    also: tuple[str, ...] = ()  # further truths the image is judged against, as figures (never deciding)
+    spp_factor: int = 1  # its truth's samples per pass: the set's (env_spp with an environment, spp without) x this
 
 
 def _camera(position: tuple[float, ...], target: tuple[float, ...], yfov: float) -> dict[str, Any]:
@@ -386,6 +440,19 @@ def authored_scenes() -> list[AuthoredScene]:
     out.append(AuthoredScene("textured_bumpy_sphere", b.glb("textured_bumpy_sphere", cam), cam, "sky",
                              "a mesh with curvature, UVs and tangents and the suite's base-colour, metallic-roughness "
                              "and normal textures", "direct lighting; the bumps shadow one another a little"))
+    b = _Builder()
+    white, red = room_meshes()
+    for name, rects, albedo in (("white_walls", white, WALL_ALBEDO), ("red_wall", red, RED_WALL)):
+        b.mesh_node(name, b.geometry(dict(zip(("POSITION", "NORMAL", "indices"), rect_mesh(rects), strict=True))),
+                    b.material(name, albedo, 0.0, 1.0, 0.0))
+    b.light(ROOM_SUN)
+    cam = _camera((1.6, 1.5, 1.8), (-0.6, 0.3, -1.2), 1.1)
+    out.append(AuthoredScene("room_opening", b.glb("room_opening", cam), cam, None,
+                             "a closed Lambertian room (white, the left wall red) lit by the sun through a skylight: "
+                             "the light that reaches the unlit walls and the red bleeding is global illumination",
+                             "judged against the full light transport; the direct-only truth beside it gives the "
+                             "share an engine without global illumination misses (a figure, not a failure)",
+                             (ROOM_SUN,), transport="full", also=("direct",), spp_factor=ROOM_SPP_FACTOR))
     return out
 
 

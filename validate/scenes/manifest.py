@@ -15,9 +15,11 @@ the probe (its multiscatter reference is a mix of two renders).
 
 Beside them, ``gltf_scenes`` lists the scenes the suite authors as glTF files (:mod:`.gltf_scenes`: the
 orientation and units calibration, spheres over metallic × roughness, a box's hard shadows under a directional,
-a point and a spot light, a textured bumpy sphere), perspective, several meshes; their truth is traced from the
-file itself through :mod:`validate.reference.gltf_truth` (the route of a user's own glTF), and their digest is the
-file's. The key is an addition to schema 1 (a reader of the first version ignores it).
+a point and a spot light, a textured bumpy sphere, a room lit through a skylight), perspective, several meshes;
+their truth is traced from the file itself through :mod:`validate.reference.gltf_truth` (the route of a user's own
+glTF), and their digest is the file's. The key is an addition to schema 1 (a reader of the first version ignores
+it), as is an entry's ``truth.also``: the truths the image is also judged against as figures, never deciding (the
+room's direct-only truth beside its full transport).
 
 Each scene names the references its truth is made of (:data:`REFERENCES`); the first is the one that decides
 whether the scene passes. The truth is the renders experiment's: Mitsuba's ``path`` integrator with
@@ -200,6 +202,15 @@ def scene_entry(item: SetScene, env_file: str | None, env_shape: tuple[int, int]
 GLTF_TRUTH_MEANING = ("Mitsuba's path tracer (max_depth 2) on the .glb as validate.scenes.gltf_import reads it back "
                       "(validate.reference.gltf_truth: glTF 2.0 Appendix B with its textures, KHR units, KHR's spot "
                       "falloff), the environment file in conventions.environment")
+TRANSPORT_MEANING = {
+    "direct": GLTF_TRUTH_MEANING,
+    "full": "Mitsuba's path tracer with the full light transport (max_depth -1: unbounded, Russian roulette from "
+            "depth 5: unbiased, no bounce left out) on the .glb as validate.scenes.gltf_import reads it back "
+            "(validate.reference.gltf_truth), the environment file in conventions.environment",
+}
+ALSO_ROLE = {"direct": "a figure, not a verdict: the share of the full radiance the direct-only truth lacks (global "
+                       "illumination, over the image and over the pixels the direct light does not reach), the share "
+                       "the image misses, and whether it matches the direct-only truth"}
 PERSPECTIVE_PIXELS = ("pixel (i, j) (row i from the top) shows the ray through its centre: NDC "
                       "x = 2 (j + 1/2) / W - 1, y = 1 - 2 (i + 1/2) / H, "
                       "camera-space direction (x aspectRatio tan(yfov/2), y tan(yfov/2), -1)")
@@ -209,7 +220,16 @@ def authored_entry(sc: AuthoredScene, resolution: int, samples: dict[str, int],
                    env_shape: tuple[int, int] | None) -> dict[str, Any]:
     """The manifest's entry for one scene authored as a glTF file (:mod:`.gltf_scenes`): square images of
     ``resolution`` × the scene's ``image_scale``, the truth traced from the file at ``env_spp`` with an
-    environment, ``spp`` without."""
+    environment, ``spp`` without (× the scene's ``spp_factor``), in the scene's transport; the truths it is
+    also judged against, as figures, under ``truth.also`` (an addition to schema 1 that a reader ignores)."""
+    spp = samples["env_spp" if sc.environment is not None else "spp"] * sc.spp_factor
+    truth: dict[str, Any] = {
+        "transport": sc.transport, "route": "gltf", "note": sc.truth_note, "spp": spp, "passes": samples["passes"],
+        "seed": samples["seed"], "references": [{"name": "mitsuba", "meaning": TRANSPORT_MEANING[sc.transport]}],
+        "judged_by": "mitsuba"}
+    if sc.also:
+        truth["also"] = [{"name": a, "transport": a, "spp": spp, "meaning": TRANSPORT_MEANING[a], "role": ALSO_ROLE[a]}
+                         for a in sc.also]
     return {
         "name": sc.name, "glb": f"{sc.name}.glb", "digest": hashlib.sha256(sc.glb).hexdigest()[:16],
         "purpose": sc.purpose,
@@ -221,10 +241,7 @@ def authored_entry(sc: AuthoredScene, resolution: int, samples: dict[str, int],
         "environment": None if sc.environment is None else {
             "file": f"{sc.environment}.exr", "width": env_shape[1], "height": env_shape[0], "intensity": 1.0,
             "visible_to_camera": False, "orientation": "see conventions.environment"},
-        "truth": {"transport": "direct", "route": "gltf", "note": sc.truth_note,
-                  "spp": samples["env_spp"] if sc.environment is not None else samples["spp"],
-                  "passes": samples["passes"], "seed": samples["seed"],
-                  "references": [{"name": "mitsuba", "meaning": GLTF_TRUTH_MEANING}], "judged_by": "mitsuba"},
+        "truth": truth,
     }
 
 
@@ -371,7 +388,11 @@ MANIFEST_SCHEMA: dict[str, Any] = {
                                          "spp": {"type": "integer", "minimum": 1},
                                          "passes": {"type": "integer", "minimum": 2},
                                          "seed": {"type": "integer", "minimum": 0},
-                                         "judged_by": {"type": "string", "const": "mitsuba"}}},
+                                         "judged_by": {"type": "string", "const": "mitsuba"},
+                                         "also": {"type": "array", "items": {
+                                             "type": "object", "required": ["name", "transport", "spp"],
+                                             "properties": {"transport": {"type": "string", "enum": ["direct"]},
+                                                            "spp": {"type": "integer", "minimum": 1}}}}}},
             }}},
         "probe": {"type": ["object", "null"], "required": ["file"],
                   "properties": {"file": {"type": "string", "pattern": r"^[A-Za-z0-9_.+-]+\.exr$"}}},
