@@ -36,7 +36,8 @@ def config_scene():
     return cfg, rcs.cdf_lambert_scene(t, 32)
 
 def render(scene, size, variant="shipped", extra=None):
-    page, fn, options = engines.ENGINES[rcs.engine_name(size, variant)]
+    e = engines.registry.get(rcs.engine_name(size, variant))
+    page, fn, options = e.page, e.entry, e.options
     if extra is not None:
         browser_page.open_page(page).evaluate("(x) => { window.__cdfDiag = x; }", extra)
     d = dict(scene.engine_json(), options=options)

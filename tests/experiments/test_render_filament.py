@@ -32,10 +32,12 @@ def test_unorm8_decode_divides_by_the_exposure_and_carries_half_an_lsb() -> None
 
 
 def test_filament_is_skipped_where_it_has_no_pipeline() -> None:
-    for kind in ("furnace", "hemisphere", "probe", "probe_lambert", "rect"):
-        assert "filament" in compute.KIND_SKIP[kind]
+    from validate.experiments.renders.kinds import KINDS
+
+    for kind in ("furnace", "furnace_material", "hemisphere", "probe", "probe_lambert", "probe_material", "rect"):
+        assert compute.skip_reason("filament", KINDS[kind]), kind
     for kind in ("directional", "point", "spot"):
-        assert "filament" not in compute.KIND_SKIP.get(kind, {})
+        assert compute.skip_reason("filament", KINDS[kind]) is None
 
 
 def test_readback_uncertainty_adds_in_quadrature() -> None:

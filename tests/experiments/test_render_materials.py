@@ -30,7 +30,7 @@ def test_scene_list_adds_the_material_grid() -> None:
     from validate.experiments.renders.compute import scene_list
     from validate.experiments.renders.settings import QUICK
 
-    rows = [(sc, k) for sc, k in scene_list(QUICK, TEXELS) if k == "probe_material"]
+    rows = [(sc, k) for sc, k in scene_list(QUICK, TEXELS) if k.name == "probe_material"]
     got = sorted((sc.material.metallic, sc.material.roughness) for sc, _ in rows)
     assert got == sorted((m, r) for m in QUICK.material_metallic for r in QUICK.material_roughness)
     names = [sc.name for sc, _ in scene_list(QUICK, TEXELS)]

@@ -1,6 +1,6 @@
 """(d) Babylon.js's RectAreaLight, rendered through Babylon's own shader with Heitz et al. 2016's GGX LTC tables
 (three.js's RectAreaLightTexturesLib LTC_MAT_1 / LTC_MAT_2) because Babylon's own areaLightsLTC.bin comes from
-assets.babylonjs.com (validate.experiments.renders.compute.KIND_NOTE).
+assets.babylonjs.com (its engine's notes["rect"], validate/local_models/render/babylon.py).
 
 Default run: the label is one string in the page and the experiment, and Babylon is rendered, not skipped. ``slow``
 (Babylon's page load costs tens of seconds on the shared cores): the rectangle the shader builds is the scene's;
@@ -17,6 +17,7 @@ import re
 import numpy as np
 import pytest
 
+from validate.local_models.render.babylon import RECT_LTC_LABEL
 from validate.metrics.pixel_z import MIN_ACCEPTED, interior_mask, judge
 from validate.scenes import render_scenes as rs
 
@@ -25,15 +26,16 @@ compute = importlib.import_module("validate.experiments.renders.compute")
 
 
 def test_babylon_rect_is_rendered_with_the_labelled_substitution() -> None:
+    from validate.experiments.renders.kinds import RECT
     from validate.gl import browser_page
 
-    assert "babylon" not in compute.KIND_SKIP["rect"]
-    assert compute.KIND_NOTE["rect"]["babylon"] == compute.RECT_LTC_LABEL
+    assert compute.skip_reason("babylon", RECT) is None
+    assert compute.substitution("babylon", RECT) == RECT_LTC_LABEL
     src = (browser_page.PAGES / "babylon_render.mjs").read_text()
     m = re.search(r"export const LTC_LABEL = ((?:'[^']*'|\"[^\"]*\")(?:\s*\+\s*(?:'[^']*'|\"[^\"]*\"))*);", src)
     assert m is not None
     page_label = "".join(s[1:-1] for s in re.findall(r"'[^']*'|\"[^\"]*\"", m.group(1)))
-    assert page_label == compute.RECT_LTC_LABEL
+    assert page_label == RECT_LTC_LABEL
     assert "Heitz" in page_label and "not obtainable offline" in page_label
 
 
@@ -58,7 +60,7 @@ def test_babylon_rect_geometry_and_table_independence() -> None:
     for scene in rs.rect_scenes(SMALL):
         img, info = _babylon(scene)
         [light] = info["lights"]
-        assert light["ltc_tables"] == compute.RECT_LTC_LABEL
+        assert light["ltc_tables"] == RECT_LTC_LABEL
         assert light["intensity"] == scene.lights[0].intensity  # photometric scale 1: the nits go in unchanged
         corners = np.array(light["rect_corners"])
         want = rs.rect_corners(scene.lights[0])

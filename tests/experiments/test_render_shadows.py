@@ -39,7 +39,11 @@ def test_scene_checks_its_occluder_light_and_shadow_type() -> None:
     with pytest.raises(ValidateError, match="light_size"):
         replace(sc, light_size=0.0)
     with pytest.raises(ValidateError, match="shadow type"):
-        sc.with_shadow_type("pcss_typo")
+        sc.with_shadow_type("pcss typo")
+    from validate.local_models.render import registry
+
+    with pytest.raises(ValidateError, match="shadow type 'pcss_typo' not one of"):  # refused before any page call
+        registry.get("three").render(sc.with_shadow_type("pcss_typo"))
     # the engines' shadow type is not part of the reference: one cached reference serves every type
     assert sc.with_shadow_type("vsm").key() == sc.key()
     assert sc.engine_json()["shadow"]["occluders"] == [sc.occluder.to_json()]
@@ -200,8 +204,8 @@ def test_regressions_keyed_by_scene_apply_to_that_scene_only() -> None:
     r = ShadowEngineResult("filament", "pcf", "pcf", np.zeros((1, 1, 3)), 0.0, 0.0)
     srs = {sc.name: ShadowSceneResult(sc, *(np.zeros(1),) * 2, 7, np.zeros(1), {}, 0.0, (0.0, 0.0))
            for sc in rss.shadow_scenes(SMALL)}
-    assert scl._keyed(scl.LEAK_REGRESSIONS, srs["shadow_spot"], r) is not None
-    assert scl._keyed(scl.LEAK_REGRESSIONS, srs["shadow_directional"], r) is None
+    assert scl.leak_defect(srs["shadow_spot"], r) is not None
+    assert scl.leak_defect(srs["shadow_directional"], r) is None
 
 
 @pytest.mark.parametrize("which", ["directional", "spot"])

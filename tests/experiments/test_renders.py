@@ -120,14 +120,14 @@ def test_babylon_lambert_sphere_equals_mitsuba_per_pixel() -> None:
 def test_furnace_energy(engine: str) -> None:
     """Metal spheres return 1 in every engine; the dielectric does in three.js and, as the regression the
     renders experiment states, not in Babylon (measured +1.7 % at roughness 0.5)."""
-    from validate.experiments.renders.claims import FURNACE_ENERGY_TOL, FURNACE_REGRESSIONS
+    from validate.experiments.renders.claims import FURNACE_ENERGY_TOL, defect
 
     for scene in rs.furnace_scenes(SMALL, (0.5,)):
         er = _engine_or_skip(engine, scene)
         x, y = scene.pixel_centres()
         mask = interior_mask(x**2 + y**2 < 1.0, er.image[..., 3])
         deviation = abs(er.image[..., :3][mask].mean() - 1.0)
-        if engine in FURNACE_REGRESSIONS and "dielectric" in scene.name:
+        if defect(engine, "furnace") is not None and "dielectric" in scene.name:
             assert deviation > FURNACE_ENERGY_TOL, scene.name
         else:
             assert deviation < FURNACE_ENERGY_TOL, scene.name
@@ -220,12 +220,12 @@ class _QuickRefs:
 def test_point_and_spot_lights_equal_mitsuba(engine: str) -> None:
     """Point lights in candela match in both engines; the spot matches the profile each engine implements
     (three: smoothstep, Babylon FALLOFF_GLTF: KHR's formula) and three's misses KHR's in the penumbra."""
-    from validate.experiments.renders.claims import SPOT_PROFILE
+    from validate.experiments.renders.claims import fact
 
     for scene in rs.punctual_scenes(DIRECT_RES):
         kind = "spot" if scene.name.startswith("spot") else "point"
         js = _judged(engine, scene, kind)
-        own = js[SPOT_PROFILE[engine]] if kind == "spot" else js["mitsuba"]
+        own = js[fact(engine, "spot_reference", "mitsuba")] if kind == "spot" else js["mitsuba"]
         assert own[0].fraction_accepted >= MIN_ACCEPTED, (scene.name, own[0])
         assert own[1].fraction_accepted < MIN_ACCEPTED  # power: lumens taken for candela (× 4π)
         if kind == "spot" and engine == "three":

@@ -14,8 +14,10 @@ One fresh child process (nothing warm: no browser, no page, no compiled program)
   ``frame_ms`` (draw + read-back, ``performance.now()`` in the page). The figures are the first frame, the median
   of the later frames, and their ratio first / later (×).
 
-Scenes: ``lambert_directional`` (the 64² Lambertian sphere under a directional light, scene (c)) and
-``shadow_directional`` with PCF shadows (scene (e), a 512² shadow map; Filament's 1024², its default). Without
+Engines: every registered engine that renders in this process and is not a variant
+(:mod:`validate.local_models.render.registry`; today three.js, Babylon.js, Filament). Scenes:
+``lambert_directional`` (the 64² Lambertian sphere under a directional light, scene (c)) and ``shadow_directional``
+with PCF shadows (scene (e), a 512² shadow map; Filament's 1024², its default) for the engines offering PCF. Without
 Chromium or node_modules the section holds the reason.
 """
 
@@ -30,44 +32,58 @@ from typing import Any
 import numpy as np
 
 LATER_FRAMES = 5
-ENGINES = ("three", "babylon", "filament")
 RESOLUTION = 64
 
 
-def _scenes() -> list[Any]:
+def engines() -> list[Any]:
+    """The registered engines that render in this process, variants left out (module docstring)."""
+    from ..experiments.renders.kinds import renders_in_process  # noqa: PLC0415
+    from ..local_models.render import registry  # noqa: PLC0415
+
+    return [e for e in registry.main_engines() if renders_in_process(e)]
+
+
+def _scenes() -> list[tuple[Any, tuple[str, ...]]]:
+    """(scene, the features it needs) pairs."""
     from ..scenes import render_scenes as rs  # noqa: PLC0415
     from ..scenes import render_shadow_scenes as rss  # noqa: PLC0415
 
-    return [rs.lambert_sun_scene(RESOLUTION), rss.sun_shadow_scene(RESOLUTION).with_shadow_type("pcf")]
+    return [(rs.lambert_sun_scene(RESOLUTION), ("directional",)),
+            (rss.sun_shadow_scene(RESOLUTION).with_shadow_type("pcf"), ("directional", "shadows"))]
 
 
-def _timed(engine: str, scene: Any) -> tuple[float, float]:
-    from ..local_models import render  # noqa: PLC0415
+def _renders(engine: Any, scene: Any, needs: tuple[str, ...]) -> bool:
+    shadow = getattr(scene, "shadow_type", None)
+    return engine.skip_reason(needs) is None and (shadow is None or shadow in engine.shadow_types)
 
+
+def _timed(engine: Any, scene: Any) -> tuple[float, float]:
     t0 = time.perf_counter()
-    r = render.render(engine, scene)
+    r = engine.render(scene)
     return (time.perf_counter() - t0) * 1e3, float(r.frame_ms)
 
 
 def child() -> dict[str, Any]:
     """The measurement in this (fresh) process (module docstring); a JSON-able record."""
     from ..gl import browser_page, runtime  # noqa: PLC0415
-    from ..local_models.render import ENGINES as PAGES  # noqa: PLC0415
 
     t0 = time.perf_counter()
     rt = runtime.get("webgl2")
     rec: dict[str, Any] = {"browser_start_ms": (time.perf_counter() - t0) * 1e3,
                            "renderer": rt.info.get("GL_RENDERER", ""), "engines": {}}
-    for e in ENGINES:
+    engs = engines()
+    for e in engs:
         t0 = time.perf_counter()
-        browser_page.open_page(PAGES[e][0])
-        rec["engines"][e] = {"page_load_ms": (time.perf_counter() - t0) * 1e3, "scenes": {}}
-    for scene in _scenes():
-        frames: dict[str, list[tuple[float, float]]] = {e: [_timed(e, scene)] for e in ENGINES}
+        for page in e.pages():
+            browser_page.open_page(page)
+        rec["engines"][e.name] = {"page_load_ms": (time.perf_counter() - t0) * 1e3, "scenes": {}}
+    for scene, needs in _scenes():
+        these = [e for e in engs if _renders(e, scene, needs)]
+        frames: dict[str, list[tuple[float, float]]] = {e.name: [_timed(e, scene)] for e in these}
         for _ in range(LATER_FRAMES):
-            for e in ENGINES:
-                frames[e].append(_timed(e, scene))
-        for e in ENGINES:
+            for e in these:
+                frames[e.name].append(_timed(e, scene))
+        for e in frames:
             f = np.asarray(frames[e])
             rec["engines"][e]["scenes"][scene.name] = {
                 "first_wall_ms": f[0, 0], "first_page_ms": f[0, 1], "later_wall_ms": float(np.median(f[1:, 0])),

@@ -290,13 +290,18 @@ def _cmd_list(plugins: list[str]) -> int:
 
     for kind, why in STATUS.items():
         print(f"GLSL techniques ({kind}): " + (f"not registered: {why}" if why else "registered"))
-    from ..local_models.render import blender, blender_cycles, blender_eevee
+    from ..local_models.render import registry
 
-    version = blender.installed_version()
-    print("render engines (Blender, its own venv; the blender experiment):")
-    for e in (blender_cycles.ENGINE, blender_eevee.ENGINE):
-        state = f"Blender {version}" if version else f"not installed ({blender.FIX})"
-        print(f"  {e.name:24s} {e.product}: {state}; {e.precision} output; renders {', '.join(e.supports)}")
+    print("render engines (validate/local_models/render/, docs/engines.md):")
+    for e in registry.main_engines():
+        version = e.version()
+        state = f"{e.product} {version}" if version else f"{e.product}: not installed"
+        print(f"  {e.name:24s} {state}; {e.precision} output; renders {', '.join(e.supports)}"
+              + (f"; shadows {', '.join(e.shadow_types)}" if e.shadow_types else "")
+              + (f"; {len(e.defects)} known defect(s)" if e.defects else ""))
+        variants = [v.name for v in registry.engines().values() if v.variant_of == e.name]
+        if variants:
+            print(f"  {'':24s} variants: {', '.join(variants)}")
     return 0
 
 

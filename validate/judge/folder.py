@@ -109,9 +109,22 @@ class JudgeResult:
 
 
 def check_engine_name(name: str) -> None:
+    """A well-formed name: a registered engine's (:mod:`validate.local_models.render.registry`) or an outside one's."""
     if not isinstance(name, str) or not ENGINE_NAME.fullmatch(name):
         raise ValidateError(f"--engine {name!r}: not an engine name (letters, digits, _ . + -; at most 64, "
                             f"starting with a letter or digit)")
+
+
+def engine_identity(name: str) -> dict[str, Any] | None:
+    """What the registry knows of the engine ``name`` (product, version, precision, known defects), or None for an
+    engine the suite does not host (judged all the same: its images say what they are)."""
+    from ..local_models.render import registry
+
+    e = registry.find(name)
+    if e is None:
+        return None
+    return {"product": registry.product(name), "version": e.version(), "precision": e.precision,
+            "defects": dict(e.defects)}
 
 
 def find_images(images_dir: Path, entries: list[dict[str, Any]],
@@ -383,7 +396,8 @@ def results_json(r: JudgeResult, images_dir: Path, scenes_dir: Path) -> dict[str
             "engines": {r.engine: {"judgements": {k: j.to_json() for k, j in sj.judgements.items()},
                                    "diagnoses": sj.diagnoses, **measured_json(sj.figures)}}}
     m = r.manifest
-    return {"schema": RESULTS_SCHEMA, "engine": r.engine, "images": str(images_dir), "scenes": str(scenes_dir),
+    return {"schema": RESULTS_SCHEMA, "engine": r.engine, "registered": engine_identity(r.engine),
+            "images": str(images_dir), "scenes": str(scenes_dir),
             "manifest": {"schema": m["schema"], "set": m["set"], "resolution": m["resolution"],
                          "truth_samples": m["truth_samples"]},
             "passed": r.passed, "summary": r.summary(), "missing": r.missing, "extra": r.extra,

@@ -1,5 +1,7 @@
 """Plug-ins named on the command line (``--plugin``): a ``.glsl`` file, a ``.py`` file or an importable module,
-loaded in this process and, on a Dask run, once in every worker (``Context.worker_setup``)."""
+loaded in this process and, on a Dask run, once in every worker (``Context.worker_setup``). A plug-in that declares an
+``ENGINE`` (and ``VARIANTS``), as an engine module of ``validate/local_models/render/`` does, has its engines registered
+(:func:`validate.local_models.render.registry.register_module`; ``docs/engines.md``)."""
 
 from __future__ import annotations
 
@@ -34,7 +36,10 @@ def load_plugin(spec: str) -> None:
             module = importlib.util.module_from_spec(mod_spec)
             mod_spec.loader.exec_module(module)
         else:
-            importlib.import_module(spec)
+            module = importlib.import_module(spec)
+        from ..local_models.render import registry
+
+        registry.register_module(module)
     except ValidateError:
         raise
     except Exception as exc:

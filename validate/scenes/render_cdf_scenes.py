@@ -60,7 +60,8 @@ def cdf_lambert_scene(texels: np.ndarray, resolution: int) -> RenderScene:
 
 
 def engine_name(size: int, variant: str) -> str:
-    """The engine key of :data:`validate.local_models.render.ENGINES` for Babylon's CDF irradiance at ``size``."""
+    """The registered engine (a variant of ``babylon``: :mod:`validate.local_models.render.babylon`) for Babylon's CDF
+    irradiance at ``size``."""
     return f"babylon_cdf{size}_{variant}"
 
 

@@ -9,7 +9,7 @@ tables — its own areaLightsLTC.bin is not obtainable offline), (f) hemisphere 
 at pixel centres (:mod:`validate.reference.render_reference`) and by each engine through its own pipeline in headless
 Chromium (:mod:`validate.local_models.render`), then judged per pixel (:mod:`validate.metrics.pixel_z`).
 Without Chromium or node_modules every engine is skipped with the reason. Filament renders only the punctual
-lights (c) (``compute.KIND_SKIP``: no IBL prefilter, no area lights in its npm package); its 8-bit canvas readback
+lights (c) (its engine's ``lacks``: no IBL prefilter, no area lights in its npm package); its 8-bit canvas readback
 carries its quantisation as an uncertainty added in quadrature to Mitsuba's.
 (e) Shadows — a directional and a spot light over the plane with a box occluder, each engine's shadow types against
 the path-traced penumbra of a light with a size — and (b) Babylon's CDF irradiance are parts with their own stages:

@@ -1,5 +1,9 @@
 """Claims of the ``renders`` experiment, each with its source and a power check.
 
+Per-engine facts are the registered engines' (:mod:`validate.local_models.render.registry`): a known defect an
+engine states for a topic (:func:`defect`) is claimed as the regression it keeps, its power check the corrected
+behaviour; an engine stating none is claimed against the truth. Nothing here names an engine.
+
 (c) Lambertian sphere under a directional light, per engine: the fraction of judged pixels whose three
 channels pass the Šidák-corrected z-test (α = 0.01) is ≥ 99.75 % — Mitsuba's acceptance rule for its own
 renders (:mod:`validate.metrics.pixel_z` [2]). Power: the engine image × 1.02 (the light intensity × 1.02;
@@ -17,11 +21,11 @@ model with its multiscatter term removed) must fail.
 (c) Point and spot lights in KHR_lights_punctual units, per engine and scene: the same ≥ 99.75 % rule against
 Mitsuba's ``point`` / ``spot`` (intensity in candela read as W/sr). Power (point): the intensity in lumens taken
 for candela — the engine image × 4π (Φ = 4π I for a point light) — must fail, else × 1/π. Spot: each engine is
-judged against the falloff profile it implements (``SPOT_PROFILE``: Babylon's FALLOFF_GLTF is KHR's reference
-formula, three.js's getSpotAttenuation is smoothstep); power: the same image against that profile with the outer
-cone 1° wider (a cone falloff off by a degree). three.js's difference from KHR's reference formula is stated
-as the regression it has (``SPOT_REGRESSIONS``); its power check is three.js with the KHR profile (its image
-× f_KHR/f_smoothstep per pixel), which must be accepted.
+judged against the falloff profile it implements (its engine's ``facts["spot_reference"]``: Babylon's
+FALLOFF_GLTF is KHR's reference formula, three.js's getSpotAttenuation is smoothstep); power: the same image against
+that profile with the outer cone 1° wider (a cone falloff off by a degree). three.js's difference from KHR's
+reference formula is stated as the regression it has (its ``defects["spot.khr_falloff"]``); its power check is
+three.js with the KHR profile (its image × f_KHR/f_smoothstep per pixel), which must be accepted.
 
 (f) Hemisphere light, per engine: the same rule against Mitsuba's two-value environment (sky radiance above the
 horizon, ground below). Power: the light's colour read as radiance where it is irradiance (or the reverse) —
@@ -29,13 +33,13 @@ the engine image × 1/π — must fail.
 
 (b) Probe, per engine: the Lambertian sphere under the probe (the diffuse-dominated limit) returns Mitsuba's mean
 radiance to ``PROBE_DIFFUSE_TOL`` = 1 % (R&H 2001's average error of order-2 SH irradiance); power: image × 1.02.
-Babylon's diffuse IBL of the probe is stated as the regression it has (``PROBE_LAMBERT_REGRESSIONS``; power: three's
+Babylon's diffuse IBL of the probe is stated as the regression it has (its ``defects["probe_lambert"]``; power: three's
 image, within the bound). White metal at roughness 0.25 and 0.5 (three issues
 17911/26796, PR 32311): the contrast ratio std_px(engine)/std_px(truth) is stated as the regression each engine has
 (below 1: blurrier than glTF's GGX path-traced); power: the path tracer's own image as the engine (c = 1).
 
-(d) Rectangular area light, three.js and Babylon.js (Babylon's shader with Heitz's tables, ``compute.KIND_NOTE``):
-per scene the regression each keeps (``RECT_REGRESSIONS``; power: the corrected behaviour — the truth on three's
+(d) Rectangular area light, three.js and Babylon.js (Babylon's shader with Heitz's tables, its engine's ``notes``):
+per scene the regression each keeps (its ``defects[<scene>]``; power: the corrected behaviour — the truth on three's
 plane, which it leaves dark, else the image × exact/clipped-sphere form factor) and, where the image is not dark, the
 units claim (three issue 19214; Babylon's photometric scale 1 for area lights) — with its form factor approximation
 divided out, the pixels where the rectangle is wholly above the horizon equal Mitsuba's area emitter of radiance =
@@ -46,24 +50,41 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...local_models.render import registry
+from ...local_models.render.hosted import LTC_CLIPPED_SPHERE
 from ...metrics.pixel_z import MIN_ACCEPTED, judge
 from ..base import Claim
+from . import kinds as K
 from .compute import EngineResult, Measurements, SceneResult, budget, with_readback
+from .kinds import SceneKind
 
 FURNACE_ENERGY_TOL = 2e-3
 
 
-def _scene(m: Measurements, kind: str) -> list[SceneResult]:
-    return [s for s in m.scenes if s.kind == kind]
+def _scene(m: Measurements, kind: SceneKind) -> list[SceneResult]:
+    return [s for s in m.scenes if s.kind is kind]
+
+
+def defect(name: str, topic: str) -> str | None:
+    """The known defect the engine ``name`` states for ``topic`` (its ``defects``), or None (none, or no such
+    registered engine): a topic stated is claimed as the regression the engine keeps."""
+    e = registry.find(name)
+    return e.defects.get(topic) if e is not None else None
+
+
+def fact(name: str, key: str, default: str) -> str:
+    """A fact the engine ``name`` states (its ``facts``), else ``default``."""
+    e = registry.find(name)
+    return e.facts.get(key, default) if e is not None else default
 
 
 def directional_claims(m: Measurements) -> list[Claim]:
     out = []
-    for sr in _scene(m, "directional"):
+    for sr in _scene(m, K.DIRECTIONAL):
         ref_m = sr.references["mitsuba"]
         for name, er in sr.engines.items():
             j = er.judgements["mitsuba"]
-            b, text = budget("directional", ref_m)
+            b, text = budget(K.DIRECTIONAL, ref_m)
             c = Claim(f"renders.{name}.lambert_directional.accepted",
                       f"{name}: Lambertian sphere under a {m.settings.sun_lux:g} lux directional light equals Mitsuba "
                       f"per pixel (budget {text})", "fraction of pixels accepted (Šidák α = 0.01)", MIN_ACCEPTED,
@@ -83,49 +104,43 @@ def _stderr(sr: SceneResult) -> np.ndarray:
     return sr.stderrs["mitsuba"]
 
 
-# Engines that keep a furnace defect, stated as the regression they have (issue 21 item 4): the claim passes
-# while the engine keeps it, and its power check is the corrected behaviour (an energy-conserving engine).
-# Measured here (64², 16 spp × 8 passes): Babylon 9.35's white dielectric returns 1.045 / 1.017 / 0.981 at
-# roughness 0.25 / 0.5 / 1 (its metal returns 1 to 6e-8); three.js 0.187 returns 1 to 1.4e-9.
-FURNACE_REGRESSIONS = {"babylon": "white dielectric sphere not energy-conserving in the white furnace"}
+# Engines that keep a furnace defect (their ``defects["furnace"]``, measurements in their modules), stated as the
+# regression they have (issue 21 item 4): the claim passes while the engine keeps it, and its power check is the
+# corrected behaviour (an energy-conserving engine).
 
 
 def _furnace_claim(m: Measurements, name: str, dev: list[float], others: list[float]) -> Claim:
     rough = ", ".join(f"{r:g}" for r in m.settings.furnace_roughness)
     source = ("energy conservation (white, non-absorbing, convex: exactly 1); budget 2 half-float lookups + "
               "BRDF LUT (4·2⁻¹¹) + SwiftShader trig 2e-4 ≈ 2e-3")
-    if name in FURNACE_REGRESSIONS:
+    known = defect(name, "furnace")
+    if known is not None:
         c = Claim(f"renders.{name}.furnace.regression", f"{name} keeps a known defect: "
-                  f"{FURNACE_REGRESSIONS[name]} (roughness {rough})", "max over scenes of |mean radiance − 1|",
+                  f"{known} (roughness {rough})", "max over scenes of |mean radiance − 1|",
                   FURNACE_ENERGY_TOL, max(dev), 0.0, ">", "", source + "; beyond it the engine loses or adds energy")
         return c.with_power("corrected engine behaviour: an energy-conserving engine (the best other engine "
                             "measured here)", min(others) if others else 0.0, 0.0)
     c = Claim(f"renders.{name}.furnace.energy", f"{name}: white spheres (dielectric and metal, roughness "
               f"{rough}) in the white furnace return radiance 1",
               "max over scenes of |mean radiance − 1|", FURNACE_ENERGY_TOL, max(dev), 0.0, "<", "", source)
-    metal = [s.reference_energy["model"] for s in _scene(m, "furnace") if "model" in s.reference_energy]
+    metal = [s.reference_energy["model"] for s in _scene(m, K.FURNACE) if "model" in s.reference_energy]
     worst = max(metal, key=lambda v: abs(v[0] - 1.0)) if metal else (float("nan"), 0.0)
     return c.with_power("multiscatter removed: glTF single-scattering metal (Mitsuba roughconductor)",
                         abs(worst[0] - 1.0), worst[1])
 
 
 def furnace_claims(m: Measurements) -> list[Claim]:
-    scenes = _scene(m, "furnace")
+    scenes = _scene(m, K.FURNACE)
     engines = sorted({e for s in scenes for e in s.engines})
     dev = {e: [abs(s.engines[e].energy - 1.0) for s in scenes if e in s.engines] for e in engines}
-    return [_furnace_claim(m, e, dev[e], [max(d) for o, d in dev.items() if o != e and o not in FURNACE_REGRESSIONS])
-            for e in engines]
+    return [_furnace_claim(m, e, dev[e], [max(d) for o, d in dev.items()
+                                          if o != e and defect(o, "furnace") is None]) for e in engines]
 
 
-# The spot profile each engine implements, from its shader source: Babylon 9.35 falloffType FALLOFF_GLTF
-# (lightsFragmentFunctions computeDirectionalLightFalloff_GLTF: saturate(cd·scale + offset)², KHR's reference);
-# three.js 0.187 lights_pars_begin.glsl getSpotAttenuation = smoothstep(coneCos, penumbraCos, angleCos); Filament
-# 1.53 light_punctual.fs getAngleAttenuation: saturate(cd·scale + offset)², KHR's reference — but with cos θ_i,
-# cos θ_o from its fast::cos (FLightManager::setSpotLightCone; 20°/30° shade as 19.94°/29.93°): its penumbra is
-# ≈ 4 % darker (tests/experiments/test_render_filament.py), inside the 0.25 %-of-peak budget at 64² and 32².
-SPOT_PROFILE = {"three": "smoothstep", "babylon": "mitsuba", "filament": "mitsuba"}
-SPOT_REGRESSIONS = {"three": "spot penumbra is smoothstep in cos θ, not KHR_lights_punctual's reference "
-                             "clamp((cos θ − cos θ_o)/(cos θ_i − cos θ_o))²"}
+# The spot profile each engine implements, from its shader source: the reference it is judged against is its
+# ``facts["spot_reference"]`` ("smoothstep": three.js 0.187's getSpotAttenuation), else KHR's reference ("mitsuba":
+# Babylon 9.35 FALLOFF_GLTF, Filament 1.53 getAngleAttenuation); a difference from KHR's is its
+# ``defects["spot.khr_falloff"]``.
 RULE = "Mitsuba 3 render tests: ≥ 99.75 % of pixels pass the Šidák-corrected z-test at α = 0.01"
 METRIC = "fraction of pixels accepted (Šidák α = 0.01)"
 
@@ -144,7 +159,7 @@ def _fraction(sr: SceneResult, image: np.ndarray, mean: np.ndarray, se: np.ndarr
 
 def point_claims(m: Measurements) -> list[Claim]:
     out = []
-    for sr in _scene(m, "point"):
+    for sr in _scene(m, K.POINT):
         ref, s_ref = sr.references["mitsuba"], sr.stderrs["mitsuba"]
         li = sr.scene.lights[0]
         for name, er in sr.engines.items():
@@ -161,10 +176,10 @@ def point_claims(m: Measurements) -> list[Claim]:
 
 def spot_claims(m: Measurements) -> list[Claim]:
     out = []
-    for sr in _scene(m, "spot"):
+    for sr in _scene(m, K.SPOT):
         li = sr.scene.lights[0]
         for name, er in sr.engines.items():
-            kind = SPOT_PROFILE.get(name, "mitsuba")
+            kind = fact(name, "spot_reference", "mitsuba")
             profile = "smoothstep" if kind == "smoothstep" else "gltf"
             c = _accepted(sr, name, kind, f"Lambertian plane under a {li.intensity:g} cd spot light (cone "
                                              f"{li.inner_deg:g}°/{li.outer_deg:g}°, {profile} falloff)")
@@ -173,7 +188,7 @@ def spot_claims(m: Measurements) -> list[Claim]:
             c.with_power(f"cone falloff off by a degree: Mitsuba {label}",
                          _fraction(sr, er.image, p_mean, with_readback(p_se, er)))
             out.append(c)
-            if name in SPOT_REGRESSIONS:
+            if defect(name, "spot.khr_falloff") is not None:
                 out.append(_spot_regression(sr, name))
     return out
 
@@ -182,10 +197,10 @@ def _spot_regression(sr: SceneResult, name: str) -> Claim:
     er, ref = sr.engines[name], sr.references["mitsuba"]
     se = with_readback(sr.stderrs["mitsuba"], er)
     c = Claim(f"renders.{name}.{sr.scene.name}.khr_falloff.regression", f"{name} keeps a known difference: "
-              f"{SPOT_REGRESSIONS[name]}", METRIC + " against the KHR reference falloff", MIN_ACCEPTED,
+              f"{defect(name, 'spot.khr_falloff')}", METRIC + " against the KHR reference falloff", MIN_ACCEPTED,
               er.judgements["mitsuba"].fraction_accepted, 0.0, "<", "%",
               RULE + "; below it the engine's penumbra is not KHR's")
-    smooth = sr.references[SPOT_PROFILE[name]]
+    smooth = sr.references[fact(name, "spot_reference", "mitsuba")]
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.where(smooth > 0, ref / np.where(smooth > 0, smooth, 1.0), 0.0)
     return c.with_power("corrected engine behaviour: the engine's image × f_KHR/f_smoothstep per pixel",
@@ -194,7 +209,7 @@ def _spot_regression(sr: SceneResult, name: str) -> Claim:
 
 def hemisphere_claims(m: Measurements) -> list[Claim]:
     out = []
-    for sr in _scene(m, "hemisphere"):
+    for sr in _scene(m, K.HEMISPHERE):
         ref, se = sr.references["mitsuba"], sr.stderrs["mitsuba"]
         for name, er in sr.engines.items():
             c = _accepted(sr, name, "mitsuba", "Lambertian sphere under a hemisphere light (sky / ground radiance)")
@@ -221,9 +236,9 @@ def _energy_ratio(sr: SceneResult, image: np.ndarray) -> tuple[float, float]:
 def probe_lambert_claims(m: Measurements) -> list[Claim]:
     """(b) the diffuse-dominated limit: the Lambertian sphere under the probe, per engine."""
     out = []
-    for sr in _scene(m, "probe_lambert"):
+    for sr in _scene(m, K.PROBE_LAMBERT):
         for name, er in sr.engines.items():
-            if name in PROBE_LAMBERT_REGRESSIONS:
+            if defect(name, "probe_lambert") is not None:
                 out.append(_probe_lambert_regression(sr, name))
                 continue
             r, u = _energy_ratio(sr, er.image)
@@ -235,17 +250,13 @@ def probe_lambert_claims(m: Measurements) -> list[Claim]:
     return out
 
 
-# Engines whose diffuse IBL keeps a known difference from the exact irradiance, stated as the regression they have:
-# the claim passes while the engine keeps it; power = the corrected behaviour (the named engine's image, within the
-# bound). Measured (64², 1024 spp × 8): Babylon 9.35's Lambertian sphere under the probe is 1.085 × Mitsuba on
-# average (bias +8.5 %, 68 % of pixels accepted; its white metal in the constant furnace is 1 to 6e-8); three.js
-# 0.187's is within 0.1 %.
-PROBE_LAMBERT_REGRESSIONS: dict[str, tuple[str, str]] = {
-    "babylon": ("its diffuse IBL of the probe is ≈ 8 % brighter than the probe's exact irradiance", "three")}
+# Engines whose diffuse IBL keeps a known difference from the exact irradiance (``defects["probe_lambert"]``), stated
+# as the regression they have: the claim passes while the engine keeps it; power = the corrected behaviour (the image
+# of the engine its ``facts["probe_lambert.corrected_by"]`` names, within the bound; else the truth).
 
 
 def _probe_lambert_regression(sr: SceneResult, name: str) -> Claim:
-    what, fixed = PROBE_LAMBERT_REGRESSIONS[name]
+    what, fixed = defect(name, "probe_lambert"), fact(name, "probe_lambert.corrected_by", "truth")
     r, u = _energy_ratio(sr, sr.engines[name].image)
     c = Claim(f"renders.{name}.probe_lambert.regression", f"{name} keeps a known difference: {what}",
               "|mean engine / mean Mitsuba − 1|", PROBE_DIFFUSE_TOL, abs(r - 1.0), u, ">", "%",
@@ -266,7 +277,7 @@ def sharpness_claims(m: Measurements) -> list[Claim]:
     from .compute import contrast_ratio
 
     out = []
-    for sr in (s for s in _scene(m, "probe") if s.scene.material.roughness in SHARPNESS_ROUGHNESS):
+    for sr in (s for s in _scene(m, K.PROBE) if s.scene.material.roughness in SHARPNESS_ROUGHNESS):
         ref, se, r = sr.references["mitsuba"], sr.stderrs["mitsuba"], sr.scene.material.roughness
         for name, er in sr.engines.items():
             cv, cu = contrast_ratio(er.image, ref, se, sr.mask, m.settings.seed)
@@ -284,30 +295,11 @@ def sharpness_claims(m: Measurements) -> list[Claim]:
     return out
 
 
-# (d) three.js r187's RectAreaLight (lights_physical_pars_fragment.glsl) and Babylon 9.35's (ltcHelperFunctions,
-# the same LTC code; rendered with Heitz's tables, compute.KIND_NOTE), the known differences from the exact
-# Lambertian integral, each stated as the regression it has (power: the corrected behaviour):
-# three, plane: seen along its normal (V = N: the orthographic camera over the plane) LTC_Evaluate's frame
-#   T1 = normalize(V − N(V·N)) = normalize(0) and the light contributes 0 (measured: every pixel 0);
-# both, sphere, and Babylon's plane: the clipped-sphere form factor (|F|² + F·n)/(|F| + 1) (three
-#   LTC_ClippedSphereFormFactor, Babylon LTCClippedSphereFormFactor) even where the rectangle is wholly above the
-#   horizon and the exact form factor is F·n (Lambert's polygon formula) — measured engine/(L·that) = 0.9999 for
-#   both engines. Babylon's plane is lit: its V is normalize(eye position − P) even under an orthographic camera
-#   (vEyePosition), so the frame is defined and the plane gets the clipped-sphere value (measured 0.9999 ± 4e-4).
-RECT_CLIPPED = ("its clipped-sphere form factor (|F|² + F·n)/(|F| + 1) over-estimates a tilted rectangle wholly above "
-                "the horizon, where the exact form factor is F·n")
-RECT_REGRESSIONS = {"three": {"rect_plane": "a surface seen along its normal (V = N) receives nothing from a "
-                                            "RectAreaLight (LTC frame T1 = normalize(V − N(V·N)) = normalize(0))",
-                              "rect_sphere": RECT_CLIPPED},
-                    "babylon": {"rect_plane": RECT_CLIPPED + " (Babylon's V points at the camera's position even "
-                                              "under an orthographic camera, so the plane is lit)",
-                                "rect_sphere": RECT_CLIPPED}}
-RECT_DARK = {("three", "rect_plane")}  # regressions whose corrected behaviour is the truth itself (the image is 0)
-# where the light's unit comes from: three issue 19214 (RectAreaLight.intensity is luminance; .power = π·A·intensity);
-# Babylon 9.35 light.js _getPhotometricScale: 1 for LIGHTTYPEID_RECT_AREALIGHT in every intensity mode, the diffuse
-# term areaLightDiffuse · diffuse · intensity with areaLightDiffuse the form factor (babylon_render.mjs rectLight)
-RECT_UNITS_SOURCE = {"three": "three.js RectAreaLight: intensity is luminance (nits), power = π·A·intensity",
-                     "babylon": "Babylon light.js _getPhotometricScale"}
+# (d) the known differences of an engine's RectAreaLight from the exact Lambertian integral, each stated as the
+# regression it has (power: the corrected behaviour): its ``defects[<scene>]`` (three.js r187 and Babylon 9.35: the
+# clipped-sphere form factor, :data:`validate.local_models.render.hosted.LTC_CLIPPED_SPHERE`, unless stated
+# otherwise); a defect whose corrected behaviour is the truth itself (three's dark plane: the image is 0) says so in
+# ``facts["<scene>.corrected_by"]``; where the light's unit is stated: ``facts["rect_units"]``.
 
 
 def _rect_fraction(sr: SceneResult, image: np.ndarray, mask: np.ndarray) -> float:
@@ -317,7 +309,7 @@ def _rect_fraction(sr: SceneResult, image: np.ndarray, mask: np.ndarray) -> floa
 
 
 def _rect_engine(name: str, er: EngineResult) -> str:
-    """The engine's name with the substitution it was rendered with (compute.KIND_NOTE), if any."""
+    """The engine's name with the substitution it was rendered with (its engine's ``notes``), if any."""
     note = er.info.get("note")
     return f"{name} ({note})" if note else name
 
@@ -328,12 +320,12 @@ def rect_claims(m: Measurements) -> list[Claim]:
     from ...scenes.render_scenes import rect_above_horizon, rect_form_factors
 
     out = []
-    for sr in _scene(m, "rect"):
+    for sr in _scene(m, K.RECT):
         li = sr.scene.lights[0]
         mask = sr.mask & rect_above_horizon(sr.scene)
         for name, er in sr.engines.items():
             who = _rect_engine(name, er)
-            what = RECT_REGRESSIONS.get(name, RECT_REGRESSIONS["babylon"])[sr.scene.name]
+            what = defect(name, sr.scene.name) or LTC_CLIPPED_SPHERE
             c = Claim(f"renders.{name}.{sr.scene.name}.regression", f"{who} keeps a known difference: {what}",
                       METRIC + " (rectangle wholly above the horizon)",
                       MIN_ACCEPTED, _rect_fraction(sr, er.image, mask), 0.0, "<", "%",
@@ -341,7 +333,7 @@ def rect_claims(m: Measurements) -> list[Claim]:
             exact, sphere = rect_form_factors(sr.scene)
             with np.errstate(divide="ignore", invalid="ignore"):
                 fixed = er.image * np.where(sphere > 0, exact / np.where(sphere > 0, sphere, 1.0), 1.0)[..., None]
-            if (name, sr.scene.name) in RECT_DARK:
+            if fact(name, f"{sr.scene.name}.corrected_by", "") == "truth":
                 out.append(c.with_power("corrected engine behaviour: the truth itself (the exact integral)", 1.0))
                 continue
             out.append(c.with_power("corrected engine behaviour: the engine's image × F·n / clipped-sphere form factor",
@@ -352,7 +344,7 @@ def rect_claims(m: Measurements) -> list[Claim]:
                       f"under the {li.width:g} × {li.height:g} m light equals Mitsuba's area emitter of radiance "
                       f"{li.intensity:g} per pixel (rectangle wholly above the horizon)", METRIC, MIN_ACCEPTED,
                       _rect_fraction(sr, fixed, mask), 0.0, ">", "%",
-                      f"{RULE}; the unit: {RECT_UNITS_SOURCE.get(name, 'the engine source')}")
+                      f"{RULE}; the unit: {fact(name, 'rect_units', 'the engine source')}")
             u.with_power("intensity × 1.02", _rect_fraction(sr, fixed * 1.02, mask))
             if u.power is not None and not u.power.fails:
                 u.with_power(f"intensity read as luminous power (three 19214): L = Φ/(πA), image × 1/(π·{li.area():g})",
@@ -419,14 +411,8 @@ def bsdf_claims(m: Measurements) -> list[Claim]:
 # it, on the blended F₀ — "energy lost at intermediate metalness"). The claim: an engine's image at metalness 0.5
 # equals the mix ½(image(0) + image(1)) of its own images, per pixel within 2 × the probe budget (each side carries
 # the half-float budget), ≥ 99.75 % of pixels. Engines that keep the blended-F₀ behaviour are stated as the
-# regression they have (``MIX_REGRESSIONS``; power: the corrected behaviour, the mix itself).
-# Measured (64², FULL): Babylon 9.35's image at metalness 0.5 against the mix of its own metalness-0 and -1 images has
-# bias −0.19 / −2.4 / −13.4 % at roughness 0.25 / 0.5 / 1 (67.6 / 0 / 0 % of pixels within the budget); three.js
-# 0.187 equals the mix to 0.00 % (every pixel).
-MIX_REGRESSIONS: dict[str, str] = {
-    "babylon": "its white sphere at metalness 0.5 under the probe is darker than glTF's mix of its own metalness-0 "
-               "and metalness-1 images (up to −13 % at roughness 1): energy lost at intermediate metalness, the "
-               "defect three.js fixed in PR 32190"}
+# regression they have (their ``defects["probe_material.mix"]``, measured in their modules; power: the corrected
+# behaviour, the mix itself). three.js 0.187 equals the mix to 0.00 % (every pixel).
 METALNESS_SLIP = 0.05  # power: metalness 0.5 read as 0.45
 
 
@@ -440,7 +426,7 @@ def _mix_fraction(sr: SceneResult, image: np.ndarray, mix: np.ndarray) -> float:
 def mix_claims(m: Measurements) -> list[Claim]:
     from .compute import linear_mix
 
-    scenes = [s for s in m.scenes if s.kind == "probe_material"]
+    scenes = _scene(m, K.PROBE_MATERIAL)
     mids = [s for s in scenes if 0.0 < s.scene.material.metallic < 1.0]
     out = []
     for name in sorted({e for s in mids for e in s.engines}):
@@ -462,9 +448,10 @@ def mix_claims(m: Measurements) -> list[Claim]:
                 f"of its own metalness-0 and metalness-1 images (roughness {rough})")
         source = (RULE + " against glTF 2.0 B.2.1's mix (linear in metallic; three PR 32190), budget 2 × "
                   "the probe's (2 half-float lookups + SwiftShader trig) per side")
-        if name in MIX_REGRESSIONS:
+        known = defect(name, "probe_material.mix")
+        if known is not None:
             c = Claim(f"renders.{name}.probe_material.mix.regression", f"{name} keeps a known difference: "
-                      f"{MIX_REGRESSIONS[name]}", METRIC + ", worst roughness", MIN_ACCEPTED, min(got), 0.0, "<", "%",
+                      f"{known}", METRIC + ", worst roughness", MIN_ACCEPTED, min(got), 0.0, "<", "%",
                       source + "; below it the engine is not linear in metalness")
             out.append(c.with_power("corrected engine behaviour: the mix itself", 1.0))
             continue
@@ -478,16 +465,12 @@ def mix_claims(m: Measurements) -> list[Claim]:
 # three PR 32190's own test: white spheres at metalness 0.5 in the white furnace return 1 (a white non-absorbing
 # surface; the mix of two energy-conserving lobes conserves energy), with the furnace claim's budget. Power: the
 # multiscatter removed — glTF's single scattering, reference (i) (the suite's gltf_metallic_roughness in Mitsuba).
-# Engines keeping a deviation are stated as the regression they have (power: the best other engine).
-# Measured (64², FULL): Babylon 9.35 returns 1.019 / 0.980 / 0.859 at roughness 0.25 / 0.5 / 1 (its dielectric
-# 1.045 / 1.017 / 0.981, its metal 1); three.js 0.187 returns 1 to 4.4e-9.
-FURNACE_MIX_REGRESSIONS: dict[str, str] = {
-    "babylon": "white spheres at metalness 0.5 not energy-conserving in the white furnace (−14 % at roughness 1: "
-               "energy lost at intermediate metalness, three PR 32190)"}
+# Engines keeping a deviation (``defects["furnace_material"]``, measured in their modules) are stated as the
+# regression they have (power: the best other engine). three.js 0.187 returns 1 to 4.4e-9.
 
 
 def furnace_material_claims(m: Measurements) -> list[Claim]:
-    scenes = _scene(m, "furnace_material")
+    scenes = _scene(m, K.FURNACE_MATERIAL)
     if not scenes:
         return []
     mt = scenes[0].scene.material.metallic
@@ -499,12 +482,13 @@ def furnace_material_claims(m: Measurements) -> list[Claim]:
               "budget as renders.<engine>.furnace.energy ≈ 2e-3")
     out = []
     for name in engines:
-        if name in FURNACE_MIX_REGRESSIONS:
+        known = defect(name, "furnace_material")
+        if known is not None:
             c = Claim(f"renders.{name}.furnace_material.regression", f"{name} keeps a known defect: "
-                      f"{FURNACE_MIX_REGRESSIONS[name]} (roughness {rough})", "max over scenes of |mean radiance − 1|",
+                      f"{known} (roughness {rough})", "max over scenes of |mean radiance − 1|",
                       FURNACE_ENERGY_TOL, dev[name], 0.0, ">", "", source + "; beyond it the engine loses or adds "
                       "energy at intermediate metalness")
-            others = [v for e, v in dev.items() if e != name and e not in FURNACE_MIX_REGRESSIONS]
+            others = [v for e, v in dev.items() if e != name and defect(e, "furnace_material") is None]
             out.append(c.with_power("corrected engine behaviour: the best other engine", min(others) if others else 0.0,
                                     0.0))
             continue

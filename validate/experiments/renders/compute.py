@@ -20,8 +20,10 @@ Probe materials (b): white spheres over metalness × roughness, references (i) g
 ``gltf_metallic_roughness`` plug-in) and (ii) the multiscatter microsurface, kept apart (block at the end); the glTF
 BSDF's own checks (χ², albedo quadrature, roughconductor) in ``Measurements.bsdf_checks``.
 Rectangular area light (d): Mitsuba's ``rectangle`` with an ``area`` emitter of radiance = the light's nits, over the
-Lambertian plane and sphere (``env_spp``): three.js, and Babylon as ``KIND_NOTE`` states (its shader, Heitz's
-tables); Filament has no area lights (``KIND_SKIP``).
+Lambertian plane and sphere (``env_spp``): three.js, and Babylon with the substitution its engine notes (its shader,
+Heitz's tables); Filament has no area lights (its engine's ``lacks``).
+Each kind's references, budget and power references are its :class:`~.kinds.SceneKind`; an engine is skipped for a
+kind needing a feature it lacks; engine images come from :mod:`.images` (cached).
 """
 
 from __future__ import annotations
@@ -32,47 +34,17 @@ from typing import Any
 
 import numpy as np
 
-from ...local_models import render as engines
+from ...local_models.render import Unavailable, registry
 from ...metrics.pixel_z import PixelJudgement, interior_mask, judge
 from ...reference.render_reference import RenderReference, render_reference
 from ...scenes import render_scenes as rs
-from .budgets import FURNACE_BUDGET, PROBE_BUDGET_REL
+from . import images
+from . import kinds as K
+from .budgets import DIRECT_BUDGET_OF_PEAK, FURNACE_BUDGET, PROBE_BUDGET_REL
 from .cdf.compute import cdf_reference, cdf_scene_list, compute_cdf
+from .kinds import MATERIAL_REFERENCES, SPOT_CONE_OFFSET_DEG, SceneKind, engine_names, kind_of, material_references
 from .settings import Settings
 from .shadows.compute import compute_shadows, shadow_scene_list
-
-# Directional budget, a measured margin: the engines shade a 512×256 tessellated sphere; three's largest
-# |engine − Mitsuba| over the 2336 interior pixels of the 64² image was 1.76e-3 = 0.18 % of the peak ρE/π =
-# 0.955 (rows 9–46, scattered, not at the outline); b = 0.25 % of the peak radiance ρE/π.
-DIRECT_BUDGET_OF_PEAK = 2.5e-3
-# Scenes judged with that budget: the same per-fragment Lambert shading of a tessellated sphere (on the plane, where
-# interpolated positions and normals are exact, the margin is generous).
-PEAK_BUDGET_KINDS = ("directional", "point", "spot", "hemisphere", "probe_lambert", "rect")
-SPOT_CONE_OFFSET_DEG = 1.0  # power: a cone falloff off by 1° (the outer angle 30° → 31°)
-# engines rendering only some kinds: three's LightProbe built as its removed HemisphereLightProbe did (issue 26668)
-KIND_ENGINES = {"hemisphere": {"three": ("three_probe",)}}
-# engines left out of a kind, with the reason (reported as skipped)
-FILAMENT_NO_IBL = ("Filament 1.53.4's npm package has no IBL prefilter (cmgen/libibl are not in the WebAssembly "
-                   "build): IndirectLight.Builder takes only precomputed irradianceSh and a prefiltered reflections "
-                   "cubemap, so an environment cannot go through Filament's own pipeline")
-KIND_SKIP = {"rect": {"filament": "Filament has no area lights (LightManager types: SUN, DIRECTIONAL, POINT, "
-                                  "FOCUSED_SPOT, SPOT)"},
-             "furnace": {"filament": FILAMENT_NO_IBL}, "hemisphere": {"filament": FILAMENT_NO_IBL},
-             "probe": {"filament": FILAMENT_NO_IBL}, "probe_lambert": {"filament": FILAMENT_NO_IBL},
-             # the glTF material scenes are lit by the furnace / the probe only: Filament was rendered there and
-             # failed each with "black image" after its exposure search (no IBL), 12 page calls of waste
-             "furnace_material": {"filament": FILAMENT_NO_IBL}, "probe_material": {"filament": FILAMENT_NO_IBL}}
-# engines rendered with a stated substitution, by kind: the label travels with the engine's info, the report row and
-# the claims. Babylon 9.35's RectAreaLight loads its LTC tables from assets.babylonjs.com
-# (Lights/LTC/ltcTextureTool.js: Tools.LoadFileAsync of areaLightsLTC.bin) and the render machine has no network;
-# babylon_render.mjs puts Heitz et al. 2016's GGX tables (three.js's RectAreaLightTexturesLib LTC_MAT_1 / LTC_MAT_2)
-# where AreaLight looks for them (scene._ltcTextures, @internal: 9.35 has no public LTC provider) in the channel
-# layout its ltcHelperFunctions reads. The Lambertian scenes' diffuse term is LTCEvaluate with the identity matrix
-# (the rectangle's form factor) and their specular term is 0 (R0 = 0), so their pixels do not depend on the table
-# (measured: bit-identical with a constant table; a dielectric with F0 = 0.04 at roughness 0.5 is not).
-RECT_LTC_LABEL = ("Babylon's RectAreaLight shader with Heitz's tables (Babylon's own areaLightsLTC.bin is not "
-                  "obtainable offline)")
-KIND_NOTE = {"rect": {"babylon": RECT_LTC_LABEL}}
 
 
 @dataclass
@@ -96,7 +68,7 @@ def with_readback(stderr: np.ndarray, er: EngineResult) -> np.ndarray:
 @dataclass
 class SceneResult:
     scene: rs.RenderScene
-    kind: str  # "furnace" | "directional" | "point" | "spot" | "hemisphere" | "probe" | "probe_lambert"
+    kind: SceneKind  # which references, budget and engines (validate.experiments.renders.kinds)
     references: dict[str, np.ndarray]  # kind → (R, R, 3) truth image (NaN off the sphere)
     reference_energy: dict[str, tuple[float, float]]  # kind → mean ± standard error over the mask
     mask: np.ndarray
@@ -105,6 +77,9 @@ class SceneResult:
     skipped: dict[str, str] = field(default_factory=dict)  # engine → reason
     power_refs: dict[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)  # label → (mean, stderr)
     dof: int = 7
+
+    def __post_init__(self) -> None:
+        self.kind = kind_of(self.kind)  # a kind's name (a manifest's, a test's) is looked up
 
 
 @dataclass
@@ -117,19 +92,19 @@ class Measurements:
     bsdf_checks: dict[str, Any] = field(default_factory=dict)  # (b) materials: the glTF BSDF's χ² and closed forms
     shadows: list[Any] = field(default_factory=list)  # (e) shadows.compute.ShadowSceneResult per scene
     cdf: list[Any] = field(default_factory=list)  # (b) cdf.compute.CdfScene: Babylon's CDF irradiance (PR 16247)
-    missing: Any = None  # engines.Missing: the runtime no engine could run without (npm engines, Chromium), or None
+    missing: Any = None  # Unavailable: the runtime an engine to render could not run without (npm, Chromium), or None
 
 
-def scene_list(s: Settings, probe: np.ndarray | None = None) -> list[tuple[rs.RenderScene, str]]:
-    out = [(sc, "furnace") for sc in rs.furnace_scenes(s.resolution, s.furnace_roughness)]
-    out += [(rs.lambert_sun_scene(s.resolution, s.sun_lux), "directional")]
-    out += [(sc, "spot" if sc.name.startswith("spot") else "point") for sc in rs.punctual_scenes(s.resolution)]
-    out += [(rs.hemisphere_scene(s.resolution), "hemisphere")]
-    out += [(sc, "rect") for sc in rs.rect_scenes(s.rect_resolution)]
+def scene_list(s: Settings, probe: np.ndarray | None = None) -> list[tuple[rs.RenderScene, SceneKind]]:
+    out = [(sc, K.FURNACE) for sc in rs.furnace_scenes(s.resolution, s.furnace_roughness)]
+    out += [(rs.lambert_sun_scene(s.resolution, s.sun_lux), K.DIRECTIONAL)]
+    out += [(sc, K.SPOT if sc.name.startswith("spot") else K.POINT) for sc in rs.punctual_scenes(s.resolution)]
+    out += [(rs.hemisphere_scene(s.resolution), K.HEMISPHERE)]
+    out += [(sc, K.RECT) for sc in rs.rect_scenes(s.rect_resolution)]
     if probe is None:
         return out
-    out += [(sc, "probe") for sc in rs.probe_scenes(probe, "uffizi", s.probe_resolution, s.probe_roughness, (1.0,))]
-    out += [(rs.probe_lambert_scene(probe, "uffizi", s.probe_resolution), "probe_lambert")]
+    out += [(sc, K.PROBE) for sc in rs.probe_scenes(probe, "uffizi", s.probe_resolution, s.probe_roughness, (1.0,))]
+    out += [(rs.probe_lambert_scene(probe, "uffizi", s.probe_resolution), K.PROBE_LAMBERT)]
     return out + material_scene_list(s, probe)
 
 
@@ -145,34 +120,13 @@ def load_probe(ctx: Any) -> tuple[np.ndarray | None, str]:
     return rs.resample_probe(load_environment(path, "latlong", False).radiance), f"{rs.PROBE_FILE} → {rs.PROBE_SIZE}"
 
 
-def references(scene: rs.RenderScene, kind: str,
+def references(scene: rs.RenderScene, kind: SceneKind | str,
                s: Settings) -> tuple[dict[str, RenderReference | None], np.ndarray]:
-    """Reference renders by kind (None: the closed-form furnace 1) and the hit mask."""
+    """The kind's reference renders (None: the closed-form furnace 1) and the hit mask."""
     from ...reference.render_reference import centre_rays
 
     _, hit = centre_rays(scene)
-    if kind in ("directional", "point"):
-        return {"mitsuba": render_reference(scene, s.spp, s.passes, s.seed)}, hit
-    if kind == "hemisphere":
-        return {"mitsuba": render_reference(scene, s.env_spp, s.passes, s.seed)}, hit
-    if kind == "probe":
-        return {"mitsuba": render_reference(scene, s.probe_spp, s.passes, s.seed)}, hit
-    if kind == "rect":  # an area emitter: next-event estimation on the rectangle, Monte Carlo noise
-        return {"mitsuba": render_reference(scene, s.env_spp, s.passes, s.seed)}, hit
-    if kind == "probe_material":
-        return material_references(scene, s), hit
-    if kind == "furnace_material":
-        return {"energy": None, "gltf": render_reference(scene, s.spp, s.passes, s.seed)}, hit
-    if kind == "probe_lambert":  # the diffuse limit: the hemisphere's sample count (its power check needs ~1 %)
-        return {"mitsuba": render_reference(scene, s.env_spp, s.passes, s.seed)}, hit
-    if kind == "spot":
-        r = scene.resolution
-        return {"mitsuba": render_reference(rs.spot_scene(r), s.spp, s.passes, s.seed),
-                "smoothstep": render_reference(rs.spot_scene(r, "smoothstep"), s.spp, s.passes, s.seed)}, hit
-    refs: dict[str, RenderReference | None] = {"energy": None}
-    if scene.material.metallic == 1.0:
-        refs["model"] = render_reference(scene, s.spp, s.passes, s.seed)
-    return refs, hit
+    return kind_of(kind).references(scene, s), hit
 
 
 def truth(ref: RenderReference | None, hit: np.ndarray, passes: int) -> tuple[np.ndarray, np.ndarray, int]:
@@ -182,53 +136,51 @@ def truth(ref: RenderReference | None, hit: np.ndarray, passes: int) -> tuple[np
     return one, np.where(hit[..., None], 0.0, np.nan) * np.ones(3), max(passes - 1, 1)
 
 
-def budget(kind: str, mean: np.ndarray) -> tuple[np.ndarray | float, str]:
-    if kind in ("probe", "probe_material"):
-        return PROBE_BUDGET_REL * mean, f"{PROBE_BUDGET_REL:.2e} × the reference (the furnace budget per unit radiance)"
-    if kind in PEAK_BUDGET_KINDS:
-        peak = float(np.nanmax(mean))
-        return DIRECT_BUDGET_OF_PEAK * peak, f"{DIRECT_BUDGET_OF_PEAK:.2%} of the peak radiance (measured margin)"
-    return FURNACE_BUDGET, f"{FURNACE_BUDGET:.2e} (2 half-float lookups 2·2⁻¹¹ + SwiftShader trig 2e-4)"
+def budget(kind: SceneKind | str, mean: np.ndarray) -> tuple[np.ndarray | float, str]:
+    """The kind's per-pixel budget for a reference of mean ``mean``, and its text."""
+    return kind_of(kind).budget(mean)
 
 
-def power_references(scene: rs.RenderScene, kind: str, s: Settings) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-    """Spot: each profile's reference with the outer cone ``SPOT_CONE_OFFSET_DEG`` wider (a power check)."""
-    if kind != "spot":
-        return {}
-    out = {}
-    for profile in rs.SPOT_PROFILES:
-        r = render_reference(rs.spot_scene(scene.resolution, profile, SPOT_CONE_OFFSET_DEG), s.spp, s.passes, s.seed)
-        out[f"{profile} outer +{SPOT_CONE_OFFSET_DEG:g}°"] = (r.mean, r.stderr)
-    return out
-
-
-def engine_names(kind: str, s: Settings) -> list[str]:
-    """The settings' engines plus the variants that render only this kind (``KIND_ENGINES``)."""
-    extra = KIND_ENGINES.get(kind, {})
-    return [n for e in s.engines for n in (e, *extra.get(e, ()))]
+def power_references(scene: rs.RenderScene, kind: SceneKind | str,
+                     s: Settings) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """The kind's power references (the spot: each profile with the outer cone ``SPOT_CONE_OFFSET_DEG`` wider)."""
+    return kind_of(kind).power(scene, s)
 
 
 Prepared = tuple[dict[str, "RenderReference | None"], np.ndarray, dict[str, tuple[np.ndarray, np.ndarray]]]
 
 
-def prepare_references(scene: rs.RenderScene, kind: str, s: Settings) -> Prepared:
+def prepare_references(scene: rs.RenderScene, kind: SceneKind, s: Settings) -> Prepared:
     """The scene's references, hit mask and power references (Mitsuba only: no browser, safe on the reference
     thread of :func:`compute`)."""
     refs, hit = references(scene, kind, s)
     return refs, hit, power_references(scene, kind, s)
 
 
-def measure_scene(scene: rs.RenderScene, kind: str, s: Settings, prepared: Future | None = None) -> SceneResult:
+def skip_reason(name: str, kind: SceneKind) -> str | None:
+    """Why the engine ``name`` does not render the kind (a feature it lacks), or None."""
+    e = registry.find(name)
+    return e.skip_reason(kind.needs) if e is not None else None
+
+
+def substitution(name: str, kind: SceneKind) -> str | None:
+    """The substitution the engine ``name`` renders the kind with (its ``notes``), or None."""
+    e = registry.find(name)
+    return next((e.notes[f] for f in kind.needs if f in e.notes), None) if e is not None else None
+
+
+def measure_scene(scene: rs.RenderScene, kind: SceneKind, s: Settings, prepared: Future | None = None) -> SceneResult:
     """Every engine's render of ``scene`` judged against its references; ``prepared``: a future of
     :func:`prepare_references` (computed meanwhile on another thread), else they are computed here. The engines
     render first, so the browser works while the references are traced."""
-    rendered: dict[str, engines.EngineRender | str] = {}  # engine → its render, or why it was skipped
+    rendered: dict[str, Any] = {}  # engine → its render (EngineRender), or why it was skipped
     for name in engine_names(kind, s):
-        if name in KIND_SKIP.get(kind, {}):
-            rendered[name] = KIND_SKIP[kind][name]
+        why = skip_reason(name, kind)
+        if why is not None:
+            rendered[name] = why
             continue
         try:
-            rendered[name] = engines.render(name, scene)
+            rendered[name] = images.render(name, scene)
         except Exception as exc:  # an engine that cannot start is skipped with its reason, never a crash
             rendered[name] = " ".join(f"{type(exc).__name__}: {exc}".split())[:300]
     refs, hit, power = prepared.result() if prepared is not None else prepare_references(scene, kind, s)
@@ -241,8 +193,9 @@ def measure_scene(scene: rs.RenderScene, kind: str, s: Settings, prepared: Futur
             continue
         out = EngineResult(er.image[..., :3].astype(np.float64), er.image[..., 3], er.frame_ms, er.wall_s, er.version,
                            info=er.info, stderr=er.stderr)
-        if name in KIND_NOTE.get(kind, {}):
-            out.info["note"] = KIND_NOTE[kind][name]
+        note = substitution(name, kind)
+        if note is not None:
+            out.info["note"] = note
         mask = interior_mask(hit, out.coverage)
         res.mask = mask
         for k, (m, se, dof) in truths.items():
@@ -262,19 +215,20 @@ def compute(ctx: Any, s: Settings) -> Measurements:
     seeded and computed alone on its thread; each engine render is the same page call)."""
     from ...gl import browser_page, runtime
 
-    missing = engines.missing_runtime()
     probe, probe_note = load_probe(ctx)
     scenes = scene_list(s, probe)
     shadow_scenes = shadow_scene_list(s)
     cdf_scenes = cdf_scene_list(ctx, s)
+    # the engines with an image not in the cache: only their runtimes are checked and their pages opened
+    need = to_render(s, scenes)
+    missing = next((u for u in (registry.get(n).unavailable() for n in need if n in registry.engines()) if u), None)
     pool = ThreadPoolExecutor(1, thread_name_prefix="renders-references")
     try:
         prepared = [pool.submit(prepare_references, sc, kind, s) for sc, kind in scenes]
         shadow_refs = [pool.submit(render_reference, sc, s.shadow_spp, s.passes, s.seed) for sc in shadow_scenes]
         bsdf = pool.submit(gltf_bsdf_checks, s)
         cdf_refs = [pool.submit(cdf_reference, sc, s) for sc, _ in cdf_scenes]  # traced while the browser renders
-        browser_page.preload([engines.ENGINES[n][0] for kind in dict.fromkeys(k for _, k in scenes)
-                              for n in engine_names(kind, s) if n not in KIND_SKIP.get(kind, {})])
+        browser_page.preload([p for n in need if n in registry.engines() for p in registry.get(n).pages()])
         out = [measure_scene(sc, kind, s, f)
                for (sc, kind), f in ctx.progress(list(zip(scenes, prepared, strict=True)), "renders: scenes")]
         shadows = compute_shadows(ctx, s, shadow_refs)
@@ -286,6 +240,19 @@ def compute(ctx: Any, s: Settings) -> Measurements:
     pool.shutdown()
     return Measurements(s, out, startup={"webgl2_s": runtime.startup_seconds("webgl2"), **time_info(out)},
                         probe_note=probe_note, bsdf_checks=checks, shadows=shadows, cdf=cdf, missing=missing)
+
+
+def to_render(s: Settings, scenes: list[tuple[rs.RenderScene, SceneKind]]) -> list[str]:
+    """The engines (in the order the scenes meet them) with an image of a main scene not in the cache; the shadow and
+    CDF parts' engines are counted when their scenes' images are missing too (their pages are then opened as they
+    render)."""
+    out: dict[str, None] = {}
+    for sc, kind in scenes:
+        for n in engine_names(kind, s):
+            if n not in out and skip_reason(n, kind) is None and (n not in registry.engines()
+                                                                   or images.cached(n, sc) is None):
+                out[n] = None
+    return list(out)
 
 
 def time_info(scenes: list[SceneResult]) -> dict[str, Any]:
@@ -317,45 +284,16 @@ def contrast_ratio(image: np.ndarray, mean: np.ndarray, stderr: np.ndarray, mask
     return float(c), float(np.std(draws, ddof=1))
 
 
-# ---------------------------------------------------------------- (b) glTF materials: references (i) and (ii)
-# Scenes "probe_material": white spheres (baseColor 1) over ``material_metallic`` × ``material_roughness`` under the
-# probe. References, kept apart: "gltf" = (i) glTF 2.0 Appendix B as specified (validate.reference.gltf_bsdf, any
-# metalness); "multiscatter" = (ii) the random-walk microsurface (validate.reference.microsurface_bsdf) — at metalness
-# 1 the walk itself, at metalness m in (0, 1) glTF's linear mix (B.2.1) with the metal lobe replaced by the walk,
-# (1 − m)·(i)(m = 0) + m·(ii)(m = 1): the dielectric's F₀ = 0.04 layer keeps its single scattering.
-MATERIAL_REFERENCES = {"gltf": "vs (i) glTF as specified", "multiscatter": "vs (ii) multiscatter microsurface"}
+# ---------------------------------------------------------------- (b) glTF materials
+# Scenes of kind "probe_material" (their references (i) and (ii): validate.experiments.renders.kinds).
 
 
-def material_scene_list(s: Settings, probe: np.ndarray) -> list[tuple[rs.RenderScene, str]]:
+def material_scene_list(s: Settings, probe: np.ndarray) -> list[tuple[rs.RenderScene, SceneKind]]:
     """The probe's metalness × roughness grid, and metalness 0.5 in the white furnace (kind "furnace_material":
     references "energy" = 1, a white non-absorbing sphere, and "gltf" = (i))."""
-    out = [(sc, "furnace_material") for sc in rs.furnace_material_scenes(s.resolution, s.furnace_roughness)]
-    return out + [(sc, "probe_material") for sc in rs.probe_material_scenes(probe, "uffizi", s.probe_resolution,
+    out = [(sc, K.FURNACE_MATERIAL) for sc in rs.furnace_material_scenes(s.resolution, s.furnace_roughness)]
+    return out + [(sc, K.PROBE_MATERIAL) for sc in rs.probe_material_scenes(probe, "uffizi", s.probe_resolution,
                                                                              s.material_roughness, s.material_metallic)]
-
-
-def _with_model(scene: rs.RenderScene, metallic: float, model: str) -> rs.RenderScene:
-    from dataclasses import replace
-
-    mat = replace(scene.material, metallic=metallic, model=model)
-    return replace(scene, name=f"probe_{model}_m{metallic:g}_r{mat.roughness:g}", material=mat)
-
-
-def material_references(scene: rs.RenderScene, s: Settings) -> dict[str, RenderReference | None]:
-    """(i) always; (ii) where the metal lobe is present (module block comment above)."""
-    out: dict[str, RenderReference | None] = {"gltf": render_reference(scene, s.probe_spp, s.passes, s.seed)}
-    m = scene.material.metallic
-    if m == 0.0:
-        return out
-    walk = render_reference(_with_model(scene, 1.0, "multiscatter"), s.probe_spp, s.passes, s.seed)
-    if m == 1.0:
-        out["multiscatter"] = walk
-        return out
-    diel = render_reference(_with_model(scene, 0.0, "gltf"), s.probe_spp, s.passes, s.seed)
-    out["multiscatter"] = RenderReference((1 - m) * diel.mean + m * walk.mean,
-                                          np.sqrt(((1 - m) * diel.stderr) ** 2 + (m * walk.stderr) ** 2), walk.hit,
-                                          walk.spp, walk.passes, walk.seed)
-    return out
 
 
 # the glTF BSDF's own checks (validate.reference.gltf_bsdf): χ² of sample against pdf, the directional albedo through
@@ -398,8 +336,15 @@ def linear_mix(scenes: list[SceneResult], sr: SceneResult, engine: str) -> np.nd
     """The engine's own (1 − m)·image(m = 0) + m·image(m = 1) at the roughness of ``sr`` (None when one is missing):
     what glTF's material = mix(dielectric, metal, metallic) [B.2.1] renders at metalness m."""
     m, r = sr.scene.material.metallic, sr.scene.material.roughness
-    ends = {s.scene.material.metallic: s for s in scenes if s.kind == "probe_material"
+    ends = {s.scene.material.metallic: s for s in scenes if s.kind is K.PROBE_MATERIAL
             and s.scene.material.roughness == r and s.scene.material.metallic in (0.0, 1.0) and engine in s.engines}
     if 0.0 not in ends or 1.0 not in ends:
         return None
     return (1 - m) * ends[0.0].engines[engine].image + m * ends[1.0].engines[engine].image
+
+
+__all__ = ["Measurements", "SceneResult", "EngineResult", "compute", "scene_list", "references", "truth", "budget",
+           "power_references", "engine_names", "measure_scene", "prepare_references", "with_readback", "linear_mix",
+           "contrast_ratio", "gltf_bsdf_checks", "material_scene_list", "material_references", "MATERIAL_REFERENCES",
+           "SPOT_CONE_OFFSET_DEG", "DIRECT_BUDGET_OF_PEAK", "FURNACE_BUDGET", "PROBE_BUDGET_REL", "to_render",
+           "skip_reason", "substitution", "Unavailable"]

@@ -8,23 +8,14 @@ from typing import Any
 import numpy as np
 
 from ...format import pm as fpm
-from ...local_models import render as engines
+from ...local_models.render import registry
 from ...metrics.pixel_z import PixelJudgement, judge
 from ..base import Figure, NotRun, Section, Table, settings_json
 from ..formatting import pct, pm
-from .compute import RECT_LTC_LABEL, Measurements, SceneResult, budget
+from . import kinds as K
+from .compute import Measurements, SceneResult, budget
 from .settings import Settings
 
-FILAMENT_NOTE = ("Filament (npm 1.53.4) renders the punctual lights (c) only: a glTF binary of the geometry through "
-                 "gltfio's ubershader and its LightManager lights (Φ = 4π·cd point, π·cd spot), post-processing off, "
-                 "the 8-bit canvas read with WebGL2's gl.readPixels (its JS Renderer has no readPixels). The "
-                 "exposure e is picked from Filament's own frames so the image fills the 8-bit range; the "
-                 "quantisation, ±½ LSB uniform (σ = 1/(255·√12·e) in radiance), is added in quadrature to Mitsuba's "
-                 "standard error in the z-test. Not rendered: the furnace, probe and hemisphere (the package has no "
-                 "IBL prefilter — cmgen/libibl — so an environment cannot go through Filament's own pipeline) and "
-                 "the rectangular light (Filament has no area lights). Its spot penumbra is ≈ 4 % darker than KHR's "
-                 "reference: FLightManager::setSpotLightCone takes the cone's cosines from fast::cos (20°/30° shade "
-                 "as 19.94°/29.93°), inside the budget.")
 PUNCTUAL_NOTE = ("Point and spot lights in KHR_lights_punctual units (candela, inverse square, no range) on a "
                  "Lambertian plane and sphere, against Mitsuba's point and spot emitters (no Monte Carlo noise: delta "
                  "lights with next-event estimation, so the judgement rests on the budget). Mitsuba's spot ramps "
@@ -148,7 +139,7 @@ def scene_figure(sr: SceneResult, ctx: Any) -> Figure | None:
 
 def findings(m: Measurements) -> list[str]:
     out = []
-    for sr in (x for x in m.scenes if x.kind != "probe_material"):  # the probe material rows: material_findings
+    for sr in (x for x in m.scenes if x.kind is not K.PROBE_MATERIAL):  # the probe material rows: material_findings
         for name, er in sr.engines.items():
             for kind, j in er.judgements.items():
                 out.append(f"{sr.scene.name}, {name} vs {kind}: {pct(j.fraction_accepted)} of {j.n_pixels} pixels "
@@ -211,7 +202,7 @@ def spot_findings(sr: SceneResult) -> list[str]:
 def punctual_findings(m: Measurements) -> list[str]:
     out: list[str] = []
     for sr in m.scenes:
-        out += point_findings(sr) if sr.kind == "point" else spot_findings(sr) if sr.kind == "spot" else []
+        out += point_findings(sr) if sr.kind is K.POINT else spot_findings(sr) if sr.kind is K.SPOT else []
     return out
 
 
@@ -219,7 +210,7 @@ def hemisphere_findings(m: Measurements) -> list[str]:
     """Each engine's bias against the exact environment, and the LightProbe built as HemisphereLightProbe did against
     HemisphereLight at the same arguments (three issue 26668): π · probe(L, 1) / light(L, π) over the judged pixels."""
     out = []
-    for sr in (s for s in m.scenes if s.kind == "hemisphere"):
+    for sr in (s for s in m.scenes if s.kind is K.HEMISPHERE):
         js = {name: er.judgements["mitsuba"] for name, er in sr.engines.items()}
         biases = "; ".join(f"{name} {_bias(j)} ({pct(j.fraction_accepted)} accepted)" for name, j in js.items())
         out.append(f"{sr.scene.name} vs Mitsuba's two-value environment, engine/Mitsuba bias: {biases}. "
@@ -250,14 +241,14 @@ def probe_table(m: Measurements) -> Table | None:
     from .compute import contrast_ratio
 
     rows: list[list[Any]] = []
-    for sr in (s for s in m.scenes if s.kind in ("probe", "probe_lambert")):
+    for sr in (s for s in m.scenes if s.kind in (K.PROBE, K.PROBE_LAMBERT)):
         ref, se = sr.references["mitsuba"], sr.stderrs["mitsuba"]
         mat = sr.scene.material
         for name, er in sr.engines.items():
             j = er.judgements["mitsuba"]
             cv, cu = contrast_ratio(er.image, ref, se, sr.mask, m.settings.seed)
             ratio = float(er.image[sr.mask].mean() / ref[sr.mask].mean())
-            rows.append([name, "Lambert" if sr.kind == "probe_lambert" else "metal", f"{mat.roughness:g}",
+            rows.append([name, "Lambert" if sr.kind is K.PROBE_LAMBERT else "metal", f"{mat.roughness:g}",
                          j.n_pixels, f"{100 * j.fraction_accepted:.2f}", fpm(j.mean_rel, j.mean_rel_unc, scale=100),
                          fpm(j.max_rel, j.max_rel_unc, scale=100), fpm(j.mean_signed_rel, j.mean_rel_unc, scale=100),
                          f"{ratio:.4f}", fpm(cv, cu)])
@@ -273,7 +264,7 @@ def probe_findings(m: Measurements) -> list[str]:
     from .compute import contrast_ratio
 
     out = [f"(b) probe: {m.probe_note} (H, W)."] if m.probe_note else []
-    for sr in (s for s in m.scenes if s.kind == "probe"):
+    for sr in (s for s in m.scenes if s.kind is K.PROBE):
         r = sr.scene.material.roughness
         for name, er in sr.engines.items():
             cv, cu = contrast_ratio(er.image, sr.references["mitsuba"], sr.stderrs["mitsuba"], sr.mask,
@@ -288,6 +279,8 @@ def probe_findings(m: Measurements) -> list[str]:
     return out
 
 
+# the substitution Babylon's rectangular light is rendered with (its engine's notes["rect"])
+RECT_LTC_LABEL = registry.find("babylon").notes.get("rect", "") if registry.find("babylon") else ""
 RECT_NOTE = ("A square 0.6 × 0.6 m area light of 10 nits beside the view (no camera ray meets it), tilted onto the "
              "Lambertian plane and facing the Lambertian sphere, against Mitsuba's rectangle with an area emitter of "
              "that radiance (next-event estimation; per-pixel standard error from 8 passes). three.js's "
@@ -305,7 +298,7 @@ def rect_table(m: Measurements) -> Table | None:
     from ...scenes.render_scenes import rect_above_horizon
 
     rows: list[list[Any]] = []
-    for sr in (s for s in m.scenes if s.kind == "rect"):
+    for sr in (s for s in m.scenes if s.kind is K.RECT):
         ref, se = sr.references["mitsuba"], sr.stderrs["mitsuba"]
         b, text = budget(sr.kind, ref)
         above = rect_above_horizon(sr.scene)
@@ -333,7 +326,7 @@ def rect_findings(m: Measurements) -> list[str]:
     """three issue 19214: RectAreaLight.intensity is luminance (nits); its .power is π·A·intensity lm. Babylon:
     the same unit (photometric scale 1 for area lights), shown by its units claim; its row's table substitution."""
     out = []
-    for sr in (s for s in m.scenes if s.kind == "rect"):
+    for sr in (s for s in m.scenes if s.kind is K.RECT):
         for name, er in sr.engines.items():
             if er.info.get("note"):
                 j = er.judgements["mitsuba"]
@@ -342,7 +335,7 @@ def rect_findings(m: Measurements) -> list[str]:
                            f"{fpm(j.max_rel, j.max_rel_unc, '%')}, bias {100 * j.mean_signed_rel:+.3f} %; "
                            "RectAreaLight.intensity is radiance (nits): light.js _getPhotometricScale is 1 for "
                            "area lights in every intensity mode.")
-    for sr in (s for s in m.scenes if s.kind == "rect" and s.scene.geometry == "sphere"):
+    for sr in (s for s in m.scenes if s.kind is K.RECT and s.scene.geometry == "sphere"):
         li = sr.scene.lights[0]
         for er in sr.engines.values():
             power = (er.info.get("light_power_lm") or [None])[0]
@@ -354,41 +347,44 @@ def rect_findings(m: Measurements) -> list[str]:
     return out
 
 
-SECTIONS = (("furnace", "(a) White furnace", [REFERENCE_NOTE]),
-            ("directional", "(c) Directional light, Lambertian", []),
-            ("point", "(c) Point lights, KHR_lights_punctual units", [PUNCTUAL_NOTE]),
-            ("spot", "(c) Spot light, KHR_lights_punctual cone", []),
-            ("hemisphere", "(f) Hemisphere light", [HEMISPHERE_NOTE]))
+SECTIONS = ((K.FURNACE, "(a) White furnace", [REFERENCE_NOTE]),
+            (K.DIRECTIONAL, "(c) Directional light, Lambertian", []),
+            (K.POINT, "(c) Point lights, KHR_lights_punctual units", [PUNCTUAL_NOTE]),
+            (K.SPOT, "(c) Spot light, KHR_lights_punctual cone", []),
+            (K.HEMISPHERE, "(f) Hemisphere light", [HEMISPHERE_NOTE]))
 
 
 def sections(m: Measurements, ctx: Any) -> list[Section]:
     out = []
     for kind, title, notes in SECTIONS:
-        scenes = [s for s in m.scenes if s.kind == kind]
+        scenes = [s for s in m.scenes if s.kind is kind]
         figs = [f for f in (scene_figure(s, ctx) for s in scenes) if f is not None]
         out.append(Section(title, list(notes), figures=figs, tables=[scene_table(s) for s in scenes]))
-    if any(s.kind == "probe" for s in m.scenes):
-        scenes = [s for s in m.scenes if s.kind in ("probe", "probe_lambert")]
+    if any(s.kind is K.PROBE for s in m.scenes):
+        scenes = [s for s in m.scenes if s.kind in (K.PROBE, K.PROBE_LAMBERT)]
         figs = [f for f in (scene_figure(s, ctx) for s in scenes) if f is not None]
         t = probe_table(m)
         out.append(Section("(b) Probe on spheres (roughness, prefilter and split-sum)", [PROBE_NOTE], figures=figs,
                            tables=[t] if t is not None else []))
     elif m.probe_note:
         out.append(Section("(b) Probe on spheres (roughness, prefilter and split-sum)", [m.probe_note]))
-    rect = [s for s in m.scenes if s.kind == "rect"]
+    rect = [s for s in m.scenes if s.kind is K.RECT]
     if rect:
         t = rect_table(m)
         out.append(Section("(d) Rectangular area light", [RECT_NOTE],
                            figures=[f for f in (scene_figure(s, ctx) for s in rect) if f is not None],
                            tables=[t] if t is not None else []))
     out += material_sections(m, ctx)
-    out.append(Section("Filament: what it renders", [FILAMENT_NOTE]))
+    for name in m.settings.engines:  # an engine's own paragraph on what it renders (its facts["report"])
+        e = registry.find(name)
+        if e is not None and e.facts.get("report"):
+            out.append(Section(f"{e.product}: what it renders", [e.facts["report"]]))
     return out
 
 
 def data(m: Measurements) -> dict:
     """results.json data: per scene and engine, frame times, energy and the per-pixel judgements."""
-    return {"scenes": {s.scene.name: {"kind": s.kind, "skipped": s.skipped, "engines": {
+    return {"scenes": {s.scene.name: {"kind": s.kind.name, "skipped": s.skipped, "engines": {
         e: {"frame_ms": r.frame_ms, "wall_s": r.wall_s, "version": r.version, "energy": r.energy, "info": r.info,
             "judgements": {k: j.to_json() for k, j in r.judgements.items()}} for e, r in s.engines.items()},
         "reference_energy": s.reference_energy} for s in m.scenes}, "startup": m.startup,
@@ -401,7 +397,7 @@ def not_run(m: Measurements) -> list[NotRun]:
         return []
     s = m.settings
     names = [*s.engines, *s.shadow_engines, *(("babylon",) if s.cdf_sizes else ())]
-    what = ", ".join(dict.fromkeys(engines.product(n) for n in names))
+    what = ", ".join(dict.fromkeys(registry.product(n) for n in names))
     return [NotRun(what, f"{m.missing.piece}: {m.missing.why}", m.missing.fix)]
 
 
@@ -447,7 +443,7 @@ def material_rows(m: Measurements) -> list[list[Any]]:
     from .compute import MATERIAL_REFERENCES
 
     rows: list[list[Any]] = []
-    for sr in (s for s in m.scenes if s.kind == "probe_material"):
+    for sr in (s for s in m.scenes if s.kind is K.PROBE_MATERIAL):
         mat = sr.scene.material
         for name, er in sr.engines.items():
             for kind, j in er.judgements.items():
@@ -464,7 +460,7 @@ def material_rows(m: Measurements) -> list[list[Any]]:
 def material_reference_rows(m: Measurements) -> list[list[Any]]:
     """(i) against (ii): the model's own energy loss, per metalness × roughness."""
     rows = []
-    for sr in (s for s in m.scenes if s.kind == "probe_material"):
+    for sr in (s for s in m.scenes if s.kind is K.PROBE_MATERIAL):
         e = sr.reference_energy
         ii = e.get("multiscatter")
         ratio = fpm(*_ratio(e["gltf"], ii)) if ii else "–"
@@ -522,7 +518,7 @@ def bsdf_check_table(m: Measurements) -> Table | None:
 
 
 def material_sections(m: Measurements, ctx: Any) -> list[Section]:
-    scenes = [s for s in m.scenes if s.kind == "probe_material"]
+    scenes = [s for s in m.scenes if s.kind is K.PROBE_MATERIAL]
     if not scenes:
         return []
     tables = [Table(["metalness (–)", "roughness (–)", "engine", "reference", "pixels (px)", "accepted (%)",
@@ -532,7 +528,7 @@ def material_sections(m: Measurements, ctx: Any) -> list[Section]:
                      "(ii) multiscatter mean (W/(m²·sr))", "(i)/(ii) (×)"], material_reference_rows(m),
                     caption="(b) materials: reference (i) against (ii), glTF's own energy loss")]
     t = bsdf_check_table(m)
-    furnace = [s for s in m.scenes if s.kind == "furnace_material"]
+    furnace = [s for s in m.scenes if s.kind is K.FURNACE_MATERIAL]
     tables += [scene_table(s) for s in furnace]
     figs = [f for f in (scene_figure(s, ctx) for s in furnace) if f is not None]
     figs += [f for f in (material_figure(s, ctx) for s in scenes) if f is not None]
@@ -546,7 +542,7 @@ def material_findings(m: Measurements) -> list[str]:
     from ...metrics.pixel_z import judge as _judge
     from .compute import PROBE_BUDGET_REL, linear_mix
 
-    scenes = [s for s in m.scenes if s.kind == "probe_material"]
+    scenes = [s for s in m.scenes if s.kind is K.PROBE_MATERIAL]
     out = []
     for sr in scenes:
         mat, e = sr.scene.material, sr.reference_energy
@@ -566,13 +562,13 @@ def material_findings(m: Measurements) -> list[str]:
         issue = " (three PR 32190: multiscatter energy at intermediate metalness)" if 0.0 < mat.metallic < 1.0 else ""
         out.append(f"(b) metalness {mat.metallic:g}, roughness {mat.roughness:g}{issue}: energy ratios "
                    + "; ".join(parts) + ii + ".")
-    for sr in (s for s in m.scenes if s.kind == "furnace_material"):
+    for sr in (s for s in m.scenes if s.kind is K.FURNACE_MATERIAL):
         mat, e = sr.scene.material, sr.reference_energy["gltf"]
         eng = "; ".join(f"{n} {er.energy:.5f}" for n, er in sr.engines.items())
         out.append(f"(a) white furnace, metalness {mat.metallic:g}, roughness {mat.roughness:g} (three PR 32190: "
                    f"multiscatter energy lost at intermediate metalness): mean radiance (truth 1) {eng}; glTF's single "
                    f"scattering (i) {fpm(*e)}.")
-    older = {s.scene.material.roughness: s for s in m.scenes if s.kind == "probe"}
+    older = {s.scene.material.roughness: s for s in m.scenes if s.kind is K.PROBE}
     for sr in (s for s in scenes if s.scene.material.metallic == 1.0 and s.scene.material.roughness in older):
         o = older[sr.scene.material.roughness]
         if o.scene.resolution == sr.scene.resolution:

@@ -11,7 +11,9 @@ class Settings:
     spp: int = 32  # samples per pixel per pass (pixel-centre rays)
     passes: int = 8  # independent passes → per-pixel standard error with 7 dof
     seed: int = 0
-    # Filament renders the punctual-light kinds only (compute.KIND_SKIP gives the reason for the others)
+    # registered engines (validate.local_models.render.registry), in this order; Filament renders the punctual-light
+    # kinds only (its engine's ``lacks`` gives the reason for the others). A registered engine FULL does not name
+    # renders in every run as well (kinds.run_engines)
     engines: tuple[str, ...] = ("three", "babylon", "filament")
     furnace_roughness: tuple[float, ...] = (0.25, 0.5, 1.0)
     sun_lux: float = 3.0
@@ -28,7 +30,7 @@ class Settings:
     material_roughness: tuple[float, ...] = (0.25, 0.5, 1.0)
     bsdf_check_samples: int = 200_000  # χ² histogram samples and albedo samples per case of the glTF BSDF checks
     # (e) shadows (validate.scenes.render_shadow_scenes): resolution, reference samples per pass, and which engines'
-    # shadow types (render_shadow_scenes.SHADOW_TYPES) — () renders none
+    # shadow types (each engine's ``shadow_types``) — () renders none
     shadow_resolution: int = 64
     shadow_spp: int = 64
     shadow_engines: tuple[str, ...] = ("three", "babylon", "filament")

@@ -23,7 +23,7 @@
 //   casts nothing; the same box moved to (0.6, 0, 0.5), in view, casts, and so does the scene's own box when the
 //   orthographic view is widened to ±2 m, which takes it in) — so Filament culls a spot light's shadow casters by the
 //   camera's frustum, where its directional light keeps the out-of-view caster; the experiment keeps it as a
-//   regression claim (renders/shadows/claims.py, LEAK_REGRESSIONS).
+//   regression claim (filament.py defects["shadows.pcf.shadow_spot.umbra"]).
 
 // the shadow-casting light's ShadowOptions ({mapSize: map_size}); returns 'applied' or why not (this build: unbound)
 export function applyShadowOptions(eng, ent, sh) {

@@ -20,11 +20,11 @@ from typing import Any
 
 import numpy as np
 
-from ....local_models import render as engines
 from ....metrics.pixel_z import PixelJudgement, interior_mask, judge
 from ....reference.render_reference import RenderReference, render_reference
 from ....scenes import render_cdf_scenes as rcs
 from ....scenes import render_scenes as rs
+from .. import images
 from ..budgets import PROBE_BUDGET_REL
 from ..settings import Settings
 
@@ -86,7 +86,7 @@ def measure(scene: rs.RenderScene, s: Settings, note: str, prepared: Future | No
         for v in rcs.CDF_VARIANTS:
             name = rcs.engine_name(n, v)
             try:
-                er = engines.render(name, scene)
+                er = images.render(name, scene)
             except Exception as exc:  # an engine that cannot start is skipped with its reason, never a crash
                 out.skipped[name] = " ".join(f"{type(exc).__name__}: {exc}".split())[:300]
                 continue

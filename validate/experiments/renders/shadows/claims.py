@@ -4,12 +4,13 @@
   pixel — Mitsuba's ≥ 99.75 % rule; power: the light's intensity × 1.02 (the engine image × 1.02).
 * ``umbra``: the umbra is dark — its pixels accepted against the truth 0 (every sample of the light blocked) with the
   same rule, i.e. no pixel brighter than the budget (0.25 % of the peak); power: a leak of 2 % of the unshadowed
-  radiance added over the umbra must fail. An engine type that leaks keeps it as a regression (``LEAK_REGRESSIONS``;
+  radiance added over the umbra must fail. An engine type that leaks keeps it as a regression (its engine's
+  ``defects["shadows.<type>.umbra"]``;
   three issue 23551, "shadow light leaks no bias fixes"); its power check is the corrected behaviour, the truth.
 * Every judgement takes the engine's readback uncertainty (Filament's 8-bit canvas) as a known term
   (:func:`~validate.experiments.renders.shadows.compute.judged_budget`); 0 for three and Babylon.
 * ``penumbra``: the 10–90 % transition W (px) against the path tracer's, stated as the regression each engine type
-  has (``PENUMBRA``: a shadow map filters by a fixed width in shadow-map texels, the truth's penumbra grows with the
+  has (a shadow map filters by a fixed width in shadow-map texels, the truth's penumbra grows with the
   light's angular size and the occluder–receiver distance [Fernando 2005]); the claim is W_engine/W_truth below 1
   (narrower) or above 1 (wider) beyond the truth's redraw uncertainty; power: the truth's own image as the engine
   (ratio 1).
@@ -19,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ....local_models.render import registry
 from ....metrics.pixel_z import MIN_ACCEPTED, judge
 from ....scenes.render_scenes import DirectionalLight
 from ...base import Claim
@@ -27,38 +29,32 @@ from .compute import ShadowEngineResult, ShadowSceneResult, judged_budget
 RULE = "Mitsuba 3 render tests: ≥ 99.75 % of pixels pass the Šidák-corrected z-test at α = 0.01"
 METRIC = "fraction of pixels accepted (Šidák α = 0.01)"
 LEAK_POWER = 0.02  # a leak of 2 % of the unshadowed radiance over the umbra
-# (engine, shadow type) → what leaks; the claim passes while the engine keeps it. Measured (FULL, 64²): Babylon 9.35
-# PCSS lights 100 % of the umbra, mean shadow factor 14.8 % (directional) and 12.0 % (spot); Filament 1.53.4 PCF's
-# spot lights 100 % of it, mean shadow factor 100.02 ± 0.01 % (no shadow drawn; its directional umbra: 0 %); every
-# other type 0 %. Keys (engine, type) hold for every scene, (engine, type, scene) for that scene only.
-LEAK_REGRESSIONS: dict[tuple[str, ...], str] = {
-    ("babylon", "pcss"): "PCSS lets light into the umbra: its shader mixes the filtered shadow towards 1 by the "
-                         "blocker–receiver depth gap (computeShadowWithPCSS: mix(shadow, 1, depthMetric − "
-                         "avgBlockerDepth))",
-    ("filament", "pcf", "shadow_spot"): "its spot light casts no shadow from a caster outside the camera's view (the "
-                                        "whole umbra lit; with the view widened to take the box in, it casts: "
-                                        "filament_shadows.mjs)",
-}
-# (engine, shadow type) → lit-region defects kept as regressions, claimed once over the scenes (the worst). Measured
-# (FULL, 64², SwiftShader): three 0.187's VSM darkens whole columns of the fully lit plane far from any shadow
-# (directional: 3 columns, s ≥ 0.956, 95.7 % of the lit pixels accepted; spot: 2 columns, s ≥ 0.892, 96.9 %; QUICK,
-# 32²: directional 0 columns, 100 %; spot 2 columns, 93.9 %); every other type (Filament PCF included) accepts
-# 100 % of the lit pixels.
-# Deterministic (the same pixels in the same page, after the other types, and in a fresh browser); the runs differ by
-# resolution only. Cause (docs/experiments/renders.md, "three.js VSM columns"): three's VSM renders every receiving
-# mesh into its shadow map (WebGLShadowMap.renderObject: castShadow || (receiveShadow && VSM)), so the plane
-# self-shadows at bias 0 against its own moments, stored as RG16F: where the half-float mean rounds below the
-# fragment's depth, Chebyshev's bound with the light-bleeding remap (p − 0.3)/0.65 darkens it. Switched off one at a
-# time, each removes every dark pixel of both scenes (64² and 32²): the receiver kept out of the map, RG32F moments,
-# or bias −2e-4 (< one half-float ulp at depth ½).
-LIT_REGRESSIONS: dict[tuple[str, str], str] = {
-    ("three", "vsm"): "VSM darkens full-height columns of the fully lit plane far from any shadow (s down to 0.89): "
-                      "it renders the receiver into its map (receiveShadow under VSM) and the plane, at bias 0, "
-                      "self-shadows where its half-float mean depth rounds below the fragment's"}
-# (engine, shadow type) whose penumbra is wider than the path tracer's (measured: Babylon PCSS 3.3× directional,
-# 1.4× spot); every other type's is narrower (three/Babylon PCF 0.14–0.40×, Filament PCF 0.19× directional; Basic,
-# ESM, blurred ESM 0: hard; Filament's spot 0: no shadow at all)
-PENUMBRA_WIDER: set[tuple[str, str]] = {("babylon", "pcss")}
+# An engine's known shadow defects are its ``defects`` (texts and measurements in its module), stated as the
+# regression it has: "shadows.<type>.umbra" (light leaks into the umbra, every scene) or "shadows.<type>.<scene>.umbra"
+# (that scene only); "shadows.<type>.lit" (the fully lit region darkened, claimed once over the scenes, the worst:
+# where the artefact lands depends on the resolution). Its penumbra is claimed narrower than the path tracer's unless
+# its ``facts["shadows.<type>.penumbra"]`` is "wider" (a shadow map filters by a fixed width in shadow-map texels).
+
+
+def _engine_defects(engine: str) -> dict[str, str]:
+    e = registry.find(engine)
+    return e.defects if e is not None else {}
+
+
+def leak_defect(sr: ShadowSceneResult, r: ShadowEngineResult) -> str | None:
+    """The light leak the engine states for this type in this scene (or every scene), or None."""
+    d = _engine_defects(r.engine)
+    return d.get(f"shadows.{r.shadow_type}.{sr.scene.name}.umbra", d.get(f"shadows.{r.shadow_type}.umbra"))
+
+
+def lit_defect(engine: str, shadow_type: str) -> str | None:
+    """The lit-region defect the engine states for the type, or None."""
+    return _engine_defects(engine).get(f"shadows.{shadow_type}.lit")
+
+
+def penumbra_wider(r: ShadowEngineResult) -> bool:
+    e = registry.find(r.engine)
+    return e is not None and e.facts.get(f"shadows.{r.shadow_type}.penumbra") == "wider"
 
 
 def _fraction(sr: ShadowSceneResult, region: str, image: np.ndarray, r: ShadowEngineResult) -> float:
@@ -68,18 +64,13 @@ def _fraction(sr: ShadowSceneResult, region: str, image: np.ndarray, r: ShadowEn
         return judge(image, sr.mean, sr.stderr, sr.dof, m, b, "").fraction_accepted
 
 
-def _keyed(table: dict, sr: ShadowSceneResult, r: ShadowEngineResult):  # noqa: ANN202 - the table's value type
-    """``table``'s entry for (engine, type, scene) or else (engine, type); None when neither is there."""
-    return table.get((r.engine, r.shadow_type, sr.scene.name), table.get((r.engine, r.shadow_type)))
-
-
 def _id(sr: ShadowSceneResult, r: ShadowEngineResult, what: str) -> str:
     return f"renders.{r.engine}.{sr.scene.name}.{r.shadow_type}.{what}"
 
 
 def lit_claim(sr: ShadowSceneResult, r: ShadowEngineResult) -> Claim | None:
-    """The fully lit region equals Mitsuba (types in ``LIT_REGRESSIONS`` are claimed once over the scenes)."""
-    if (r.engine, r.shadow_type) in LIT_REGRESSIONS:
+    """The fully lit region equals Mitsuba (types with a lit defect are claimed once over the scenes)."""
+    if lit_defect(r.engine, r.shadow_type) is not None:
         return None
     j = r.judgements["lit"]
     c = Claim(_id(sr, r, "lit"), f"{r.engine} ({r.shadow_type} shadows): the fully lit plane of {sr.scene.name} equals "
@@ -89,10 +80,14 @@ def lit_claim(sr: ShadowSceneResult, r: ShadowEngineResult) -> Claim | None:
 
 
 def lit_regression_claims(shadows: list[ShadowSceneResult]) -> list[Claim]:
-    """One claim per (engine, type) of ``LIT_REGRESSIONS``: the least accepted fully lit region over the scenes is
+    """One claim per (engine, type) with a lit defect: the least accepted fully lit region over the scenes is
     below the rule (where the artefact lands depends on the resolution, so the claim takes the worst scene)."""
     out = []
-    for (engine, shadow_type), what in LIT_REGRESSIONS.items():
+    pairs = dict.fromkeys((r.engine, r.shadow_type) for sr in shadows for r in sr.results)
+    for engine, shadow_type in sorted(pairs):
+        what = lit_defect(engine, shadow_type)
+        if what is None:
+            continue
         found = [(sr, r) for sr in shadows for r in sr.results if (r.engine, r.shadow_type) == (engine, shadow_type)]
         if not found:
             continue
@@ -108,7 +103,7 @@ def lit_regression_claims(shadows: list[ShadowSceneResult]) -> list[Claim]:
 def umbra_claim(sr: ShadowSceneResult, r: ShadowEngineResult) -> Claim | None:
     if "umbra" not in r.judgements:
         return None
-    j, known = r.judgements["umbra"], _keyed(LEAK_REGRESSIONS, sr, r)
+    j, known = r.judgements["umbra"], leak_defect(sr, r)
     um = sr.regions["umbra"]
     leaked = r.image + np.where(um, LEAK_POWER * sr.unshadowed, 0.0)[..., None]
     if known is not None:
@@ -126,7 +121,7 @@ def umbra_claim(sr: ShadowSceneResult, r: ShadowEngineResult) -> Claim | None:
 
 def penumbra_claim(sr: ShadowSceneResult, r: ShadowEngineResult) -> Claim:
     wt, ut = sr.truth_width
-    wider = _keyed(dict.fromkeys(PENUMBRA_WIDER, True), sr, r) is not None
+    wider = penumbra_wider(r)
     ratio, unc = r.width_px / wt, r.width_px * ut / wt**2
     li = sr.scene.light_size
     size = f"{li:g}° angular radius" if isinstance(sr.scene.light, DirectionalLight) else f"{li:g} m radius"

@@ -29,10 +29,11 @@ from typing import Any
 
 import numpy as np
 
-from ....local_models import render as engines
+from ....local_models.render import registry
 from ....metrics.pixel_z import ALPHA, PixelJudgement, interior_mask, judge, sidak_critical
 from ....reference.render_reference import render_reference
 from ....scenes import render_shadow_scenes as rss
+from .. import images
 from ..settings import Settings
 
 SHADOW_BUDGET_OF_PEAK = 2.5e-3  # the plane's per-pixel budget of the other scenes (compute.DIRECT_BUDGET_OF_PEAK)
@@ -123,7 +124,7 @@ def leak(image: np.ndarray, sr: ShadowSceneResult) -> tuple[tuple[float, float],
 
 
 def measure_engine(sr: ShadowSceneResult, engine: str, shadow_type: str) -> ShadowEngineResult:
-    er = engines.render(engine, sr.scene.with_shadow_type(shadow_type))
+    er = images.render(engine, sr.scene.with_shadow_type(shadow_type))
     img = er.image[..., :3].astype(np.float64)
     out = ShadowEngineResult(engine, shadow_type, str(er.info.get("shadow_type_used", shadow_type)), img,
                              er.frame_ms, er.wall_s, readback_stderr=er.stderr, info=dict(er.info))
@@ -147,7 +148,8 @@ def measure_shadow_scene(scene: rss.ShadowScene, s: Settings, prepared: Future |
                            SHADOW_BUDGET_OF_PEAK * float(np.nanmax(ref.mean)), (0.0, 0.0), reference_s=t_ref)
     sr.truth_width = truth_width(sr, s.seed)
     for engine in s.shadow_engines:
-        for t in rss.SHADOW_TYPES.get(engine, ()):
+        e = registry.find(engine)
+        for t in e.shadow_types if e is not None else ():
             try:
                 sr.results.append(measure_engine(sr, engine, t))
             except Exception as exc:  # an engine that cannot start is skipped with its reason, never a crash
