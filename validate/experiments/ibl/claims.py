@@ -17,7 +17,7 @@ from ...scenes.ibl_scenes import BLEND_EXPONENT, BLEND_WEIGHT
 from ...stats import measured_json, sidak_critical
 from ..base import Claim
 from ..techniques import Measured, technique_claims, technique_entry
-from .compute import MAP_MAX_ERROR, Comparison, IblMeasurements
+from .compute import MAP_MAX_ERROR, Comparison, IblMeasurements, judged
 from .reference_checks import ALPHA
 from .settings import NAME
 
@@ -164,7 +164,7 @@ def technique_results(m: IblMeasurements) -> tuple[dict[str, Any], list[Claim]]:
     """``ExperimentResult.techniques`` entries and the declared-threshold claims of every technique."""
     entries: dict[str, Any] = {}
     claims: list[Claim] = []
-    for tech in irradiance:
+    for tech in judged(irradiance):
         ms = comparison_metrics([m.diffuse.techniques[tech.name]])
         scope = "Lambertian sphere under " + m.scene.render_env.name
         entries[tech.name] = technique_entry(tech, _json(ms, [m.diffuse.techniques[tech.name]]), scope=scope)
@@ -172,7 +172,7 @@ def technique_results(m: IblMeasurements) -> tuple[dict[str, Any], list[Claim]]:
         # here only those on metrics this experiment measures
         own = replace(tech, thresholds={k: v for k, v in tech.thresholds.items() if k in ms})
         claims += technique_claims(NAME, own, ms, scope="Lambertian sphere")
-    for tech in specular:
+    for tech in judged(specular):
         comps = m.specular.comparisons.get(tech.name, {})
         if not comps:
             entries[tech.name] = technique_entry(tech, {}, cases={}, note="supports none of the BRDFs rendered")

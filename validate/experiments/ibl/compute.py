@@ -48,8 +48,17 @@ from ...scenes.ibl_scenes import (
 from ...stats import t_to_z
 from ..base import Background, Context
 from . import reference_checks as chk
+from .khronos.compute import compute_khronos
 from .reference_checks import Chi2Check, ZCheck
-from .settings import Settings
+from .settings import NAME, Settings
+
+
+def judged(fam: Any) -> list[Technique]:
+    """The family's techniques this experiment judges (:meth:`~validate.local_models.registry.Family.judged_by`:
+    every technique plus those registered for ``ibl`` only) that can run here (a technique's ``unavailable``
+    callable returns None; the others are this experiment's ``not_run``)."""
+    return [t for t in fam.judged_by(NAME) if not (callable(t.meta.get("unavailable")) and t.meta["unavailable"]())]
+
 
 MAP_MAX_ERROR = 0.01  # the sweep's criterion (see claims.DIFFUSE_MAP_SOURCE)
 CRATER_AO = 0.95  # "crater" pixels: cosine-weighted visibility below 0.95
@@ -320,7 +329,8 @@ def diffuse_render(st: Settings, scene: Scene, renders: dict[str, rr.Render], re
     comps = [compare(dif, masked_image(dif, im.shade_lambert(m, n_d, ALBEDO)), label, "Lambertian",
                      f"ρ = {ALBEDO:g}", with_flip=st.flip) for label, m in built.items()]
     techs = {tech.name: compare(dif, masked_image(dif, ALBEDO / np.pi * irradiance.call(tech, rad, n_d)),
-                                tech.name, "Lambertian", f"ρ = {ALBEDO:g}", with_flip=st.flip) for tech in irradiance}
+                                tech.name, "Lambertian", f"ρ = {ALBEDO:g}", with_flip=st.flip)
+             for tech in judged(irradiance)}
     return DiffuseRender(comps, techs, consistency, q_bound)
 
 
@@ -350,7 +360,7 @@ def specular_run(ctx: Any, st: Settings, scene: Scene, renders: dict[str, rr.Ren
     cases = brdf_cases(st.exponents, st.alphas)
     comps: dict[str, dict[str, Comparison]] = {}
     crops: dict[str, dict[str, ie.RelativeError]] = {}
-    for tech in ctx.progress(list(specular), "ibl: specular techniques"):
+    for tech in ctx.progress(judged(specular), "ibl: specular techniques"):
         comps[tech.name], crops[tech.name] = {}, {}
         for case in (c for c in cases if supports(tech, c.model)):
             r = renders[case.key]
@@ -462,6 +472,7 @@ class IblMeasurements:
     furnace: ZCheck
     split_constant: ZCheck
     phong_ni: dict[str, dict[str, float]]  # s → {"ratio", "ratio_u", "ratio_s"} (phong_ni in ibl.py)
+    khronos: Any = None  # .khronos.compute.KhronosMeasurements: the glTF-IBL-Sampler part
 
 
 def phong_ni(st: Settings, scene: Scene, renders: Mapping[str, rr.Render],
@@ -516,4 +527,4 @@ def compute(ctx: Context, st: Settings) -> IblMeasurements:
         checks = {w: fn(w) for w in ("chi2", "furnace", "split_constant")}
         ni = phong_ni(st, scene, renders, spec)
     return IblMeasurements(st, scene, renders, maps, diffuse, spec, mix, dent, checks["chi2"], checks["furnace"],
-                           checks["split_constant"], ni)
+                           checks["split_constant"], ni, compute_khronos(ctx, st, spec))

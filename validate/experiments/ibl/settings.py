@@ -37,6 +37,13 @@ class Settings:
     dfg_cells: tuple[tuple[int, int], ...]  # (μ index, α index) DFG-table cell centres of the constant-env claim
     heatmaps_per_section: int | None  # quick: fewer heat maps (matplotlib is the slow part)
     flip: bool  # HDR-FLIP beside every comparison (0.1–0.4 s per image whatever its size: full runs only)
+    # the glTF-IBL-Sampler part (.khronos): normals per paper probe, and its sweep, one knob at a time around the
+    # technique's options (1024 samples, faces 32², lodBias 0; each point one run of the tool, ~1–3 s on lavapipe;
+    # quick: one point besides the technique's, lodBias −1)
+    khronos_normals: int = 1024
+    khronos_samples: tuple[int, ...] = (1024,)
+    khronos_faces: tuple[int, ...] = (32,)  # 0: the tool's own default (the panorama's width / 4)
+    khronos_lod_biases: tuple[float, ...] = (-1.0, 0.0)
 
 
 QUICK = Settings(True, ("disc_on_sky", "two_tone"), 2, (4, 8, 16, 32, 64), (4, 8, 16, 32, 64), 512, 512,
@@ -47,5 +54,7 @@ FULL = Settings(False, ("disc_on_sky", "two_tone", "sunsky_30deg", "near_directi
                      (4, 8, 16, 32, 64, 128, 256), (4, 8, 16, 32, 64, 128, 256), 4096, 2048,
                      96, 512, 8, 128, 8192, (1.0, 10.0, 100.0, 1000.0), (0.1, 0.3, 0.6), 32, 1024, 8,
                      (1.0, 10.0, 100.0), (1.0, 0.7, 0.3), 2_000_000, (1.0, 0.85, 0.7, 0.5, 0.3), 1 << 14,
-                     ((31, 3), (22, 3), (9, 3), (31, 9), (22, 9), (9, 9), (31, 19), (22, 19), (9, 19)), None, True)
+                     ((31, 3), (22, 3), (9, 3), (31, 9), (22, 9), (9, 9), (31, 19), (22, 19), (9, 19)), None, True,
+                     khronos_normals=4096, khronos_samples=(64, 256, 1024, 4096, 16384),
+                     khronos_faces=(16, 32, 64, 128, 0), khronos_lod_biases=(-2.0, -1.0, -0.5, 0.0, 0.5, 1.0))
 
