@@ -38,11 +38,11 @@ class Settings:
     heatmaps_per_section: int | None  # quick: fewer heat maps (matplotlib is the slow part)
     flip: bool  # HDR-FLIP beside every comparison (0.1–0.4 s per image whatever its size: full runs only)
     # the glTF-IBL-Sampler part (.khronos): normals per paper probe, and its sweep, one knob at a time around the
-    # technique's options (1024 samples, faces 32², lodBias 0; each point one run of the tool, ~1–3 s on lavapipe;
+    # technique's options (1024 samples, faces 64², lodBias 0; each point one run of the tool, ~1–3 s on lavapipe;
     # quick: one point besides the technique's, lodBias −1)
     khronos_normals: int = 1024
     khronos_samples: tuple[int, ...] = (1024,)
-    khronos_faces: tuple[int, ...] = (32,)  # 0: the tool's own default (the panorama's width / 4)
+    khronos_faces: tuple[int, ...] = (64,)  # 0: the tool's own default (the panorama's width / 4)
     khronos_lod_biases: tuple[float, ...] = (-1.0, 0.0)
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from ....local_models.irradiance.khronos_ibl_lambertian import FACE
 from ...base import Context, NotRun, Section, Table
 from ...formatting import pct
 from .compute import TECH, KhronosMeasurements
@@ -49,7 +50,7 @@ def khronos_findings(m: KhronosMeasurements) -> list[str]:
                     f"the best point of the sweep, {best['knob']} = {_value(best)}, gives {pct(best['mean'])} / "
                     f"{pct(best['max'])}")
             out.append(f"glTF-IBL-Sampler sweep on {m.sweep['environment']}: its defaults (1024 samples, lodBias 0; "
-                       f"faces 32²) give {pct(d['mean'])} / {pct(d['max'])} of Φ, {tail}.")
+                       f"faces {FACE}²) give {pct(d['mean'])} / {pct(d['max'])} of Φ, {tail}.")
     return out
 
 
@@ -80,7 +81,7 @@ def khronos_sections(m: KhronosMeasurements, ctx: Context) -> list[Section]:
                             [[r["knob"], _value(r) + (" (technique)" if r["default"] else ""), pct(r["mean"]),
                               pct(r["max"])] for r in m.sweep["rows"]],
                             f"The sweep on {m.sweep['environment']}: one knob changed at a time around 1024 samples, "
-                            "faces 32², lodBias 0 (the tool's defaults but the face). Quick runs a minimal sweep; "
+                            f"faces {FACE}², lodBias 0 (the tool's defaults but the face). Quick runs a minimal sweep; "
                             "--full the whole."))
     if m.specular:
         keys = sorted({k for d in m.specular.values() for k in d}, key=lambda k: m.specular[next(iter(m.specular))]
