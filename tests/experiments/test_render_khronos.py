@@ -75,3 +75,26 @@ def test_viewer_renders_an_exported_scene_and_the_judge_accepts_it(tmp_path) -> 
     # power: lumens taken for candela (× 4π) is refused
     js4, _, _ = judge_against(item, dataclasses.replace(img, rgb=img.rgb * 4 * np.pi), truth_settings(manifest))
     assert js4["mitsuba"].fraction_accepted < 0.5
+
+
+def test_without_the_package_the_part_says_why_and_renders_nothing(monkeypatch) -> None:
+    import sys
+
+    import validate.experiments.renders  # noqa: F401 - the package re-exports compute()
+    from validate.experiments.renders.khronos.compute import compute_khronos
+    from validate.experiments.renders.settings import QUICK
+
+    monkeypatch.setattr(kv.paths, "installed_version", lambda package: None)
+    why = kv.ENGINE.unavailable()
+    assert why is not None and kv.PACKAGE in why.piece and why.fix == kv.FIX
+    rc = sys.modules["validate.experiments.renders.compute"]
+
+    class Scene:  # a parent scene of the name the settings list (nothing is traced: the part stops first)
+        name = QUICK.khronos_scenes[0]
+
+    class Result:
+        scene = Scene()
+
+    part = compute_khronos(None, QUICK, [Result()], rc.budget)
+    assert part.skipped.startswith(f"npm {kv.PACKAGE}") and not part.scenes
+    assert kcl.khronos_claims(part) == []
