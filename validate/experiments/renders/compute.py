@@ -42,6 +42,7 @@ from . import images
 from . import kinds as K
 from .budgets import DIRECT_BUDGET_OF_PEAK, FURNACE_BUDGET, PROBE_BUDGET_REL
 from .cdf.compute import cdf_reference, cdf_scene_list, compute_cdf
+from .khronos.compute import compute_khronos
 from .kinds import MATERIAL_REFERENCES, SPOT_CONE_OFFSET_DEG, SceneKind, engine_names, kind_of, material_references
 from .settings import Settings
 from .shadows.compute import compute_shadows, shadow_scene_list
@@ -92,6 +93,7 @@ class Measurements:
     bsdf_checks: dict[str, Any] = field(default_factory=dict)  # (b) materials: the glTF BSDF's χ² and closed forms
     shadows: list[Any] = field(default_factory=list)  # (e) shadows.compute.ShadowSceneResult per scene
     cdf: list[Any] = field(default_factory=list)  # (b) cdf.compute.CdfScene: Babylon's CDF irradiance (PR 16247)
+    khronos: Any = None  # khronos.compute.KhronosPart: the glTF Sample Viewer on the exported scene files
     missing: Any = None  # Unavailable: the runtime an engine to render could not run without (npm, Chromium), or None
 
 
@@ -234,12 +236,14 @@ def compute(ctx: Any, s: Settings) -> Measurements:
         shadows = compute_shadows(ctx, s, shadow_refs)
         checks = bsdf.result()
         cdf = compute_cdf(ctx, s, cdf_scenes, cdf_refs)
+        khronos = compute_khronos(ctx, s, out, budget)
     except BaseException:  # an error or an interrupt: drop the references not yet started, do not wait for them
         pool.shutdown(wait=False, cancel_futures=True)
         raise
     pool.shutdown()
     return Measurements(s, out, startup={"webgl2_s": runtime.startup_seconds("webgl2"), **time_info(out)},
-                        probe_note=probe_note, bsdf_checks=checks, shadows=shadows, cdf=cdf, missing=missing)
+                        probe_note=probe_note, bsdf_checks=checks, shadows=shadows, cdf=cdf, khronos=khronos,
+                        missing=missing)
 
 
 def to_render(s: Settings, scenes: list[tuple[rs.RenderScene, SceneKind]]) -> list[str]:

@@ -39,6 +39,13 @@ class Settings:
     # CDF cube — took 42–45 s on the shared 2 cores, measured)
     cdf_sizes: tuple[int, ...] = (64, 128, 256)
     cdf_resolution: int = 32
+    # the Khronos glTF Sample Viewer (part .khronos): the exported scenes it renders and its IBL sampler's sizes
+    # (khronos_viewer.IBL_QUICK: cube 16², LUT 64², for constant environments only; "suite": cube 64², LUT 128²)
+    khronos_scenes: tuple[str, ...] = ("furnace_dielectric_r0.25", "furnace_dielectric_r0.5", "furnace_dielectric_r1",
+                                       "furnace_metal_r0.25", "furnace_metal_r0.5", "furnace_metal_r1",
+                                       "lambert_directional", "point_plane", "point_sphere", "spot_plane",
+                                       "hemisphere_sphere")
+    khronos_ibl: str = "suite"
 
 
 # quick: three.js and Filament (Babylon's page load and first prefilter cost ~80 s on 2 cores; Filament's page and
@@ -49,5 +56,5 @@ class Settings:
 QUICK = Settings(spp=16, passes=8, engines=("three", "filament"), env_spp=256, probe_roughness=(0.25, 0.5),
                  probe_resolution=32, probe_spp=128, rect_resolution=32, material_roughness=(0.5,),
                  bsdf_check_samples=100_000, shadow_resolution=32, shadow_spp=16, shadow_engines=("three",),
-                 cdf_sizes=())
+                 cdf_sizes=(), khronos_scenes=Settings.khronos_scenes[:-1], khronos_ibl="quick")
 FULL = Settings(spp=128, passes=8)
