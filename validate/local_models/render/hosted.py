@@ -56,7 +56,7 @@ class BrowserEngine(Engine):
         return paths.installed_version(self.package) if self.package else None
 
     def unavailable(self) -> Unavailable | None:
-        return missing_runtime()
+        return missing_runtime((self.package,) if self.package else None)
 
     def pages(self) -> tuple[str, ...]:
         return (self.page,)
@@ -87,10 +87,12 @@ class BrowserEngine(Engine):
                             str(r.get("version", "")), dict(r.get("info") or {}), stderr)
 
 
-def missing_runtime() -> Unavailable | None:
-    """Why no hosted engine can render here (the npm engines not installed, or no headless Chromium with WebGL2), or
-    None. Checks the cheap one first; the browser check starts the run's browser, which the renders use next."""
-    absent = [p for p, v in paths.pinned_versions().items() if paths.installed_version(p) != v]
+def missing_runtime(packages: tuple[str, ...] | None = None) -> Unavailable | None:
+    """Why a hosted engine cannot render here (its npm package — by default every pinned one — not installed at the
+    pinned version, or no headless Chromium with WebGL2), or None. Checks the cheap one first; the browser check
+    starts the run's browser, which the renders use next."""
+    pinned = paths.pinned_versions()
+    absent = [p for p, v in pinned.items() if (packages is None or p in packages) and paths.installed_version(p) != v]
     if absent:
         return Unavailable("npm engines", f"{', '.join(absent)} not installed in {paths.node_modules()}", FIX_NPM)
     ok, why = runtime.available("webgl2")
