@@ -26,6 +26,13 @@ def exported(tmp_path_factory: pytest.TempPathFactory) -> list[Path]:
     return sorted(out.glob("*.glb"))
 
 
+def test_export_validate_runs_the_validator_on_every_file(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    assert main(["scenes", "export", str(tmp_path), "--resolution", "16", "--validate"]) == 0
+    n = len(list(tmp_path.glob("*.glb")))
+    out = capsys.readouterr().out
+    assert f"glTF Validator: {n} of {n} files valid (0 errors)" in out and out.count(": 0 errors,") == n
+
+
 def test_every_exported_scene_is_valid_by_the_standards_own_tool(exported: list[Path]) -> None:
     reports = validate_files(exported)
     assert len(reports) == len(exported) >= 11

@@ -179,6 +179,9 @@ def _add_scene_commands(sub: Any) -> None:
     ex.add_argument("--probes", type=Path, default=None, metavar="DIR",
                     help="add the probe scenes: ict_uffizi_256x128.hdr of DIR under metal spheres and the "
                          "Lambertian sphere (default: none)")
+    ex.add_argument("--validate", action="store_true",
+                    help="run Khronos's glTF Validator (npm gltf-validator) on every .glb written: per file its "
+                         "errors, warnings, infos and hints; exit 1 when a file has an error")
     tr = scs.add_parser("truth", help="the Mitsuba truth of your own glTF: <stem>.exr, <stem>.stderr.exr, truth.json",
                         description="Read a .glb/.gltf (meshes, metallic-roughness materials and their textures, "
                                     "KHR_lights_punctual, the first camera; an unsupported feature is one line naming "
@@ -318,6 +321,22 @@ def _cmd_docs(results: Path, docs: Path, check: bool) -> int:
     return 0
 
 
+def _validate_export(folder: Path) -> int:
+    """``scenes export --validate``: Khronos's glTF Validator on every ``.glb`` of ``folder``, one line per file and
+    one per message; 1 when a file has an error."""
+    from ..scenes.khronos_validator import validate_files
+
+    reports = validate_files(sorted(folder.glob("*.glb")))
+    for r in reports:
+        print(f"  {Path(r['file']).name}: {r['numErrors']} errors, {r['numWarnings']} warnings, "
+              f"{r['numInfos']} infos, {r['numHints']} hints")
+        for m in r["messages"]:
+            print(f"    {m['code']} (severity {m['severity']}) {m['pointer']}: {m['message']}")
+    bad = sum(r["numErrors"] > 0 for r in reports)
+    print(f"glTF Validator: {len(reports) - bad} of {len(reports)} files valid (0 errors)")
+    return 1 if bad else 0
+
+
 def _cmd_export(results: Path, to: Path, formats: str | None, argv: list[str]) -> int:
     """``export``: tables, figures and provenance of one results.json (:mod:`validate.report.export`)."""
     from ..report import export
@@ -449,7 +468,7 @@ def main(argv: list[str] | None = None) -> int:
                   f"({args.scene_set}, {args.resolution}² px), "
                   f"manifest.json ({doc['schema']}); render them, then: python -m validate judge IMAGES_DIR "
                   f"--engine NAME --scenes {args.dir}")
-            return 0
+            return _validate_export(args.dir) if args.validate else 0
         if args.command == "judge":
             from ..judge.folder import run_judge
 
