@@ -14,11 +14,13 @@ carries its quantisation as an uncertainty added in quadrature to Mitsuba's.
 (e) Shadows — a directional and a spot light over the plane with a box occluder, each engine's shadow types against
 the path-traced penumbra of a light with a size — and (b) Babylon's CDF irradiance are parts with their own stages:
 :mod:`.shadows` and :mod:`.cdf` (``PARTS``), measured by :func:`.compute.compute` beside the main scenes.
+(g) The engines through their own glTF loaders — ``export → engines → judge`` beside the hand-built path — is the
+part :mod:`.loaders`, measured after the main scenes (it needs their judgements).
 """
 
 from __future__ import annotations
 
-from . import cdf, shadows
+from . import cdf, loaders, shadows
 from .claims import claims
 from .compute import compute
 from .report import data, findings, not_run, reported_settings, sections, summary
@@ -31,7 +33,7 @@ DESCRIPTION = ("Furnace, probe, directional, point, spot and hemisphere lights r
 ORDER = 95
 
 
-PARTS = (shadows, cdf)
+PARTS = (shadows, cdf, loaders)
 
 
 __all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections",
