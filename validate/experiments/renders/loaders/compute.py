@@ -1,7 +1,8 @@
 """Numbers only: export the scene set, render it through the engines' own glTF loaders, judge the folder, and set
 each judgement beside the hand-built path's.
 
-Quick: the scenes the hand-built path renders without an environment (the Lambertian sphere under a KHR
+Quick: three.js and Filament (Babylon.js in full runs, as the parent) on the scenes the hand-built path renders
+without an environment (the Lambertian sphere under a KHR
 directional light, a point light over the plane and beside the sphere, a spot light over the plane) through
 three.js's ``GLTFLoader`` and Filament's ``gltfio`` — an environment costs three's PMREM ~14 s per map on
 SwiftShader's 2 cores (measured), so the furnace, the hemisphere light and the authored glTF scenes (whose truth is
@@ -21,14 +22,16 @@ from typing import Any
 
 import numpy as np
 
-from ....judge.folder import judge_against, judge_folder, truth_settings
 from ....judge.images import read_engine_image
-from ....local_models.render import filament_gltf, three_gltf
+from ....local_models.render import babylon_gltf, filament_gltf, three_gltf
 from ....metrics.pixel_z import MIN_ACCEPTED, PixelJudgement
 from ....scenes.manifest import export_scenes, load_manifest, manifest_scenes
 
 # loader engine → the hand-built engine of the parent (the same product, fed the suite's own scene JSON)
-ENGINES = {"three_gltf": (three_gltf.ENGINE, "three"), "filament_gltf": (filament_gltf.ENGINE, "filament")}
+ENGINES = {"three_gltf": (three_gltf.ENGINE, "three"), "filament_gltf": (filament_gltf.ENGINE, "filament"),
+           "babylon_gltf": (babylon_gltf.ENGINE, "babylon")}
+# the parent's quick run has no Babylon (its page and first prefilter cost ~80 s on 2 cores): nor has this part's
+FULL_ONLY = ("babylon_gltf",)
 QUICK_SCENES = ("lambert_directional", "point_plane", "point_sphere", "spot_plane")
 POWER_SCALE = 1.02  # a light 2 % off: the image × 1.02
 # Filament's orthographic scenes rendered once more with gltfio's own projection (the page's correction off)
@@ -87,6 +90,9 @@ def measure(ctx: Any, s: Any, parent: Any = None) -> LoaderMeasurements:
 
 
 def _measure(work: Path, s: Any, parent: Any, quick: bool) -> LoaderMeasurements:
+    # at call time: validate.judge.folder imports the renders package, whose __init__ imports this part
+    from ....judge.folder import judge_against, judge_folder, truth_settings
+
     t0 = time.perf_counter()
     scenes_dir = work / "scenes"
     export_scenes(scenes_dir, "quick" if quick else "full", s.resolution)
@@ -97,6 +103,8 @@ def _measure(work: Path, s: Any, parent: Any, quick: bool) -> LoaderMeasurements
     items = dict((e["name"], item) for e, item in manifest_scenes(doc, scenes_dir / "manifest.json"))
     ts = truth_settings(doc)
     for name, (engine, hand) in ENGINES.items():
+        if quick and name in FULL_ONLY:
+            continue
         why = engine.unavailable()
         if why is not None:
             out.skipped[name] = f"{why.piece}: {why.why} ({why.fix})"
@@ -133,6 +141,8 @@ def _measure(work: Path, s: Any, parent: Any, quick: bool) -> LoaderMeasurements
 def _ortho_power(out: LoaderMeasurements, engine: Any, scenes_dir: Path, work: Path, items: dict[str, Any],
                  ts: Any) -> None:
     """gltfio's own orthographic projection (the page's correction off) on one scene, through the same judge."""
+    from ....judge.folder import judge_against
+
     raw = replace(engine, options={**engine.options, "orthoHalfExtent": False})
     r = raw.render_folder(scenes_dir, [ORTHO_POWER_SCENE], work / "filament_gltf_raw")
     item = items[ORTHO_POWER_SCENE]
