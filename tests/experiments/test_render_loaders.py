@@ -99,3 +99,14 @@ def test_filament_gltfio_passes_with_gltfs_orthographic_projection_and_fails_wit
     r = raw.render_folder(scenes_dir, [SCENE], tmp_path / "raw")
     assert json.loads(r.info[SCENE]["projection"])[0] == pytest.approx(2 / 1.1, rel=1e-6)  # gltfio: 2/xmag
     assert _accepted(tmp_path / "raw", "filament_gltf", scenes_dir) < 0.5
+
+
+@pytest.mark.parametrize("module", ["validate.judge.folder", "validate.experiments.renders"])
+def test_the_judge_and_the_renders_package_import_first_in_a_fresh_interpreter(module: str) -> None:
+    """validate.judge.folder imports the renders package, whose loaders part uses the judge at call time only."""
+    import subprocess
+    import sys
+
+    r = subprocess.run([sys.executable, "-c", f"import {module}"], capture_output=True, text=True, timeout=120,
+                       cwd=Path(__file__).resolve().parents[2])
+    assert r.returncode == 0, r.stderr[-2000:]
