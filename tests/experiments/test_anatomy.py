@@ -113,7 +113,8 @@ PARTS = [(name, part) for name in NAMES for part in getattr(importlib.import_mod
 
 def test_the_sub_experiments_are_parts() -> None:
     assert {p.__name__.removeprefix("validate.experiments.") for _, p in PARTS} == {
-        "arealights.specular", "renders.shadows", "renders.cdf", "ibl.khronos", "renders.khronos"}
+        "arealights.specular", "renders.shadows", "renders.cdf", "ibl.khronos", "renders.khronos",
+        "renders.loaders"}
 
 
 @pytest.mark.parametrize(("name", "part"), PARTS, ids=[p.__name__ for _, p in PARTS])

@@ -445,7 +445,9 @@ class PartModule(Protocol):
     listed in the parent's ``PARTS``. The parent's ``compute`` measures it (so its work may overlap the parent's)
     and keeps its measurements at ``KEY`` (a key of a dict of measurements, else an attribute); :func:`run` gives
     them to the part's stages and appends what they return to the parent's. Optional: ``data(pm) -> dict``,
-    ``techniques(pm) -> dict`` (default none)."""
+    ``techniques(pm) -> dict`` (default none), and ``measure(ctx, s, m) -> pm``: a part that needs the parent's
+    measurements and cannot be measured inside the parent's ``compute`` without an import circle (it imports
+    :mod:`validate.judge`, which imports the parent) is measured by :func:`run` right after the parent."""
 
     KEY: str
 
@@ -472,7 +474,8 @@ def run(mod: Any, ctx: Context) -> ExperimentResult:
     ``FULL``), ``compute``, then every stage's output, its parts' appended, into one :class:`ExperimentResult`."""
     s = mod.QUICK if ctx.quick else mod.FULL
     m = mod.compute(ctx, s)
-    parts = [(p, part_measurements(m, p.KEY)) for p in getattr(mod, "PARTS", ())]
+    parts = [(p, p.measure(ctx, s, m) if hasattr(p, "measure") else part_measurements(m, p.KEY))
+             for p in getattr(mod, "PARTS", ())]
     claims = mod.claims(m) + [c for p, pm in parts for c in p.claims(pm)]
     findings = mod.findings(m) + [f for p, pm in parts for f in p.findings(pm)]
     sections = mod.sections(m, ctx) + [x for p, pm in parts for x in p.sections(pm, ctx)]

@@ -9,6 +9,11 @@ quadrature to the truth's standard error as the renders experiment does for Fila
 Refused, with the reason: PNG, JPEG and Radiance .hdr (display-referred or 8-bit-mantissa values: the judge needs
 linear radiance to a known precision), and every file whose pixels are NaN, infinite or negative, whose alpha lies
 outside [0, 1], or whose size is not the scene's. Each refusal is one line naming the file.
+
+An EXR whose values were read back from a quantised buffer (an 8-bit linear canvas: Filament's) states the step in
+its header, ``validate_quantisation_step`` (radiance per step, a float attribute): rounding to nearest leaves an
+error uniform over ±step/2, σ_q = step/√12 per value, added in quadrature as the renders experiment does for its
+8-bit readback; the image's precision reads ``unorm8``.
 """
 
 from __future__ import annotations
@@ -28,6 +33,7 @@ REFUSED_SUFFIXES = {".png": "PNG holds display-referred 8- or 16-bit values, not
                     ".hdr": "Radiance RGBE keeps 8 mantissa bits per channel (0.4 % steps, above the budgets)",
                     ".tif": "TIFF is not read by the judge", ".tiff": "TIFF is not read by the judge"}
 HALF_MANTISSA_BITS = 10
+QUANTISATION_ATTRIBUTE = "validate_quantisation_step"  # EXR header: radiance per readback step (module docstring)
 
 
 @dataclass
@@ -36,7 +42,7 @@ class EngineImage:
 
     rgb: np.ndarray
     coverage: np.ndarray
-    precision: str  # "half" | "float"
+    precision: str  # "half" | "float" | "unorm8" (a stated quantisation step)
     readback_stderr: np.ndarray
     alpha: bool  # whether the file had an alpha channel (else coverage = 1)
 
@@ -48,12 +54,13 @@ def half_stderr(v: np.ndarray) -> np.ndarray:
     return np.ldexp(1.0, (e - HALF_MANTISSA_BITS).astype(int)) / math.sqrt(12.0)
 
 
-def _read_exr(path: Path) -> tuple[np.ndarray, np.ndarray | None, str]:
+def _read_exr(path: Path) -> tuple[np.ndarray, np.ndarray | None, str, float | None]:
     import OpenEXR
 
     try:
         with OpenEXR.File(str(path), separate_channels=True) as f:
             ch = {k: np.asarray(v.pixels) for k, v in f.channels().items()}
+            step = f.header().get(QUANTISATION_ATTRIBUTE)
     except Exception as exc:  # OpenEXR raises RuntimeError/OSError with its own text
         first = (str(exc).strip().splitlines() or [type(exc).__name__])[-1]
         raise ValidateError(f"{path}: cannot read OpenEXR ({first[:160]})") from None
@@ -66,10 +73,12 @@ def _read_exr(path: Path) -> tuple[np.ndarray, np.ndarray | None, str]:
         raise ValidateError(f"{path}: channels of type {', '.join(sorted(map(str, dtypes)))}: need half or float")
     precision = "half" if np.dtype(np.float16) in dtypes else "float"
     rgb = np.stack([ch[c].astype(np.float64) for c in "RGB"], axis=-1)
-    return rgb, ch["A"].astype(np.float64) if "A" in ch else None, precision
+    if step is not None and not (isinstance(step, float) and math.isfinite(step) and step > 0):
+        raise ValidateError(f"{path}: header {QUANTISATION_ATTRIBUTE} = {step!r}: need a positive float")
+    return rgb, ch["A"].astype(np.float64) if "A" in ch else None, precision, step
 
 
-def _read_pfm(path: Path) -> tuple[np.ndarray, None, str]:
+def _read_pfm(path: Path) -> tuple[np.ndarray, None, str, None]:
     data = path.read_bytes()
     try:
         head, rest = data.split(b"\n", 1)
@@ -86,7 +95,7 @@ def _read_pfm(path: Path) -> tuple[np.ndarray, None, str]:
     if len(pixels) < w * h * 12:
         raise ValidateError(f"{path}: PFM truncated ({len(pixels)} bytes of pixels, need {w * h * 12})")
     arr = np.frombuffer(pixels[:w * h * 12], dtype="<f4" if scale < 0 else ">f4").reshape(h, w, 3)
-    return arr[::-1].astype(np.float64), None, "float"
+    return arr[::-1].astype(np.float64), None, "float", None
 
 
 def image_size(path: Path) -> tuple[int, int]:
@@ -107,7 +116,7 @@ def image_size(path: Path) -> tuple[int, int]:
         return w, h
     if suffix != ".exr":
         raise ValidateError(f"{path}: unsupported file type {suffix!r} (use .exr or .pfm)")
-    rgb, _, _ = _read_exr(path)
+    rgb = _read_exr(path)[0]
     return rgb.shape[1], rgb.shape[0]
 
 
@@ -121,7 +130,7 @@ def read_engine_image(path: Path, width: int, height: int) -> EngineImage:
     if suffix not in IMAGE_SUFFIXES:
         raise ValidateError(f"{path}: unsupported file type {suffix!r} (use .exr or .pfm)")
     try:
-        rgb, alpha, precision = _read_exr(path) if suffix == ".exr" else _read_pfm(path)
+        rgb, alpha, precision, step = _read_exr(path) if suffix == ".exr" else _read_pfm(path)
     except OSError as exc:
         raise ValidateError(f"{path}: cannot read ({exc.strerror or exc})") from None
     if rgb.shape[:2] != (height, width):
@@ -137,6 +146,8 @@ def read_engine_image(path: Path, width: int, height: int) -> EngineImage:
         raise ValidateError(f"{path}: alpha outside [0, 1] (coverage): min {np.nanmin(alpha):.3g}, "
                             f"max {np.nanmax(alpha):.3g}")
     se = half_stderr(rgb) if precision == "half" else np.zeros_like(rgb)
+    if step is not None:
+        se, precision = np.sqrt(se**2 + step**2 / 12.0), "unorm8"
     cov = alpha if alpha is not None else np.ones(rgb.shape[:2])
     return EngineImage(rgb, cov, precision, se, alpha is not None)
 

@@ -13,13 +13,12 @@ lights (c) (its engine's ``lacks``: no IBL prefilter, no area lights in its npm 
 carries its quantisation as an uncertainty added in quadrature to Mitsuba's.
 (e) Shadows — a directional and a spot light over the plane with a box occluder, each engine's shadow types against
 the path-traced penumbra of a light with a size — and (b) Babylon's CDF irradiance are parts with their own stages:
-:mod:`.shadows` and :mod:`.cdf` (``PARTS``), measured by :func:`.compute.compute` beside the main scenes; so is
-:mod:`.khronos`: the Khronos glTF Sample Viewer on the exported scene files, judged against the same references.
+PARTS = (shadows, cdf, khronos, loaders)
 """
 
 from __future__ import annotations
 
-from . import cdf, khronos, shadows
+from . import cdf, khronos, loaders, shadows
 from .claims import claims
 from .compute import compute
 from .report import data, findings, not_run, reported_settings, sections, summary
@@ -32,7 +31,7 @@ DESCRIPTION = ("Furnace, probe, directional, point, spot and hemisphere lights r
 ORDER = 95
 
 
-PARTS = (shadows, cdf, khronos)
+PARTS = (shadows, cdf, khronos, loaders)
 
 
 __all__ = ["NAME", "TITLE", "DESCRIPTION", "ORDER", "QUICK", "FULL", "compute", "claims", "findings", "sections",
