@@ -30,10 +30,23 @@ class Settings:
     eevee_scenes: tuple[str, ...] = ()
     eevee_samples: int = 16  # EEVEE's taa_render_samples per frame
     eevee_passes: int = 1  # EEVEE renders deterministically: one frame; its uncertainty is its half-float rounding
+    # bpy-built world-lit spheres (experiments/blender/world.py): probes by name, one view each
+    world_probes: tuple[str, ...] = ()
+    world_view: tuple[float, float] = (15.0, 0.0)  # Mitsuba's sensor (reference.pathtrace): elevation, azimuth
+    world_cycles: bool = True
+    world_spp: int = 32  # Cycles samples per frame, ``passes`` frames
+    world_truth_spp: int = 256  # Mitsuba's sphere (sh9's cross-check settings: 256 spp × 8 passes)
+    world_eevee_samples: int = 4  # taa_render_samples: 1 → 4 → 16 moved R&H's mean by < 0.02 % of Φ (docs)
+    world_variants: tuple[str, ...] = ()  # EEVEE's world settings (world.VARIANTS); empty: no EEVEE
 
 
-_EEVEE = EEVEE_SCENES if os.environ.get("VALIDATE_EEVEE") == "1" else ()
+_ON = os.environ.get("VALIDATE_EEVEE") == "1"
+_EEVEE = EEVEE_SCENES if _ON else ()
+WORLD_PROBES = ("grace_probe", "rnl_probe")  # the paper's probes (R&H 2001: Grace Cathedral, Eucalyptus Grove)
+WORLD_VARIANTS = ("default", "no_sun", "no_clamp", "no_sun_no_clamp")
 QUICK = Settings(scene_set="quick", passes=8, spp=8, furnace_spp=16, eevee_scenes=_EEVEE,
                  scenes=("furnace_dielectric_r0.5", "furnace_metal_r0.5", "lambert_directional", "point_plane",
-                         "point_sphere", "spot_plane"))
-FULL = Settings(eevee_scenes=_EEVEE)
+                         "point_sphere", "spot_plane"),
+                 world_probes=WORLD_PROBES[:1] if _ON else (), world_variants=("default",) if _ON else ())
+FULL = Settings(eevee_scenes=_EEVEE, world_probes=WORLD_PROBES if _ON else (),
+                world_variants=WORLD_VARIANTS if _ON else ())
