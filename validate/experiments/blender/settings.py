@@ -6,6 +6,15 @@ at 64 spp (the furnace); EEVEE's first frame in a process 18 s (its shaders comp
 and 64 spp took 23 s cold with another job on the machine (80 Cycles frames: 13.8 s), over the experiment's ~15 s
 share of the report budget, so FULL renders 8 spp (punctual) and 16 spp (furnace) × 8 passes; nothing warm
 (cached). EEVEE renders only when ``VALIDATE_EEVEE=1`` is set (``eevee_scenes``), the Cycles settings unchanged.
+
+The bpy-built world-lit spheres (:mod:`.world`) run only under ``VALIDATE_EEVEE=1`` too: measured cold on the loaded
+2-core machine, their share was the world texture (Mitsuba's envmap evaluated at 2048 × 1024 texels) 5 s, the
+sphere and texture set-up in Blender 5–7 s per scene, Cycles' world frames 4–5 s each at 32 spp (8 per probe), the
+Mitsuba sphere (256 spp × 8) 2–5 s, and EEVEE's frames 6–38 s each at 4 samples plus its shader compilation on
+llvmpipe (18–72 s in a process whose Mesa shader cache is cold): one probe with Cycles and EEVEE's defaults is
+≈ 60 s, three times the experiment's share of the cold report. The default run therefore adds nothing.
+EEVEE's ``world_eevee_samples``: 1 / 4 / 16 TAA samples gave R&H's mean 3.425 / 3.432 / 3.433 % and max 8.768 /
+8.607 / 8.665 % of Φ on grace_probe (docs/experiments/blender.md): 4.
 """
 
 from __future__ import annotations
