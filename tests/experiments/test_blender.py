@@ -104,6 +104,20 @@ def test_world_lighting_is_opt_in() -> None:
 
     on = os.environ.get("VALIDATE_EEVEE") == "1"
     assert bool(settings_mod.FULL.world_probes) == on and bool(settings_mod.QUICK.world_variants) == on
+    assert settings_mod.FULL.soft_shadows == on
+
+
+def test_soft_shadow_extras_follow_the_importers_frame() -> None:
+    """The occluder enters Blender as the importer moves glTF's y-up scene: (x, y, z) ↦ (x, −z, y); the light keeps
+    the reference's sphere radius with Blender's soft falloff off."""
+    shadows = importlib.import_module("validate.experiments.blender.shadows")
+    sc = shadows.scene(16)
+    ex = shadows.extras(sc, {"use_shadow_jitter": True})
+    [[centre, size]] = ex["boxes"]
+    cx, cy, cz = sc.occluder.center
+    sx, sy, sz = sc.occluder.size
+    assert centre == [cx, -cz, cy] and size == [sx, sz, sy]
+    assert ex["light_radius"] == sc.light_size > 0 and ex["direct_only"] and ex["light"] == {"use_shadow_jitter": True}
 
 
 @needs_blender

@@ -44,6 +44,7 @@ from ...scenes.manifest import SetScene, scene_set
 from ..base import NotRun
 from ..renders import settings as renders_settings
 from ..renders.compute import budget, references, truth
+from . import shadows as sh
 from . import world as wd
 from .settings import Settings
 
@@ -80,6 +81,7 @@ class Measurements:
     conversion: dict[str, dict[str, Any]] = field(default_factory=dict)  # mode → light type → numbers
     costs: dict[str, Any] = field(default_factory=dict)
     world: list[wd.WorldResult] = field(default_factory=list)
+    shadows: dict[str, Any] = field(default_factory=dict)  # label → region → numbers (shadows.py)
 
 
 def truth_settings(s: Settings) -> Any:
@@ -121,6 +123,8 @@ def cache_parts(job: bl.Job, version: str, digest: str) -> dict[str, Any]:
         d["scene"] = {k: v for k, v in d["scene"].items() if k != "env_exr"}
     else:
         d.pop("scene")
+    if not d.get("extras"):
+        d.pop("extras")
     return {"blender": version, "glb_sha256": digest, "worker": WORKER_VERSION, **d}
 
 
@@ -225,6 +229,25 @@ def conversion(items: dict[str, SetScene], results: dict[tuple[str, str, str], d
     return out
 
 
+def shadow_jobs(s: Settings, work: Path, keyed: list) -> None:
+    """Append the soft-shadow scene's jobs to ``keyed``: Cycles (``passes`` frames), EEVEE per jitter setting."""
+    if not s.soft_shadows:
+        return
+    sc = sh.scene(s.resolution)
+    data = glb_bytes(sc)
+    glb = work / f"{sc.name}.glb"
+    glb.write_bytes(data)
+    digest = hashlib.sha256(data).hexdigest()
+    seeds = tuple(s.seed * 1000 + k for k in range(s.passes))
+    keyed.append(((sc.name, "cycles", CYCLES.name), bl.Job(str(glb), str(work / f"{sc.name}_c"), CYCLES.engine,
+                                                           s.resolution, s.shadow_spp, seeds, punctual=False,
+                                                           extras=sh.extras(sc)), digest))
+    for label, light in sh.JITTER.items():
+        keyed.append(((sc.name, f"eevee_{label}", EEVEE.name),
+                      bl.Job(str(glb), str(work / f"{sc.name}_{label}"), EEVEE.engine, s.resolution, s.shadow_spp,
+                             (s.seed,), punctual=False, extras=sh.extras(sc, light)), digest))
+
+
 def world_jobs(ctx: Any, s: Settings, work: Path, keyed: list) -> list[wd.WorldScene]:
     """Append the world-lit spheres' jobs to ``keyed`` (Cycles, then EEVEE per variant); the scenes."""
     if not s.world_probes:
@@ -276,6 +299,7 @@ def compute(ctx: Any, s: Settings) -> Measurements:
                     keyed.append(((name, mode, "conv"), job_for(it, CYCLES, s, glb, work / f"{name}_{mode}", mode,
                                                                  1, s.conversion_spp), digest))
         world_scenes = world_jobs(ctx, s, work, keyed)
+        shadow_jobs(s, work, keyed)
         res, costs = render_all([(j, dg) for _, j, dg in keyed], version, work)
     results = {k: r for (k, _, _), r in zip(keyed, res, strict=True)}
     frame_s = {e: [t for (n, m, eng), r in results.items() if eng == e for t in r["frame_s"]]
@@ -293,5 +317,9 @@ def compute(ctx: Any, s: Settings) -> Measurements:
               if n == ws.name and e == EEVEE.name}
         m.world.append(wd.judge_world(ws, truth, None if cyc is None else cyc["frames"], ee, POWER_SCALE))
     m.costs["world_judge_s"] = time.perf_counter() - t1
+    frames = {e: r["frames"] for (n, e, _), r in results.items() if n == sh.scene(s.resolution).name}
+    if frames:
+        ts = truth_settings(s)
+        m.shadows = sh.judge_shadow(sh.scene(s.resolution), frames, ts.shadow_spp, ts.passes, ts.seed)
     m.costs["total_s"] = time.perf_counter() - t0
     return m

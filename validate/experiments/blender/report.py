@@ -65,6 +65,31 @@ def world_cycles_rows(m: Measurements) -> list[list[Any]]:
             for w in m.world if w.cycles]
 
 
+SHADOW_LABEL = {"cycles": "Cycles", "eevee_jitter_off": "EEVEE, jitter off", "eevee_jitter_on": "EEVEE, jitter on"}
+
+
+def shadow_rows(m: Measurements) -> list[list[Any]]:
+    rows = []
+    for label, regions in m.shadows.items():
+        for region, r in regions.items():
+            rows.append([SHADOW_LABEL.get(label, label), region, r["pixels"], f"{100 * r['fraction_accepted']:.1f}",
+                         "–" if r["ratio"] is None else f"{r['ratio']:.4f}",
+                         "–" if r["mean_abs_diff_of_lit"] is None else f"{100 * r['mean_abs_diff_of_lit']:.2f}"])
+    return rows
+
+
+def shadow_findings(m: Measurements) -> list[str]:
+    out = []
+    for label, reg in m.shadows.items():
+        parts = [f"{k} {100 * r['fraction_accepted']:.1f} % accepted"
+                 + ("" if r["ratio"] is None else f" (Blender / truth {r['ratio']:.4f})") for k, r in reg.items()]
+        leak = reg.get("umbra", {}).get("leak_of_lit")
+        out.append(f"soft shadow (sphere light r = 0.15 m, plate occluder), {SHADOW_LABEL.get(label, label)}, "
+                   f"{m.settings.shadow_spp} samples: " + "; ".join(parts)
+                   + ("" if leak is None else f"; light in the umbra {100 * leak:.2f} % of the lit plane's mean"))
+    return out
+
+
 def world_findings(m: Measurements) -> list[str]:
     out = []
     for w in m.world:
@@ -73,7 +98,8 @@ def world_findings(m: Measurements) -> list[str]:
             e = r["rh"]
             met = e["mean"] < 0.01 and e["max"] < 0.05
             out.append(f"EEVEE's world lighting on {w.probe} ({VARIANT_TEXT.get(v, v)}, {r['samples']} TAA samples): "
-                       f"mean {in_pct(e['mean'])} % / max {in_pct(e['max'])} % of Φ_Y (± {in_pct(e['max_uncertainty'])} %; "
+                       f"mean {in_pct(e['mean'])} % / max {in_pct(e['max'])} % of Φ_Y "
+                       f"(± {in_pct(e['max_uncertainty'])} %; "
                        f"R&H's 1 % / 5 % for SH9 {'met' if met else 'not met'}); energy over the truth "
                        f"{ratio(*r['energy'])}; on the same pixels: {t}")
         if "default" in w.eevee and len(w.eevee) > 1:
@@ -125,7 +151,7 @@ def findings(m: Measurements) -> list[str]:
             out.append(f"EEVEE ({j.samples} TAA samples, {j.precision} film) on {j.scene}: "
                        f"{j.judgements[ref].fraction_accepted:.1%} of pixels within uncertainty of {ref}, energy "
                        f"{ratio(*j.energy[ref])}")
-    out += world_findings(m)
+    out += world_findings(m) + shadow_findings(m)
     for mode, lights in m.conversion.items():
         out.append(f"glTF importer, mode {mode}: " + "; ".join(
             f"{v['gltf_intensity']:g} {v['gltf_unit']} → {t} {v['blender_energy']:.6g} {v['blender_unit']}, "
@@ -170,6 +196,14 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
                            "energy ratio (–)", "× 1.01 accepted (%)", "mirrored accepted (%)", "max |mean z| (–)",
                            "× 1.01 max |mean z| (–)", "4/√N (–)"],
                           world_cycles_rows(m), caption="Cycles against Mitsuba, per pixel")]))
+    if m.shadows:
+        out.append(Section("Soft shadows: a sphere light and an occluder over the plane", [
+            "The renders experiment's shadow_spot with the reference's light: a uniform sphere emitter of radius "
+            "0.15 m (Blender: the imported spot given that radius, soft falloff off), the plate occluder added "
+            "through bpy, direct light only. Regions from the truth's visibility of the light (lit, penumbra, "
+            "umbra); |Blender − truth| as % of the lit plane's mean radiance."],
+            tables=[Table(["renderer", "region", "pixels (px)", "accepted (%)", "Blender / truth (–)",
+                           "mean |Blender − truth| (% of lit)"], shadow_rows(m), caption=f"Blender {m.version}")]))
     return out + [cost]
 
 
@@ -180,7 +214,18 @@ def data(m: Measurements) -> dict:
                 "precision": j.precision, "lights_imported": j.lights, "apart": j.apart,
                 "energy": {k: {"value": v, "uncertainty": u} for k, (v, u) in j.energy.items()},
                 "judgements": {k: pj.to_json() for k, pj in j.judgements.items()}} for j in m.scenes},
-            "world": {w.probe: world_data(w) for w in m.world}}
+            "world": {w.probe: world_data(w) for w in m.world}, "soft_shadows": {
+                label: {region: shadow_region_data(r) for region, r in regs.items()}
+                for label, regs in m.shadows.items()}}
+
+
+def shadow_region_data(r: dict) -> dict:
+    out: dict[str, Any] = {"pixels": r["pixels"],
+                           "fraction_accepted": Measured(r["fraction_accepted"], unit="%", better="higher").to_json()}
+    for k in ("ratio", "mean_abs_diff_of_lit", "leak_of_lit"):
+        if r.get(k) is not None:
+            out[k] = Measured(r[k], unit="" if k == "ratio" else "%").to_json()
+    return out
 
 
 def _rh(e: dict) -> dict:

@@ -47,6 +47,8 @@ class Settings:
     world_truth_spp: int = 256  # Mitsuba's sphere (sh9's cross-check settings: 256 spp × 8 passes)
     world_eevee_samples: int = 4  # taa_render_samples: 1 → 4 → 16 moved R&H's mean by < 0.02 % of Φ (docs)
     world_variants: tuple[str, ...] = ()  # EEVEE's world settings (world.VARIANTS); empty: no EEVEE
+    soft_shadows: bool = False  # shadows.py: the sphere light and occluder, Cycles and EEVEE (jitter off / on)
+    shadow_spp: int = 16  # Cycles samples per frame (``passes`` frames); EEVEE: taa_render_samples
 
 
 _ON = os.environ.get("VALIDATE_EEVEE") == "1"
@@ -56,6 +58,7 @@ WORLD_VARIANTS = ("default", "no_sun", "no_clamp", "no_sun_no_clamp")
 QUICK = Settings(scene_set="quick", passes=8, spp=8, furnace_spp=16, eevee_scenes=_EEVEE,
                  scenes=("furnace_dielectric_r0.5", "furnace_metal_r0.5", "lambert_directional", "point_plane",
                          "point_sphere", "spot_plane"),
-                 world_probes=WORLD_PROBES[:1] if _ON else (), world_variants=("default",) if _ON else ())
+                 world_probes=WORLD_PROBES[:1] if _ON else (), world_variants=("default",) if _ON else (),
+                 soft_shadows=_ON)
 FULL = Settings(eevee_scenes=_EEVEE, world_probes=WORLD_PROBES if _ON else (),
-                world_variants=WORLD_VARIANTS if _ON else ())
+                world_variants=WORLD_VARIANTS if _ON else (), soft_shadows=_ON)

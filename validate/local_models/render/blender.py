@@ -80,6 +80,7 @@ class Job:
     world: tuple[float, float, float] | None = None  # a constant world radiance (the furnace), else black
     punctual: bool = True  # point/spot radius 0 and sun angle 0 (KHR lights are punctual)
     scene: dict[str, Any] | None = None  # a bpy-built scene's description (blender_worker.build); glb is then ""
+    extras: dict[str, Any] | None = None  # added to an imported scene (blender_worker._extras): boxes, light radius
 
 
 @dataclass

@@ -197,7 +197,27 @@ def run_job(job: dict) -> dict:
                 o.data.angle = 0.0
     _settings(scene, job)
     _world(scene, job.get("world"))
+    _extras(scene, lights, job.get("extras") or {})
     return _render(job, scene, lights, imported, t0, cams[0])
+
+
+def _extras(scene: object, lights: list, ex: dict) -> None:
+    """What the .glb cannot carry, added after import: ``boxes`` ([[centre], [size]] in Blender's frame; black
+    Lambert, never seen), ``light_radius`` (every light a sphere of that radius, soft falloff off: a uniform sphere
+    emitter), ``light`` (bpy Light attributes, e.g. use_shadow_jitter), ``direct_only`` (Cycles max_bounces 0)."""
+    import bpy
+
+    for centre, size in ex.get("boxes", []):
+        bpy.ops.mesh.primitive_cube_add(size=2.0, location=centre, scale=[0.5 * v for v in size])
+        bpy.context.active_object.data.materials.append(_lambert(0.0))
+    for o in lights:
+        if "light_radius" in ex:
+            o.data.shadow_soft_size = float(ex["light_radius"])
+            o.data.use_soft_falloff = False
+        for k, v in ex.get("light", {}).items():
+            setattr(o.data, k, v)
+    if ex.get("direct_only") and scene.render.engine == "CYCLES":  # type: ignore[attr-defined]
+        scene.cycles.max_bounces = 0  # type: ignore[attr-defined]
 
 
 def _render(job: dict, scene: object, lights: list, imported: list, t0: float, cam: object) -> dict:
