@@ -138,8 +138,9 @@ def test_cycles_agrees_with_mitsuba_under_a_probe(tmp_path, monkeypatch) -> None
         def environments(self):
             return envs, []
 
-    s = settings_mod.Settings(scene_set="quick", kinds=(), scenes=("none",), passes=8, resolution=32,
-                              world_probes=("grace_probe",), world_spp=16, world_truth_spp=64)
+    # the experiment's own world settings (64², Cycles 8 × 32 spp, Mitsuba 8 × 256 spp): at 32² and 16 / 64 spp the
+    # 1 % scale stays inside the bias test's 4/√N (measured: |mean z| 0.041 against 0.157)
+    s = settings_mod.Settings(scene_set="quick", kinds=(), scenes=("none",), world_probes=("grace_probe",))
     m = compute_mod.compute(Ctx(), s)
     cs = claims_mod.claims(m)
     assert [c.id.rsplit(".", 1)[1] for c in cs] == ["agrees_with_mitsuba", "unbiased_against_mitsuba"]
