@@ -165,3 +165,16 @@ def test_run_blender_quick_without_blender_writes_not_installed(tmp_path, monkey
     [nr] = e["not_run"]
     assert nr["why"].startswith("Blender not installed") and nr["fix"] == "python -m validate setup --blender"
     assert e["claims"] == [] and e["world"] == {}
+
+
+def test_bench_blender_tables() -> None:
+    """``bench``'s Blender table: start-up, per engine set-up, first and later frames (ms); the reason if absent."""
+    from validate.bench import blender as bench
+
+    rec = {"version": "5.0.1", "import_s": 0.5, "process_wall_s": 9.0, "scene": "lambert_directional",
+           "engines": [{"engine": "blender_cycles", "samples": 16, "setup_s": 0.1, "first_s": 0.3, "later_s": 0.2,
+                        "later_frames": 3}]}
+    [t] = bench.tables(rec)
+    assert t["rows"][0][2] == 500.0 and t["rows"][2] == ["blender_cycles", 16, 100.0, 300.0, 200.0]
+    [t] = bench.tables({"error": "Blender not installed"})
+    assert t["rows"] == [["Blender not installed"]]
