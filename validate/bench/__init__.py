@@ -16,7 +16,8 @@ and its plain reduction run alternately, so that load on the machine touches bot
   per-receiver cost beside its Python transcription.
 * The fits (:mod:`validate.bench.fits`): each scipy fit beside its drjit-AD twin, time and residual.
 * The engines (:mod:`validate.bench.render`): browser start, page load per engine, first frame and the median of
-  later frames per engine and scene, in one fresh process.
+  later frames per engine and scene, in one fresh process; beside them Blender (:mod:`validate.bench.blender`):
+  start-up, first and later frames of Cycles and EEVEE in one Blender child process.
 
 Map sizes (one child process per size and task, so that each peak RSS is clean): an H×2H map
 (H = 1024, 2048, 4096, 8192 by default: "1k" … "8k" name the rows), a smooth sky with a 0.5° sun,
@@ -50,6 +51,7 @@ SECTIONS = ("kernels", "gl", "sizes", "fits", "render")
 def run_bench(out: Path, sizes: tuple[int, ...] = DEFAULT_SIZES, sections: tuple[str, ...] = SECTIONS) -> int:
     from .. import backend
     from ..atomic import write_text
+    from . import blender as bench_blender
     from . import fits as bench_fits
     from . import gl_runtimes as bench_gl
     from . import render as bench_render
@@ -72,10 +74,13 @@ def run_bench(out: Path, sizes: tuple[int, ...] = DEFAULT_SIZES, sections: tuple
     if "render" in sections:
         print("engines: start-up and frame times (a child process) ...")
         render = bench_render.records()
+        print("Blender: start-up and frame times (a child process) ...")
+        render["blender"] = bench_blender.records()
     tabs = tables(kernels, records) if kernels or records else []
     tabs += bench_gl.tables(gl_starts, gl_rows) if "gl" in sections else []
     tabs += bench_fits.tables(fits) if fits else []
     tabs += bench_render.tables(render) if "render" in sections else []
+    tabs += bench_blender.tables(render["blender"]) if "render" in sections else []
     doc = {"generated": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"), "backend": be.variant,
            "sections": list(sections), "tables": tabs, "kernels": kernels, "sizes": records,
            "gl": {"startup": gl_starts, "per_receiver": gl_rows}, "fits": fits, "render": render}

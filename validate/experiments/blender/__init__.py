@@ -4,7 +4,11 @@ The scenes leave as files (:mod:`validate.scenes.manifest`), enter Blender throu
 users take — and render in a child process of Blender's own interpreter (:mod:`validate.local_models.render.blender`).
 Cycles is judged per pixel against the Mitsuba truth of the renders experiment, where both describe the scene
 identically (claims); the furnace (Principled's multiple scattering against glTF's BRDF), the importer's light
-conversion under SPEC, COMPAT and RAW, and EEVEE (``VALIDATE_EEVEE=1``) are findings. A package of its own, not a
+conversion under SPEC, COMPAT and RAW, and EEVEE (``VALIDATE_EEVEE=1``) are findings. Under ``VALIDATE_EEVEE=1``
+also scenes built through bpy from the description Mitsuba renders (:mod:`.world`: a Lambertian sphere lit only by a
+shared probe — Cycles against Mitsuba as claims, EEVEE's world lighting by R&H's measure beside ``sh1``,
+``sh1_geomerics`` and ``sh9``, sun extraction and the indirect clamp on and off; :mod:`.shadows`: a sphere light and
+an occluder, EEVEE's jitter off and on). A package of its own, not a
 part of ``renders``: Blender is an optional runtime with its own process, cache entries and cost, and without it this
 experiment alone reports not run. Without Blender: not run, ``python -m validate setup --blender``.
 """

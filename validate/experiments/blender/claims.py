@@ -8,17 +8,25 @@ must fail the same rule. The spot is a finding: the importer's cone (smoothstep,
 suite models it (reference ``blender``) misses Cycles' penumbra by a fraction of a degree. The furnace and EEVEE are
 findings: Principled's multiple scattering differs from glTF's
 BRDF by design, and Blender's documentation gives EEVEE no per-pixel bound.
+The bpy-built world-lit spheres (:mod:`.world`): Cycles against Mitsuba under the same rule and power check (both
+Lambert, one radiance function); EEVEE's world lighting read by R&H's measure is a finding — R&H's "< 1 % / < 5 %
+of Φ" is a statement about SH9, not about EEVEE's L1 probe, and Blender's manual gives it no bound.
 """
 
 from __future__ import annotations
 
 from ...metrics.pixel_z import MIN_ACCEPTED
+from ...reference import pathtrace
 from ..base import Claim
 from .compute import POWER_SCALE, Measurements
 
 AGREEING = {"directional": "mitsuba", "point": "mitsuba"}
 SOURCE = ("Mitsuba 3's render tests accept an image when ≥ 99.75 % of its pixels pass the per-pixel z-test at α = 0.01 "
           "(src/python/python/test/test_renders.py); two unbiased path tracers of one scene must pass it")
+
+BIAS_SOURCE = ("two unbiased estimators of one pixel differ by zero on average: the mean of N independent "
+               "unit-variance z values lies within 4/√N (4σ; validate.reference.pathtrace: the sh9 "
+               "cross-check's bias test)")
 
 
 def claims(m: Measurements) -> list[Claim]:
@@ -34,4 +42,22 @@ def claims(m: Measurements) -> list[Claim]:
                   metric="fraction of pixels accepted", threshold=MIN_ACCEPTED, measured=pj.fraction_accepted,
                   uncertainty=0.0, comparison=">", unit="%", source=SOURCE)
         out.append(c.with_power(f"Cycles × {POWER_SCALE:g}", pw.fraction_accepted))
+    for w in m.world:
+        if not w.cycles:
+            continue
+        pj = w.cycles["judgement"]
+        c = Claim(id=f"blender.cycles.world_{w.probe}.agrees_with_mitsuba",
+                  description=f"Cycles ({w.cycles['frames']} × {m.settings.world_spp} spp) and Mitsuba "
+                              f"({w.mitsuba['passes']} × {w.mitsuba['spp']} spp) agree per pixel on a white "
+                              f"Lambertian sphere lit only by {w.probe} (bpy-built scene; {pj.n_pixels} px judged)",
+                  metric="fraction of pixels accepted", threshold=MIN_ACCEPTED, measured=pj.fraction_accepted,
+                  uncertainty=0.0, comparison=">", unit="%", source=SOURCE)
+        out.append(c.with_power("the truth mirrored left–right (a swapped frame)",
+                                w.cycles["mirrored"].fraction_accepted))
+        c = Claim(id=f"blender.cycles.world_{w.probe}.unbiased_against_mitsuba",
+                  description=f"Cycles against Mitsuba on the sphere lit by {w.probe}: no bias, max over channels of "
+                              f"|mean z| over {pj.n_pixels} px within {pathtrace.BIAS_SIGMAS:g}/√N",
+                  metric="max |mean z| (–)", threshold=w.cycles["bias_limit"], measured=w.cycles["bias"],
+                  uncertainty=0.0, comparison="<", unit="", source=BIAS_SOURCE)
+        out.append(c.with_power(f"Cycles × {POWER_SCALE:g}", w.cycles["bias_power"]))
     return out

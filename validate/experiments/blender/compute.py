@@ -35,6 +35,7 @@ from ...local_models.render import blender as bl
 from ...local_models.render.blender_cycles import ENGINE as CYCLES
 from ...local_models.render.blender_eevee import ENGINE as EEVEE
 from ...metrics.pixel_z import PixelJudgement, interior_mask, judge
+from ...reference import pathtrace
 from ...reference.cache import lookup, store
 from ...reference.render_reference import render_reference
 from ...scenes import render_scenes as rs
@@ -43,6 +44,8 @@ from ...scenes.manifest import SetScene, scene_set
 from ..base import NotRun
 from ..renders import settings as renders_settings
 from ..renders.compute import budget, references, truth
+from . import shadows as sh
+from . import world as wd
 from .settings import Settings
 
 POWER_SCALE = 1.01  # the power check: Blender's image 1 % brighter
@@ -77,6 +80,8 @@ class Measurements:
     scenes: list[Judged] = field(default_factory=list)
     conversion: dict[str, dict[str, Any]] = field(default_factory=dict)  # mode → light type → numbers
     costs: dict[str, Any] = field(default_factory=dict)
+    world: list[wd.WorldResult] = field(default_factory=list)
+    shadows: dict[str, Any] = field(default_factory=dict)  # label → region → numbers (shadows.py)
 
 
 def truth_settings(s: Settings) -> Any:
@@ -114,6 +119,12 @@ def cache_parts(job: bl.Job, version: str, digest: str) -> dict[str, Any]:
     d = asdict(job)
     d.pop("glb")
     d.pop("out")
+    if d.get("scene"):  # a bpy-built scene: its texture enters by ``digest``, not by its temporary path
+        d["scene"] = {k: v for k, v in d["scene"].items() if k != "env_exr"}
+    else:
+        d.pop("scene")
+    if not d.get("extras"):
+        d.pop("extras")
     return {"blender": version, "glb_sha256": digest, "worker": WORKER_VERSION, **d}
 
 
@@ -218,6 +229,49 @@ def conversion(items: dict[str, SetScene], results: dict[tuple[str, str, str], d
     return out
 
 
+def shadow_jobs(s: Settings, work: Path, keyed: list) -> None:
+    """Append the soft-shadow scene's jobs to ``keyed``: Cycles (``passes`` frames), EEVEE per jitter setting."""
+    if not s.soft_shadows:
+        return
+    sc = sh.scene(s.resolution)
+    data = glb_bytes(sc)
+    glb = work / f"{sc.name}.glb"
+    glb.write_bytes(data)
+    digest = hashlib.sha256(data).hexdigest()
+    seeds = tuple(s.seed * 1000 + k for k in range(s.passes))
+    keyed.append(((sc.name, "cycles", CYCLES.name), bl.Job(str(glb), str(work / f"{sc.name}_c"), CYCLES.engine,
+                                                           s.resolution, s.shadow_spp, seeds, punctual=False,
+                                                           extras=sh.extras(sc)), digest))
+    for label, light in sh.JITTER.items():
+        keyed.append(((sc.name, f"eevee_{label}", EEVEE.name),
+                      bl.Job(str(glb), str(work / f"{sc.name}_{label}"), EEVEE.engine, s.resolution, s.shadow_spp,
+                             (s.seed,), punctual=False, extras=sh.extras(sc, light)), digest))
+
+
+def world_jobs(ctx: Any, s: Settings, work: Path, keyed: list) -> list[wd.WorldScene]:
+    """Append the world-lit spheres' jobs to ``keyed`` (Cycles, then EEVEE per variant); the scenes."""
+    if not s.world_probes:
+        return []
+    envs = {e.name: e for e in ctx.environments()[0]}
+    out = []
+    for name in s.world_probes:
+        if name not in envs:
+            continue  # the probe is not in this run's probes (report: the world section names what ran)
+        ws = wd.WorldScene(envs[name], s.world_view)
+        tex, digest = wd.texture(ws.env)
+        exr = work / f"{ws.name}.exr"
+        wd.write_exr(exr, tex)
+        seeds = tuple(s.seed * 1000 + k for k in range(s.passes))
+        if s.world_cycles:
+            keyed.append(((ws.name, "cycles", CYCLES.name), wd.job(ws, exr, CYCLES, s.resolution, s.world_spp, seeds,
+                                                                   work / f"{ws.name}_c"), digest))
+        for v in s.world_variants:
+            keyed.append(((ws.name, v, EEVEE.name), wd.job(ws, exr, EEVEE, s.resolution, s.world_eevee_samples,
+                                                           (s.seed,), work / f"{ws.name}_{v}", v), digest))
+        out.append(ws)
+    return out
+
+
 def compute(ctx: Any, s: Settings) -> Measurements:
     version, why = bl.available()
     if version is None:
@@ -244,6 +298,8 @@ def compute(ctx: Any, s: Settings) -> Measurements:
                 for mode in bl.LIGHTING_MODES:
                     keyed.append(((name, mode, "conv"), job_for(it, CYCLES, s, glb, work / f"{name}_{mode}", mode,
                                                                  1, s.conversion_spp), digest))
+        world_scenes = world_jobs(ctx, s, work, keyed)
+        shadow_jobs(s, work, keyed)
         res, costs = render_all([(j, dg) for _, j, dg in keyed], version, work)
     results = {k: r for (k, _, _), r in zip(keyed, res, strict=True)}
     frame_s = {e: [t for (n, m, eng), r in results.items() if eng == e for t in r["frame_s"]]
@@ -251,7 +307,19 @@ def compute(ctx: Any, s: Settings) -> Measurements:
     m = Measurements(s, version, conversion=conversion(conv, results),
                      costs={**costs, "frame_s": frame_s, "blender_wall_s": time.perf_counter() - t0})
     for (name, _, eng), r in results.items():
-        if eng in (CYCLES.name, EEVEE.name):
+        if eng in (CYCLES.name, EEVEE.name) and name in items:
             m.scenes.append(judge_scene(items[name], CYCLES if eng == CYCLES.name else EEVEE, r, s))
+    t1 = time.perf_counter()
+    for ws in world_scenes:
+        truth = pathtrace.render_lambertian_sphere(ws.env, s.resolution, s.world_truth_spp, s.passes, s.seed, ws.view)
+        cyc = results.get((ws.name, "cycles", CYCLES.name))
+        ee = {v: (s.world_eevee_samples, r["frames"], r["frame_s"]) for (n, v, e), r in results.items()
+              if n == ws.name and e == EEVEE.name}
+        m.world.append(wd.judge_world(ws, truth, None if cyc is None else cyc["frames"], ee, POWER_SCALE))
+    m.costs["world_judge_s"] = time.perf_counter() - t1
+    frames = {e: r["frames"] for (n, e, _), r in results.items() if n == sh.scene(s.resolution).name}
+    if frames:
+        ts = truth_settings(s)
+        m.shadows = sh.judge_shadow(sh.scene(s.resolution), frames, ts.shadow_spp, ts.passes, ts.seed)
     m.costs["total_s"] = time.perf_counter() - t0
     return m

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from ...stats import Measured
 from ..base import NotRun, Section, Table
 from .claims import AGREEING
 from .compute import Judged, Measurements
@@ -21,7 +22,8 @@ def summary(m: Measurements) -> str:
         return f"Blender not run: {m.missing.why}"
     return (f"Blender {m.version}: Cycles on {sum(j.engine == 'blender_cycles' for j in m.scenes)} exported scenes "
             f"against Mitsuba per pixel" + (f", EEVEE on {sum(j.engine == 'blender_eevee' for j in m.scenes)}"
-                                             if any(j.engine == "blender_eevee" for j in m.scenes) else ""))
+                                             if any(j.engine == "blender_eevee" for j in m.scenes) else "")
+            + (f"; a Lambertian sphere under {', '.join(w.probe for w in m.world)} (bpy-built)" if m.world else ""))
 
 
 def _row(j: Judged, ref: str) -> list[Any]:
@@ -29,6 +31,87 @@ def _row(j: Judged, ref: str) -> list[Any]:
     r, u = j.energy[ref]
     return [j.scene, j.engine, ref, j.frames, j.samples, j.precision, f"{100 * pj.fraction_accepted:.2f}",
             pj.n_pixels, f"{pj.max_abs_z:.3g}", ratio(r, u)]
+
+
+VARIANT_TEXT = {"default": "sun_threshold 10, clamp_surface_indirect 10 (defaults)",
+                "no_sun": "sun_threshold 0 (no sun extraction)", "no_clamp": "clamp_surface_indirect 0",
+                "no_sun_no_clamp": "sun_threshold 0, clamp_surface_indirect 0"}
+
+
+def in_pct(x: float) -> str:
+    return f"{100 * x:.2f}"
+
+
+def world_rows(m: Measurements) -> list[list[Any]]:
+    rows = []
+    for w in m.world:
+        for name, e in w.techniques.items():
+            rows.append([w.probe, name, "–", in_pct(e["mean"]), in_pct(e["max"]), "–"])
+        if w.cycles:
+            e = w.cycles["rh"]
+            rows.append([w.probe, f"Cycles ({w.cycles['frames']} × {m.settings.world_spp} spp, Monte Carlo noise)",
+                         "–", in_pct(e["mean"]), in_pct(e["max"]), ratio(*w.cycles["energy"])])
+        for v, r in w.eevee.items():
+            rows.append([w.probe, f"EEVEE, {VARIANT_TEXT.get(v, v)}", r["samples"], in_pct(r["rh"]["mean"]),
+                         in_pct(r["rh"]["max"]), ratio(*r["energy"])])
+    return rows
+
+
+def world_cycles_rows(m: Measurements) -> list[list[Any]]:
+    return [[w.probe, w.cycles["frames"], m.settings.world_spp, f"{100 * w.cycles['judgement'].fraction_accepted:.2f}",
+             w.cycles["judgement"].n_pixels, f"{w.cycles['judgement'].max_abs_z:.3g}", ratio(*w.cycles["energy"]),
+             f"{100 * w.cycles['power'].fraction_accepted:.2f}", f"{100 * w.cycles['mirrored'].fraction_accepted:.2f}",
+             f"{w.cycles['bias']:.3f}", f"{w.cycles['bias_power']:.3f}", f"{w.cycles['bias_limit']:.3f}"]
+            for w in m.world if w.cycles]
+
+
+SHADOW_LABEL = {"cycles": "Cycles", "eevee_jitter_off": "EEVEE, jitter off", "eevee_jitter_on": "EEVEE, jitter on"}
+
+
+def shadow_rows(m: Measurements) -> list[list[Any]]:
+    rows = []
+    for label, regions in m.shadows.items():
+        for region, r in regions.items():
+            rows.append([SHADOW_LABEL.get(label, label), region, r["pixels"], f"{100 * r['fraction_accepted']:.1f}",
+                         "–" if r["ratio"] is None else f"{r['ratio']:.4f}",
+                         "–" if r["mean_abs_diff_of_lit"] is None else f"{100 * r['mean_abs_diff_of_lit']:.2f}"])
+    return rows
+
+
+def shadow_findings(m: Measurements) -> list[str]:
+    out = []
+    for label, reg in m.shadows.items():
+        parts = [f"{k} {100 * r['fraction_accepted']:.1f} % accepted"
+                 + ("" if r["ratio"] is None else f" (Blender / truth {r['ratio']:.4f})") for k, r in reg.items()]
+        leak = reg.get("umbra", {}).get("leak_of_lit")
+        out.append(f"soft shadow (sphere light r = 0.15 m, plate occluder), {SHADOW_LABEL.get(label, label)}, "
+                   f"{m.settings.shadow_spp} samples: " + "; ".join(parts)
+                   + ("" if leak is None else f"; light in the umbra {100 * leak:.2f} % of the lit plane's mean"))
+    return out
+
+
+def world_findings(m: Measurements) -> list[str]:
+    out = []
+    for w in m.world:
+        t = ", ".join(f"{k} {in_pct(e['mean'])} / {in_pct(e['max'])} %" for k, e in w.techniques.items())
+        for v, r in w.eevee.items():
+            e = r["rh"]
+            met = e["mean"] < 0.01 and e["max"] < 0.05
+            out.append(f"EEVEE's world lighting on {w.probe} ({VARIANT_TEXT.get(v, v)}, {r['samples']} TAA samples): "
+                       f"mean {in_pct(e['mean'])} % / max {in_pct(e['max'])} % of Φ_Y "
+                       f"(± {in_pct(e['max_uncertainty'])} %; "
+                       f"R&H's 1 % / 5 % for SH9 {'met' if met else 'not met'}); energy over the truth "
+                       f"{ratio(*r['energy'])}; on the same pixels: {t}")
+        if "default" in w.eevee and len(w.eevee) > 1:
+            d = w.eevee["default"]["rh"]
+            out.append(f"EEVEE's world clamps on {w.probe}: " + "; ".join(
+                f"{VARIANT_TEXT.get(v, v)}: mean {100 * (r['rh']['mean'] - d['mean']):+.2f} / max "
+                f"{100 * (r['rh']['max'] - d['max']):+.2f} points of Φ_Y against the defaults"
+                for v, r in w.eevee.items() if v != "default"))
+        if w.cycles:
+            out.append(f"Cycles against Mitsuba on the sphere lit by {w.probe}, the truth mirrored left–right (a frame "
+                       f"swapped): {w.cycles['mirrored'].fraction_accepted:.1%} of pixels accepted")
+    return out
 
 
 def table_rows(m: Measurements) -> list[list[Any]]:
@@ -68,6 +151,7 @@ def findings(m: Measurements) -> list[str]:
             out.append(f"EEVEE ({j.samples} TAA samples, {j.precision} film) on {j.scene}: "
                        f"{j.judgements[ref].fraction_accepted:.1%} of pixels within uncertainty of {ref}, energy "
                        f"{ratio(*j.energy[ref])}")
+    out += world_findings(m) + shadow_findings(m)
     for mode, lights in m.conversion.items():
         out.append(f"glTF importer, mode {mode}: " + "; ".join(
             f"{v['gltf_intensity']:g} {v['gltf_unit']} → {t} {v['blender_energy']:.6g} {v['blender_unit']}, "
@@ -98,7 +182,29 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
                                if "import_s" in c else "")
                             + "; ".join(f"{e}: {len(t)} frames, mean {sum(t) / len(t):.3f} s"
                                         for e, t in c.get("frame_s", {}).items() if t)])
-    return [main, conv, cost]
+    out = [main, conv]
+    if m.world:
+        out.append(Section("World lighting: a Lambertian sphere lit only by a probe (bpy-built)", [
+            "A white Lambertian sphere (Blender: smooth UV sphere 256 × 128, Diffuse BSDF roughness 0) lit only by the "
+            "probe, orthographic camera, box filter over the pixel footprint; Mitsuba renders the same description "
+            "(reference.pathtrace). The error columns are R&H's measure |Y(E′) − Y(E)| / Φ_Y over the sphere's pixels "
+            "(mean, max; % of Φ), E the footprint-averaged quadrature, E′ = π × the pixel for Blender and the "
+            "technique's irradiance averaged over the same footprint nodes for the suite's techniques."],
+            tables=[Table(["probe", "method", "TAA samples (count)", "mean error (% Φ)", "max error (% Φ)",
+                           "energy / truth (–)"], world_rows(m), caption=f"Blender {m.version}"),
+                    Table(["probe", "frames (count)", "spp (count)", "accepted (%)", "pixels (px)", "max |z| (–)",
+                           "energy ratio (–)", "× 1.01 accepted (%)", "mirrored accepted (%)", "max |mean z| (–)",
+                           "× 1.01 max |mean z| (–)", "4/√N (–)"],
+                          world_cycles_rows(m), caption="Cycles against Mitsuba, per pixel")]))
+    if m.shadows:
+        out.append(Section("Soft shadows: a sphere light and an occluder over the plane", [
+            "The renders experiment's shadow_spot with the reference's light: a uniform sphere emitter of radius "
+            "0.15 m (Blender: the imported spot given that radius, soft falloff off), the plate occluder added "
+            "through bpy, direct light only. Regions from the truth's visibility of the light (lit, penumbra, "
+            "umbra); |Blender − truth| as % of the lit plane's mean radiance."],
+            tables=[Table(["renderer", "region", "pixels (px)", "accepted (%)", "Blender / truth (–)",
+                           "mean |Blender − truth| (% of lit)"], shadow_rows(m), caption=f"Blender {m.version}")]))
+    return out + [cost]
 
 
 def data(m: Measurements) -> dict:
@@ -107,7 +213,39 @@ def data(m: Measurements) -> dict:
                 "scene": j.scene, "engine": j.engine, "kind": j.kind, "frames": j.frames, "samples": j.samples,
                 "precision": j.precision, "lights_imported": j.lights, "apart": j.apart,
                 "energy": {k: {"value": v, "uncertainty": u} for k, (v, u) in j.energy.items()},
-                "judgements": {k: pj.to_json() for k, pj in j.judgements.items()}} for j in m.scenes}}
+                "judgements": {k: pj.to_json() for k, pj in j.judgements.items()}} for j in m.scenes},
+            "world": {w.probe: world_data(w) for w in m.world}, "soft_shadows": {
+                label: {region: shadow_region_data(r) for region, r in regs.items()}
+                for label, regs in m.shadows.items()}}
+
+
+def shadow_region_data(r: dict) -> dict:
+    out: dict[str, Any] = {"pixels": r["pixels"],
+                           "fraction_accepted": Measured(r["fraction_accepted"], unit="%", better="higher").to_json()}
+    for k in ("ratio", "mean_abs_diff_of_lit", "leak_of_lit"):
+        if r.get(k) is not None:
+            out[k] = Measured(r[k], unit="" if k == "ratio" else "%").to_json()
+    return out
+
+
+def _rh(e: dict) -> dict:
+    return {"mean": Measured(e["mean"], e["mean_uncertainty"], unit="%", stat="mean").to_json(),
+            "max": Measured(e["max"], e["max_uncertainty"], unit="%", stat="max").to_json()}
+
+
+def world_data(w: Any) -> dict:
+    out: dict[str, Any] = {"view": list(w.view), "flux_luminance": w.flux_luminance, "truth": w.mitsuba,
+                           "techniques": {k: _rh(e) for k, e in w.techniques.items()},
+                           "eevee": {v: {"samples": r["samples"], "rh": _rh(r["rh"]), "frame_s": r["frame_s"],
+                                         "energy": Measured(*r["energy"]).to_json()} for v, r in w.eevee.items()}}
+    if w.cycles:
+        out["cycles"] = {"frames": w.cycles["frames"], "rh": _rh(w.cycles["rh"]),
+                         "bias": Measured(w.cycles["bias"], perturbed=w.cycles["bias_power"],
+                                          perturbation="Cycles × 1.01", stat="max").to_json(),
+                         "bias_limit": w.cycles["bias_limit"],
+                         "energy": Measured(*w.cycles["energy"]).to_json(),
+                         **{k: w.cycles[k].to_json() for k in ("judgement", "power", "mirrored")}}
+    return out
 
 
 def not_run(m: Measurements) -> list[NotRun]:

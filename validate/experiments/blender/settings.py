@@ -6,6 +6,15 @@ at 64 spp (the furnace); EEVEE's first frame in a process 18 s (its shaders comp
 and 64 spp took 23 s cold with another job on the machine (80 Cycles frames: 13.8 s), over the experiment's ~15 s
 share of the report budget, so FULL renders 8 spp (punctual) and 16 spp (furnace) × 8 passes; nothing warm
 (cached). EEVEE renders only when ``VALIDATE_EEVEE=1`` is set (``eevee_scenes``), the Cycles settings unchanged.
+
+The bpy-built world-lit spheres (:mod:`.world`) run only under ``VALIDATE_EEVEE=1`` too: measured cold on the loaded
+2-core machine, their share was the world texture (Mitsuba's envmap evaluated at 2048 × 1024 texels) 5 s, the
+sphere and texture set-up in Blender 5–7 s per scene, Cycles' world frames 4–5 s each at 32 spp (8 per probe), the
+Mitsuba sphere (256 spp × 8) 2–5 s, and EEVEE's frames 6–38 s each at 4 samples plus its shader compilation on
+llvmpipe (18–72 s in a process whose Mesa shader cache is cold): one probe with Cycles and EEVEE's defaults is
+≈ 60 s, three times the experiment's share of the cold report. The default run therefore adds nothing.
+EEVEE's ``world_eevee_samples``: 1 / 4 / 16 TAA samples gave R&H's mean 3.425 / 3.432 / 3.433 % and max 8.768 /
+8.607 / 8.665 % of Φ on grace_probe (docs/experiments/blender.md): 4.
 """
 
 from __future__ import annotations
@@ -30,10 +39,26 @@ class Settings:
     eevee_scenes: tuple[str, ...] = ()
     eevee_samples: int = 16  # EEVEE's taa_render_samples per frame
     eevee_passes: int = 1  # EEVEE renders deterministically: one frame; its uncertainty is its half-float rounding
+    # bpy-built world-lit spheres (experiments/blender/world.py): probes by name, one view each
+    world_probes: tuple[str, ...] = ()
+    world_view: tuple[float, float] = (15.0, 0.0)  # Mitsuba's sensor (reference.pathtrace): elevation, azimuth
+    world_cycles: bool = True
+    world_spp: int = 32  # Cycles samples per frame, ``passes`` frames
+    world_truth_spp: int = 256  # Mitsuba's sphere (sh9's cross-check settings: 256 spp × 8 passes)
+    world_eevee_samples: int = 4  # taa_render_samples: 1 → 4 → 16 moved R&H's mean by < 0.02 % of Φ (docs)
+    world_variants: tuple[str, ...] = ()  # EEVEE's world settings (world.VARIANTS); empty: no EEVEE
+    soft_shadows: bool = False  # shadows.py: the sphere light and occluder, Cycles and EEVEE (jitter off / on)
+    shadow_spp: int = 16  # Cycles samples per frame (``passes`` frames); EEVEE: taa_render_samples
 
 
-_EEVEE = EEVEE_SCENES if os.environ.get("VALIDATE_EEVEE") == "1" else ()
+_ON = os.environ.get("VALIDATE_EEVEE") == "1"
+_EEVEE = EEVEE_SCENES if _ON else ()
+WORLD_PROBES = ("grace_probe", "rnl_probe")  # the paper's probes (R&H 2001: Grace Cathedral, Eucalyptus Grove)
+WORLD_VARIANTS = ("default", "no_sun", "no_clamp", "no_sun_no_clamp")
 QUICK = Settings(scene_set="quick", passes=8, spp=8, furnace_spp=16, eevee_scenes=_EEVEE,
                  scenes=("furnace_dielectric_r0.5", "furnace_metal_r0.5", "lambert_directional", "point_plane",
-                         "point_sphere", "spot_plane"))
-FULL = Settings(eevee_scenes=_EEVEE)
+                         "point_sphere", "spot_plane"),
+                 world_probes=WORLD_PROBES[:1] if _ON else (), world_variants=("default",) if _ON else (),
+                 soft_shadows=_ON)
+FULL = Settings(eevee_scenes=_EEVEE, world_probes=WORLD_PROBES if _ON else (),
+                world_variants=WORLD_VARIANTS if _ON else (), soft_shadows=_ON)

@@ -79,6 +79,8 @@ class Job:
     lighting_mode: str = TRUTH_MODE
     world: tuple[float, float, float] | None = None  # a constant world radiance (the furnace), else black
     punctual: bool = True  # point/spot radius 0 and sun angle 0 (KHR lights are punctual)
+    scene: dict[str, Any] | None = None  # a bpy-built scene's description (blender_worker.build); glb is then ""
+    extras: dict[str, Any] | None = None  # added to an imported scene (blender_worker._extras): boxes, light radius
 
 
 @dataclass
@@ -156,7 +158,7 @@ def render_batch(jobs: list[Job], workdir: Path, timeout: float = BATCH_TIMEOUT_
     results = []
     for job, res in zip(jobs, doc["jobs"], strict=True):
         if "error" in res:
-            raise ValidateError(f"Blender: {Path(job.glb).name}: {res['error']}")
+            raise ValidateError(f"Blender: {Path(job.glb or job.out).name}: {res['error']}")
         frames = np.stack([read_exr_rgba(f) for f in res["files"]])
         results.append(JobResult(frames, res["lights"], list(res["frame_s"]), float(res["setup_s"])))
     return Batch(str(doc["version"]), float(doc["import_s"]), wall, results)

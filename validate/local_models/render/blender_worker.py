@@ -83,6 +83,14 @@ def _settings(scene: object, job: dict) -> None:
     else:
         scene.eevee.taa_render_samples = int(job["samples"])  # type: ignore[attr-defined]
         r.filter_size = 0.01
+    built = job.get("scene") or {}
+    if "filter_px" in built:  # a bpy-built scene states its pixel filter (the truth's box over the footprint)
+        if job["engine"] == "CYCLES":
+            scene.cycles.filter_width = float(built["filter_px"])  # type: ignore[attr-defined]
+        else:
+            r.filter_size = float(built["filter_px"])
+    for k, v in built.get("eevee", {}).items():
+        setattr(scene.eevee, k, v)  # type: ignore[attr-defined]
 
 
 def _world(scene: object, rgb: list | None) -> None:
@@ -96,10 +104,82 @@ def _world(scene: object, rgb: list | None) -> None:
     scene.world = w  # type: ignore[attr-defined]
 
 
+def _lambert(albedo: float) -> object:
+    import bpy
+
+    mat = bpy.data.materials.new("validate_lambert")
+    mat.use_nodes = True
+    nt = mat.node_tree
+    nt.nodes.clear()
+    d = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    d.inputs["Color"].default_value = (albedo, albedo, albedo, 1.0)
+    d.inputs["Roughness"].default_value = 0.0  # Lambert (non-zero: Oren–Nayar)
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    nt.links.new(d.outputs[0], out.inputs["Surface"])
+    return mat
+
+
+def _env_world(path: str, attrs: dict) -> object:
+    import bpy
+
+    w = bpy.data.worlds.new("validate_world")
+    w.use_nodes = True
+    nodes, links = w.node_tree.nodes, w.node_tree.links
+    bg = nodes["Background"]
+    tex = nodes.new("ShaderNodeTexEnvironment")
+    tex.image = bpy.data.images.load(path)
+    for cs in ("Linear Rec.709", "Linear"):
+        try:
+            tex.image.colorspace_settings.name = cs
+            break
+        except TypeError:
+            continue
+    tex.interpolation = "Linear"
+    tex.projection = "EQUIRECTANGULAR"
+    links.new(tex.outputs["Color"], bg.inputs["Color"])
+    bg.inputs["Strength"].default_value = 1.0
+    for k, v in attrs.items():
+        setattr(w, k, v)
+    return w
+
+
+def build(job: dict) -> object:
+    """A bpy-built scene (``job["scene"]``); kind ``world_sphere``: a smooth UV sphere of radius 1 at the origin,
+    Lambertian of ``albedo``, lit only by the equirectangular world ``env_exr`` (Blender's own mapping), seen by an
+    orthographic camera of ``ortho_scale`` with the 4 × 4 ``camera`` matrix (row-major, Blender world)."""
+    import bpy
+    from mathutils import Matrix
+
+    sc = job["scene"]
+    if sc["kind"] != "world_sphere":
+        raise RuntimeError(f"unknown built scene kind {sc['kind']!r}")
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=int(sc["segments"]), ring_count=int(sc["rings"]), radius=1.0)
+    obj = bpy.context.active_object
+    for poly in obj.data.polygons:
+        poly.use_smooth = True
+    obj.data.materials.append(_lambert(float(sc["albedo"])))
+    cd = bpy.data.cameras.new("validate_camera")
+    cd.type = "ORTHO"
+    cd.ortho_scale = float(sc["ortho_scale"])
+    cd.clip_start, cd.clip_end = 0.01, 100.0
+    cam = bpy.data.objects.new("validate_camera", cd)
+    scene.collection.objects.link(cam)
+    cam.matrix_world = Matrix([list(r) for r in sc["camera"]])
+    scene.camera = cam
+    scene.world = _env_world(sc["env_exr"], sc.get("world", {}))
+    return scene
+
+
 def run_job(job: dict) -> dict:
     import bpy
 
     t0 = time.perf_counter()
+    if job.get("scene"):
+        scene = build(job)
+        _settings(scene, job)
+        return _render(job, scene, [], [], t0, scene.camera)  # type: ignore[attr-defined]
     bpy.ops.wm.read_factory_settings(use_empty=True)
     bpy.ops.import_scene.gltf(filepath=job["glb"], export_import_convert_lighting_mode=job["lighting_mode"])
     scene = bpy.context.scene
@@ -117,6 +197,32 @@ def run_job(job: dict) -> dict:
                 o.data.angle = 0.0
     _settings(scene, job)
     _world(scene, job.get("world"))
+    _extras(scene, lights, job.get("extras") or {})
+    return _render(job, scene, lights, imported, t0, cams[0])
+
+
+def _extras(scene: object, lights: list, ex: dict) -> None:
+    """What the .glb cannot carry, added after import: ``boxes`` ([[centre], [size]] in Blender's frame; black
+    Lambert, never seen), ``light_radius`` (every light a sphere of that radius, soft falloff off: a uniform sphere
+    emitter), ``light`` (bpy Light attributes, e.g. use_shadow_jitter), ``direct_only`` (Cycles max_bounces 0)."""
+    import bpy
+
+    for centre, size in ex.get("boxes", []):
+        bpy.ops.mesh.primitive_cube_add(size=2.0, location=centre, scale=[0.5 * v for v in size])
+        bpy.context.active_object.data.materials.append(_lambert(0.0))
+    for o in lights:
+        if "light_radius" in ex:
+            o.data.shadow_soft_size = float(ex["light_radius"])
+            o.data.use_soft_falloff = False
+        for k, v in ex.get("light", {}).items():
+            setattr(o.data, k, v)
+    if ex.get("direct_only") and scene.render.engine == "CYCLES":  # type: ignore[attr-defined]
+        scene.cycles.max_bounces = 0  # type: ignore[attr-defined]
+
+
+def _render(job: dict, scene: object, lights: list, imported: list, t0: float, cam: object) -> dict:
+    import bpy
+
     t_setup = time.perf_counter() - t0
     frames = []
     for k, seed in enumerate(job["seeds"]):
@@ -127,7 +233,7 @@ def run_job(job: dict) -> dict:
         bpy.ops.render.render(write_still=True)
         frames.append(time.perf_counter() - t1)
     return {"lights": imported, "rendered_lights": [_light_info(o) for o in lights], "setup_s": t_setup,
-            "frame_s": frames, "camera": {"type": cams[0].data.type, "ortho_scale": float(cams[0].data.ortho_scale)},
+            "frame_s": frames, "camera": {"type": cam.data.type, "ortho_scale": float(cam.data.ortho_scale)},
             "files": [f"{job['out']}_{k}.exr" for k in range(len(job["seeds"]))]}
 
 

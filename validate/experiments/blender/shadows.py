@@ -1,0 +1,92 @@
+"""Soft shadows: a sphere light and a box occluder over the Lambertian plane, Blender against Mitsuba.
+
+The scene is the renders experiment's ``shadow_spot`` (:mod:`validate.scenes.render_shadow_scenes`): the plane, a
+plate occluder out of the camera's view, and the reference's light — a Mitsuba ``sphere`` area emitter of radius
+``SPOT_RADIUS`` (0.15 m) and radiance I/(π r²), direct light only (max_depth 2). Blender imports the scene's .glb (the
+plane, the camera, the spot: every judged pixel lies inside its inner cone, so the cone plays no part) and the worker
+adds what glTF cannot carry (``blender_worker._extras``): the occluder (carried from the suite's frame into Blender's
+by the importer's (x, y, z) ↦ (x, −z, y)), the light's radius with soft falloff off (a uniform sphere emitter of the
+same intensity), direct light only in Cycles (max_bounces 0). EEVEE renders it with its virtual shadow maps, per-light
+jitter on and off (``Light.use_shadow_jitter``; off, EEVEE fakes the penumbra by shadow-map ray tracing).
+
+Read per region of the truth's visibility (:func:`~validate.scenes.render_shadow_scenes.regions`: lit, penumbra,
+umbra): the fraction of pixels within the combined uncertainty, the mean radiance over the truth's (penumbra), and
+light leaking into the umbra as a fraction of the lit plane's mean radiance. Findings only: Blender's manual gives
+EEVEE's soft shadows no bound (light leaking is a listed limitation).
+The truth: the renders experiment's shadow reference (its ``shadow_spp`` × ``passes``: the same cache entries).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from ...local_models.render import blender as bl
+from ...metrics.pixel_z import interior_mask, judge
+from ...reference.render_reference import render_reference
+from ...scenes import render_shadow_scenes as rss
+
+JITTER = {"jitter_off": {"use_shadow_jitter": False}, "jitter_on": {"use_shadow_jitter": True}}
+
+
+def scene(resolution: int) -> rss.ShadowScene:
+    return rss.spot_shadow_scene(resolution)
+
+
+def extras(sc: rss.ShadowScene, light: dict[str, Any] | None = None) -> dict[str, Any]:
+    """The worker's extras for ``sc``: the occluder in Blender's frame, the light's radius, direct light only."""
+    cx, cy, cz = sc.occluder.center
+    sx, sy, sz = sc.occluder.size
+    return {"boxes": [[[cx, -cz, cy], [sx, sz, sy]]], "light_radius": sc.light_size, "direct_only": True,
+            "light": dict(light or {})}
+
+
+def region_numbers(img: np.ndarray, se: np.ndarray, ref: Any, sc: rss.ShadowScene, cov: np.ndarray
+                   ) -> dict[str, Any]:
+    """Per region: fraction accepted, pixels, Blender / truth mean; the umbra's leak as a fraction of the lit mean."""
+    tm, ts = ref.mean, ref.stderr
+    hit = sc.hit_mask()
+    base = interior_mask(hit, cov)
+    sig = np.sqrt(ts**2 + se**2)
+    out: dict[str, Any] = {}
+    lit_mean = None
+    for name, mask in rss.regions(sc).items():
+        m = base & mask
+        if not m.any():
+            continue
+        with np.errstate(divide="ignore", invalid="ignore"):  # the umbra's truth is 0: its relative error is moot
+            j = judge(img, tm, sig, ref.dof, m, 0.0, "none")
+        t = float(tm[m].sum())
+        out[name] = {"pixels": j.n_pixels, "fraction_accepted": j.fraction_accepted,
+                     "ratio": float(img[m].sum() / t) if t > 1e-9 * m.sum() else None,
+                     "mean_abs_diff_of_lit": None}
+        if name == "lit":
+            lit_mean = float(tm[m].mean())
+    for name, r in out.items():
+        m = base & rss.regions(sc)[name]
+        if lit_mean:
+            r["mean_abs_diff_of_lit"] = float(np.abs(img - tm)[m].mean() / lit_mean)
+            if name == "umbra":
+                r["leak_of_lit"] = float(img[m].mean() / lit_mean)
+    return out
+
+
+def judge_shadow(sc: rss.ShadowScene, frames: dict[str, np.ndarray], spp: int, passes: int, seed: int
+                 ) -> dict[str, Any]:
+    """``frames``: label → (F, R, R, 4) Blender frames (Cycles: F passes; EEVEE: one, half-float rounding)."""
+    ref = render_reference(sc, spp, passes, seed)
+    out = {}
+    for label, f in frames.items():
+        f = f.astype(np.float64)
+        img, cov = f[..., :3].mean(axis=0), f[..., 3].min(axis=0)
+        if len(f) > 1:
+            se = f[..., :3].std(axis=0, ddof=1) / math.sqrt(len(f))
+        else:
+            se = np.spacing(np.abs(img).astype(np.float16)).astype(np.float64) / math.sqrt(12.0)
+        out[label] = region_numbers(img, se, ref, sc, cov)
+    return out
+
+
+__all__ = ["JITTER", "scene", "extras", "judge_shadow", "bl"]
