@@ -119,7 +119,8 @@ def tonemap(rgb: np.ndarray, exposure: float | None = None) -> np.ndarray:
     bad = ~np.all(np.isfinite(a), axis=-1)
     with np.errstate(invalid="ignore", over="ignore"):
         v = srgb_encode(aces_filmic(np.maximum(np.nan_to_num(a, nan=0.0, posinf=0.0), 0.0) * k))
-    out = np.round(v * 255.0).astype(np.uint8)
+    # a finite value so large that k·L overflows the tone curve (inf/inf) is white, not a NaN cast
+    out = np.round(np.clip(np.nan_to_num(v, nan=1.0, posinf=1.0, neginf=0.0), 0.0, 1.0) * 255.0).astype(np.uint8)
     out[bad] = NAN_GREY
     return out
 
