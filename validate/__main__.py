@@ -17,6 +17,9 @@ except BaseException as exc:  # SIGINT in the milliseconds before the handlers w
           file=sys.stderr, flush=True)
     os._exit(128 + signum)
 try:
+    from .run.process import tune
+
+    tune()  # before numpy loads: OpenBLAS reads its settings once (inherited by the lane and the Dask workers)
     from .cli import main
 
     code = main()

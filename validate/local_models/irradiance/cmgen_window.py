@@ -105,9 +105,16 @@ def sphere_min(e9: np.ndarray) -> float:
         return c + float(lam[0])
     keep = g2 > 0
     lam_k, g2_k = lam[keep], g2[keep]
+    terms = list(zip(g2_k.tolist(), lam_k.tolist(), strict=True))
 
     def norm2(mu: float) -> float:  # |u(μ)|², u_i = −g_i / (2(λ_i − μ)); increasing on μ < λ_min
-        return float(np.sum(g2_k / (4.0 * (lam_k - mu) ** 2)))
+        # on Python floats: the float64 operations of g2_k / (4 (λ_k − μ)²) summed in order, as numpy sums ≤ 3 terms
+        # (the same bits), without numpy's per-call cost on three numbers (this runs ~10⁶ times in worstcase)
+        total = 0.0
+        for g, lam_i in terms:
+            d = lam_i - mu
+            total += g / (4.0 * (d * d))
+        return total
 
     lo, hi = float(lam[0]) - math.sqrt(float(g2.sum())) / 2.0, float(lam[0])  # |u(lo)| ≤ 1
     for _ in range(DUAL_STEPS):
