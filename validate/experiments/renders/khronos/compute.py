@@ -96,8 +96,8 @@ def compute_khronos(ctx: Any, s: Settings, parent_scenes: list[Any], budget: Cal
             info = fr.info[n]
             hit = np.isfinite(next(iter(sr.references.values()))[..., 0])
             mask = interior_mask(hit, cov)
-            ks = KhronosScene(n, str(sr.kind), img, cov, kv.readback_stderr(img, info["exposure"]), mask, {}, float("nan"),
-                              info, fr.frame_ms[n])
+            ks = KhronosScene(n, str(sr.kind), img, cov, kv.readback_stderr(img, info["exposure"]), mask, {},
+                              float("nan"), info, fr.frame_ms[n])
             for k, m in sr.references.items():
                 b, text = budget(sr.kind, m)
                 ks.judgements[k] = judge(img, m, judged_stderr(sr, k, ks), sr.dof, mask, b, text)
