@@ -190,7 +190,7 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
             "(reference.pathtrace). The error columns are R&H's measure |Y(E′) − Y(E)| / Φ_Y over the sphere's pixels "
             "(mean, max; % of Φ), E the footprint-averaged quadrature, E′ = π × the pixel for Blender and the "
             "technique's irradiance averaged over the same footprint nodes for the suite's techniques."],
-            tables=[Table(["probe", "method", "TAA samples (count)", "mean error (% Φ)", "max error (% Φ)",
+            tables=[Table(["probe", "method", "TAA samples (count)", "mean error of Φ (%)", "max error of Φ (%)",
                            "energy / truth (–)"], world_rows(m), caption=f"Blender {m.version}"),
                     Table(["probe", "frames (count)", "spp (count)", "accepted (%)", "pixels (px)", "max |z| (–)",
                            "energy ratio (–)", "× 1.01 accepted (%)", "mirrored accepted (%)", "max |mean z| (–)",
@@ -202,8 +202,8 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
             "0.15 m (Blender: the imported spot given that radius, soft falloff off), the plate occluder added "
             "through bpy, direct light only. Regions from the truth's visibility of the light (lit, penumbra, "
             "umbra); |Blender − truth| as % of the lit plane's mean radiance."],
-            tables=[Table(["renderer", "region", "pixels (px)", "accepted (%)", "Blender / truth (–)",
-                           "mean |Blender − truth| (% of lit)"], shadow_rows(m), caption=f"Blender {m.version}")]))
+            tables=[Table(["renderer", "pixel set", "pixels (px)", "accepted (%)", "Blender / truth (–)",
+                           "mean |Blender − truth| of lit (%)"], shadow_rows(m), caption=f"Blender {m.version}")]))
     return out + [cost]
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from ....format import col
 from ....local_models.irradiance.khronos_ibl_lambertian import FACE
 from ...base import Context, NotRun, Section, Table
 from ...formatting import pct
@@ -73,11 +74,12 @@ def khronos_sections(m: KhronosMeasurements, ctx: Context) -> list[Section]:
     if m.probes:
         models = [TECH, "sh9", next(k for k in next(iter(m.probes.values())) if k.startswith("cube")), "mirrored"]
         rows = [[p, *(f"{pct(r[k]['mean'])} / {pct(r[k]['max'])}" for k in models)] for p, r in m.probes.items()]
-        tables.append(Table(["probe", *models], rows, "flux_luminance mean / max (|ΔY(E)| / Y(Φ)) against the "
+        heads = ["probe", *(col(f"{k}: mean / max", "%") for k in models)]
+        tables.append(Table(heads, rows, "flux_luminance mean / max (|ΔY(E)| / Y(Φ)) against the "
                             "irradiance quadrature; R&H 2001: 1 % / 5 %. 'mirrored': the tool's cube at normals "
                             "x → −x (the power check)."))
     if m.sweep.get("rows"):
-        tables.append(Table(["knob", "value", "mean", "max"],
+        tables.append(Table(["parameter", "setting", col("mean", "%"), col("max", "%")],
                             [[r["knob"], _value(r) + (" (technique)" if r["default"] else ""), pct(r["mean"]),
                               pct(r["max"])] for r in m.sweep["rows"]],
                             f"The sweep on {m.sweep['environment']}: one knob changed at a time around 1024 samples, "
@@ -89,7 +91,7 @@ def khronos_sections(m: KhronosMeasurements, ctx: Context) -> list[Section]:
         rows = [[f"α = {m.specular[n][k]['alpha']:g}", n, pct(m.specular[n][k]["mean"]), pct(m.specular[n][k]["p95"]),
                  f"{pct(m.specular[n][k]['bias'])} ± {pct(m.specular[n][k]['bias_uncertainty'])}"]
                 for k in keys for n in m.specular if k in m.specular[n]]
-        tables.append(Table(["GGX conductor", "technique", "relative mean", "p95", "bias"], rows,
+        tables.append(Table(["case", "technique", col("relative mean", "%"), col("p95", "%"), col("bias", "%")], rows,
                             "Against the path-traced roughconductor sphere (F0 = 1)."))
     return [Section(TITLE, paras, tables=tables)]
 

@@ -54,8 +54,8 @@ def row(ls: LoaderScene) -> list[Any]:
 def loader_sections(pm: LoaderMeasurements, ctx: Any = None) -> list[Section]:
     if not pm.scenes and not pm.skipped:
         return []
-    t = Table(["loader engine", "scene", "judged by", "loader accepted %", "loader", "hand-built accepted %",
-               "hand-built", "agree", "max |Δ| % of peak"], [row(ls) for ls in pm.scenes],
+    t = Table(["engine", "scene", "reference", "loader accepted (%)", "loader passes?", "hand-built accepted (%)",
+               "hand-built passes?", "agree?", "max |Δ| of peak (%)"], [row(ls) for ls in pm.scenes],
               "each engine through its own glTF loader (export → engine → judge) beside the hand-built path")
     paras = [NOTE] + [f"{e}: not run — {why}" for e, why in pm.skipped.items()]
     paras += [f"{e} {r['version']}: {len(r['frame_ms'])} scenes in {r['wall_s']:.1f} s (page {r['startup_s']:.1f} s)"
