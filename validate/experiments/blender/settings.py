@@ -49,6 +49,19 @@ class Settings:
     world_variants: tuple[str, ...] = ()  # EEVEE's world settings (world.VARIANTS); empty: no EEVEE
     soft_shadows: bool = False  # shadows.py: the sphere light and occluder, Cycles and EEVEE (jitter off / on)
     shadow_spp: int = 16  # Cycles samples per frame (``passes`` frames); EEVEE: taa_render_samples
+    shadow_sweep: tuple[str, ...] = ()  # shadows.SWEEP: EEVEE's filter radius / overblur beyond the jitter rows
+    # bpy-built probe scenes (experiments/blender/probes.py); empty probe: not rendered
+    glossy_probe: str = ""
+    glossy_roughness: tuple[float, ...] = (0.1, 0.3, 0.6)
+    glossy_variants: tuple[str, ...] = ("world",)  # EEVEE: probes.GLOSSY_VARIANTS
+    glossy_passes: int = 4  # Cycles frames (seeds); its per-frame cost is the world's importance map, not samples
+    glossy_spp: int = 64
+    glossy_truth_spp: int = 256  # Mitsuba (the glTF BSDF at metallic 1), ``passes`` passes
+    glossy_eevee_samples: int = 4
+    volume_probe: str = ""
+    volume_variants: tuple[str, ...] = ("world", "volume")  # EEVEE: probes.VOLUME_VARIANTS
+    volume_truth_spp: int = 128
+    volume_eevee_samples: int = 4
 
 
 _ON = os.environ.get("VALIDATE_EEVEE") == "1"
@@ -59,6 +72,10 @@ QUICK = Settings(scene_set="quick", passes=8, spp=8, furnace_spp=16, eevee_scene
                  scenes=("furnace_dielectric_r0.5", "furnace_metal_r0.5", "lambert_directional", "point_plane",
                          "point_sphere", "spot_plane"),
                  world_probes=WORLD_PROBES[:1] if _ON else (), world_variants=("default",) if _ON else (),
-                 soft_shadows=_ON)
+                 soft_shadows=_ON, shadow_sweep=("filter_0", "filter_3") if _ON else (),
+                 glossy_probe=WORLD_PROBES[0] if _ON else "", volume_probe=WORLD_PROBES[0] if _ON else "")
 FULL = Settings(eevee_scenes=_EEVEE, world_probes=WORLD_PROBES if _ON else (),
-                world_variants=WORLD_VARIANTS if _ON else (), soft_shadows=_ON)
+                world_variants=WORLD_VARIANTS if _ON else (), soft_shadows=_ON,
+                shadow_sweep=("filter_0", "filter_3", "overblur_0", "overblur_40") if _ON else (),
+                glossy_probe=WORLD_PROBES[0] if _ON else "", glossy_variants=("world", "sphere_probe"),
+                volume_probe=WORLD_PROBES[0] if _ON else "")
