@@ -191,14 +191,16 @@ def truth(kind: str, env: Environment, resolution: int, spp: int, passes: int, s
 def eevee_numbers(img: np.ndarray, t: Truth, mask: np.ndarray) -> dict[str, Any]:
     """EEVEE (one half-float frame) against the truth on ``mask``: per-pixel acceptance within the combined
     uncertainty (the truth's passes and the half-float rounding), the mean of |E − T| / T (pixels whose truth is at
-    least 10⁻³ of its mean: REL_FLOOR), the bias mean(E − T) / mean(T), the energy ratio."""
+    least 10⁻³ of its mean: REL_FLOOR) beside the value the truth's noise alone would give (√(2/π) σ/T), the bias
+    mean(E − T) / mean(T), the energy ratio."""
     sig = np.sqrt(t.stderr**2 + wd.half_sigma(img) ** 2)
     j = judge(img, t.mean, sig, t.passes - 1, mask, 0.0, "none")
     tm, e = t.mean[mask], img[mask]
     ok = tm > pathtrace.REL_FLOOR * tm.mean()
     r, u = wd.energy(e, wd.half_sigma(e), tm, t.stderr[mask])
+    floor = math.sqrt(2.0 / math.pi) * sig[mask][ok] / tm[ok]  # E|N(0, σ)| / T: the mean |rel. error| of noise alone
     return {"accepted": j.fraction_accepted, "pixels": j.n_pixels,
-            "rel_mean": float(np.mean(np.abs(e - tm)[ok] / tm[ok])),
+            "rel_mean": float(np.mean(np.abs(e - tm)[ok] / tm[ok])), "noise_floor": float(floor.mean()),
             "bias": float((e - tm).mean() / tm.mean()), "energy": (r, u)}
 
 

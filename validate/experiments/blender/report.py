@@ -82,13 +82,13 @@ def glossy_rows(m: Measurements) -> list[list[Any]]:
         if cy:
             rows.append([g["probe"], f"{g['roughness']:g}", f"{g['alpha']:.4g}",
                          f"Cycles ({cy['frames']} × {m.settings.glossy_spp} spp)",
-                         f"{100 * cy['judgement'].fraction_accepted:.2f}", cy["judgement"].n_pixels, "–", "–",
+                         f"{100 * cy['judgement'].fraction_accepted:.2f}", cy["judgement"].n_pixels, "–", "–", "–",
                          ratio(*cy["energy"])])
         for v, e in g["eevee"].items():
             rows.append([g["probe"], f"{g['roughness']:g}", f"{g['alpha']:.4g}",
                          f"EEVEE, {GLOSSY_TEXT.get(v, v)} ({m.settings.glossy_eevee_samples} samples)",
-                         f"{100 * e['accepted']:.2f}", e["pixels"], in_pct(e["rel_mean"]), f"{100 * e['bias']:+.2f}",
-                         ratio(*e["energy"])])
+                         f"{100 * e['accepted']:.2f}", e["pixels"], in_pct(e["rel_mean"]), in_pct(e["noise_floor"]),
+                         f"{100 * e['bias']:+.2f}", ratio(*e["energy"])])
     return rows
 
 
@@ -102,12 +102,23 @@ def glossy_cycles_rows(m: Measurements) -> list[list[Any]]:
 
 def volume_rows(m: Measurements) -> list[list[Any]]:
     return [[m.volume["probe"], VOLUME_TEXT.get(v, v), region, e["pixels"], f"{100 * e['accepted']:.2f}",
-             in_pct(e["rel_mean"]), f"{100 * e['bias']:+.2f}", ratio(*e["energy"])]
+             in_pct(e["rel_mean"]), in_pct(e["noise_floor"]), f"{100 * e['bias']:+.2f}", ratio(*e["energy"])]
             for v, regs in m.volume.get("variants", {}).items() for region, e in regs.items()]
 
 
+def sweep_finding(m: Measurements) -> list[str]:
+    """One line: the penumbra's energy and the umbra's leak over EEVEE's filter radius and overblur."""
+    rows = [(k, m.shadows[k]) for k in ("eevee_filter_0", "eevee_jitter_off", "eevee_filter_3", "eevee_overblur_0",
+                                          "eevee_jitter_on", "eevee_overblur_40") if k in m.shadows]
+    if not any(k.startswith(("eevee_filter", "eevee_overblur")) for k, _ in rows):
+        return []
+    return ["EEVEE's shadow filter radius and overblur (penumbra Blender / truth, umbra leak % of lit): " + "; ".join(
+        f"{SHADOW_LABEL[k].removeprefix('EEVEE, ')}: {r['penumbra']['ratio']:.4f}, "
+        f"{100 * r.get('umbra', {}).get('leak_of_lit', 0.0):.2f} %" for k, r in rows if "penumbra" in r)]
+
+
 def probe_findings(m: Measurements) -> list[str]:
-    out = []
+    out = sweep_finding(m)
     for v in {v for g in m.glossy for v in g["eevee"]}:
         out.append(f"EEVEE's reflections ({GLOSSY_TEXT.get(v, v)}) of a white GGX sphere under "
                    f"{m.glossy[0]['probe']} against Mitsuba, by roughness: " + "; ".join(
@@ -262,6 +273,11 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
             "umbra); |Blender − truth| as % of the lit plane's mean radiance."],
             tables=[Table(["renderer", "region", "pixels (px)", "accepted (%)", "Blender / truth (–)",
                            "mean |Blender − truth| (% of lit)"], shadow_rows(m), caption=f"Blender {m.version}")]))
+    return out + probe_sections(m) + [cost]
+
+
+def probe_sections(m: Measurements) -> list[Section]:
+    out: list[Section] = []
     if m.glossy:
         out.append(Section("Glossy spheres over roughness (bpy-built)", [
             "The world-lit sphere with a white GGX microfacet mirror: Blender's Glossy BSDF, distribution GGX (single "
@@ -270,7 +286,8 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
             "truth's passes and its half-float rounding), the mean of |Blender − truth| / truth, the bias "
             "mean(Blender − truth) / mean(truth), the energy ratio."],
             tables=[Table(["probe", "roughness (–)", "α (–)", "renderer", "accepted (%)", "pixels (px)",
-                           "mean |rel. error| (%)", "bias (%)", "energy ratio (–)"], glossy_rows(m),
+                           "mean |rel. error| (%)", "truth's noise alone (%)", "bias (%)", "energy ratio (–)"],
+                          glossy_rows(m),
                           caption=f"Blender {m.version}"),
                     Table(["probe", "roughness (–)", "pixels (px)", "accepted (%)", "mirrored accepted (%)",
                            "energy ratio (–)", "max |mean z| (–)", "× 1.01 max |mean z| (–)", "4/√N (–)"],
@@ -280,8 +297,9 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
             "Sphere and square of albedo 0.5 lit only by the probe; Mitsuba's path tracer with every bounce is the "
             "truth. EEVEE without a probe object and with a baked irradiance volume (L1 SH per cell)."],
             tables=[Table(["probe", "EEVEE", "region", "pixels (px)", "accepted (%)", "mean |rel. error| (%)",
-                           "bias (%)", "energy ratio (–)"], volume_rows(m), caption=f"Blender {m.version}")]))
-    return out + [cost]
+                           "truth's noise alone (%)", "bias (%)", "energy ratio (–)"], volume_rows(m),
+                          caption=f"Blender {m.version}")]))
+    return out
 
 
 def data(m: Measurements) -> dict:
@@ -300,6 +318,7 @@ def data(m: Measurements) -> dict:
 def _eevee_data(e: dict) -> dict:
     return {"pixels": e["pixels"], "accepted": Measured(e["accepted"], unit="%", better="higher").to_json(),
             "rel_mean": Measured(e["rel_mean"], unit="%", stat="mean").to_json(),
+            "noise_floor": Measured(e["noise_floor"], unit="%", stat="mean").to_json(),
             "bias": Measured(e["bias"], unit="%", stat="mean").to_json(), "energy": Measured(*e["energy"]).to_json()}
 
 

@@ -15,6 +15,10 @@ llvmpipe (18–72 s in a process whose Mesa shader cache is cold): one probe wit
 ≈ 60 s, three times the experiment's share of the cold report. The default run therefore adds nothing.
 EEVEE's ``world_eevee_samples``: 1 / 4 / 16 TAA samples gave R&H's mean 3.425 / 3.432 / 3.433 % and max 8.768 /
 8.607 / 8.665 % of Φ on grace_probe (docs/experiments/blender.md): 4.
+The probe scenes (:mod:`.probes`, ``VALIDATE_EEVEE=1`` only): measured cold on the loaded 2-core machine, the glossy
+spheres' Cycles frames 1.6–3.0 s each (8 × 32 spp per roughness), EEVEE's 2–33 s each, the irradiance volume's bake
+8 s, the Mitsuba truths (the glTF BSDF, 8 × 256 spp per roughness; the volume scene 8 × 128 spp) 16 s together;
+``--quick`` with everything opt-in: 300 s cold (docs/experiments/blender.md).
 """
 
 from __future__ import annotations
@@ -54,8 +58,8 @@ class Settings:
     glossy_probe: str = ""
     glossy_roughness: tuple[float, ...] = (0.1, 0.3, 0.6)
     glossy_variants: tuple[str, ...] = ("world",)  # EEVEE: probes.GLOSSY_VARIANTS
-    glossy_passes: int = 4  # Cycles frames (seeds); its per-frame cost is the world's importance map, not samples
-    glossy_spp: int = 64
+    glossy_passes: int = 8  # Cycles frames (seeds): 4 × 64 spp (3 dof) failed the bias test at r 0.1 / 0.3 (docs)
+    glossy_spp: int = 32
     glossy_truth_spp: int = 256  # Mitsuba (the glTF BSDF at metallic 1), ``passes`` passes
     glossy_eevee_samples: int = 4
     volume_probe: str = ""
