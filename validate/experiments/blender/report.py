@@ -259,7 +259,7 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
             "(reference.pathtrace). The error columns are R&H's measure |Y(E′) − Y(E)| / Φ_Y over the sphere's pixels "
             "(mean, max; % of Φ), E the footprint-averaged quadrature, E′ = π × the pixel for Blender and the "
             "technique's irradiance averaged over the same footprint nodes for the suite's techniques."],
-            tables=[Table(["probe", "method", "TAA samples (count)", "mean error (% Φ)", "max error (% Φ)",
+            tables=[Table(["probe", "method", "TAA samples (count)", "mean error / Φ (%)", "max error / Φ (%)",
                            "energy / truth (–)"], world_rows(m), caption=f"Blender {m.version}"),
                     Table(["probe", "frames (count)", "spp (count)", "accepted (%)", "pixels (px)", "max |z| (–)",
                            "energy ratio (–)", "× 1.01 accepted (%)", "mirrored accepted (%)", "max |mean z| (–)",
@@ -271,8 +271,8 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
             "0.15 m (Blender: the imported spot given that radius, soft falloff off), the plate occluder added "
             "through bpy, direct light only. Regions from the truth's visibility of the light (lit, penumbra, "
             "umbra); |Blender − truth| as % of the lit plane's mean radiance."],
-            tables=[Table(["renderer", "region", "pixels (px)", "accepted (%)", "Blender / truth (–)",
-                           "mean |Blender − truth| (% of lit)"], shadow_rows(m), caption=f"Blender {m.version}")]))
+            tables=[Table(["renderer", "pixel set", "pixels (px)", "accepted (%)", "Blender / truth (–)",
+                           "mean |Blender − truth| / lit mean (%)"], shadow_rows(m), caption=f"Blender {m.version}")]))
     return out + probe_sections(m) + [cost]
 
 
@@ -296,7 +296,7 @@ def probe_sections(m: Measurements) -> list[Section]:
         out.append(Section("Volume probe: a Lambertian sphere on a plane (bpy-built)", [
             "Sphere and square of albedo 0.5 lit only by the probe; Mitsuba's path tracer with every bounce is the "
             "truth. EEVEE without a probe object and with a baked irradiance volume (L1 SH per cell)."],
-            tables=[Table(["probe", "EEVEE", "region", "pixels (px)", "accepted (%)", "mean |rel. error| (%)",
+            tables=[Table(["probe", "method", "pixel set", "pixels (px)", "accepted (%)", "mean |rel. error| (%)",
                            "truth's noise alone (%)", "bias (%)", "energy ratio (–)"], volume_rows(m),
                           caption=f"Blender {m.version}")]))
     return out
