@@ -8,7 +8,9 @@ conversion under SPEC, COMPAT and RAW, and EEVEE (``VALIDATE_EEVEE=1``) are find
 also scenes built through bpy from the description Mitsuba renders (:mod:`.world`: a Lambertian sphere lit only by a
 shared probe — Cycles against Mitsuba as claims, EEVEE's world lighting by R&H's measure beside ``sh1``,
 ``sh1_geomerics`` and ``sh9``, sun extraction and the indirect clamp on and off; :mod:`.shadows`: a sphere light and
-an occluder, EEVEE's jitter off and on). A package of its own, not a
+an occluder, EEVEE's jitter off and on, its filter radius and overblur swept; :mod:`.probes`: white GGX spheres
+over roughness — Cycles against Mitsuba's glTF BSDF as claims, EEVEE's world and sphere-probe reflections — and a
+Lambertian sphere on a plane under a baked irradiance volume). A package of its own, not a
 part of ``renders``: Blender is an optional runtime with its own process, cache entries and cost, and without it this
 experiment alone reports not run. Without Blender: not run, ``python -m validate setup --blender``.
 """

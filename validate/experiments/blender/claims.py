@@ -11,6 +11,9 @@ BRDF by design, and Blender's documentation gives EEVEE no per-pixel bound.
 The bpy-built world-lit spheres (:mod:`.world`): Cycles against Mitsuba under the same rule and power check (both
 Lambert, one radiance function); EEVEE's world lighting read by R&H's measure is a finding — R&H's "< 1 % / < 5 %
 of Φ" is a statement about SH9, not about EEVEE's L1 probe, and Blender's manual gives it no bound.
+The glossy spheres over roughness (:mod:`.probes`): Cycles against Mitsuba under the same two claims per roughness
+(Cycles' Glossy BSDF, GGX single scattering, and the suite's glTF BSDF at metallic 1 are one BSDF); EEVEE's sphere
+probes and its irradiance volume are findings.
 """
 
 from __future__ import annotations
@@ -60,4 +63,24 @@ def claims(m: Measurements) -> list[Claim]:
                   metric="max |mean z| (–)", threshold=w.cycles["bias_limit"], measured=w.cycles["bias"],
                   uncertainty=0.0, comparison="<", unit="", source=BIAS_SOURCE)
         out.append(c.with_power(f"Cycles × {POWER_SCALE:g}", w.cycles["bias_power"]))
+    for g in m.glossy:
+        cy = g.get("cycles")
+        if not cy:
+            continue
+        pj, r = cy["judgement"], g["roughness"]
+        what = (f"a white GGX sphere (roughness {r:g}, α = {g['alpha']:g}: Cycles' Glossy BSDF GGX single scattering, "
+                f"Mitsuba the glTF BSDF at metallic 1 — one BSDF) lit only by {g['probe']}")
+        c = Claim(id=f"blender.cycles.glossy_{g['probe']}_r{r:g}.agrees_with_mitsuba",
+                  description=f"Cycles ({cy['frames']} × {m.settings.glossy_spp} spp) and Mitsuba "
+                              f"({g['truth']['passes']} × {g['truth']['spp']} spp) agree per pixel on {what} "
+                              f"(bpy-built scene; {pj.n_pixels} px judged)",
+                  metric="fraction of pixels accepted", threshold=MIN_ACCEPTED, measured=pj.fraction_accepted,
+                  uncertainty=0.0, comparison=">", unit="%", source=SOURCE)
+        out.append(c.with_power("the truth mirrored left–right (a swapped frame)", cy["mirrored"].fraction_accepted))
+        c = Claim(id=f"blender.cycles.glossy_{g['probe']}_r{r:g}.unbiased_against_mitsuba",
+                  description=f"Cycles against Mitsuba on {what}: no bias, max over channels of |mean z| over "
+                              f"{pj.n_pixels} px within {pathtrace.BIAS_SIGMAS:g}/√N",
+                  metric="max |mean z| (–)", threshold=cy["bias_limit"], measured=cy["bias"],
+                  uncertainty=0.0, comparison="<", unit="", source=BIAS_SOURCE)
+        out.append(c.with_power(f"Cycles × {POWER_SCALE:g}", cy["bias_power"]))
     return out

@@ -44,6 +44,7 @@ from ...scenes.manifest import SetScene, scene_set
 from ..base import NotRun
 from ..renders import settings as renders_settings
 from ..renders.compute import budget, references, truth
+from . import probes as pr
 from . import shadows as sh
 from . import world as wd
 from .settings import Settings
@@ -81,6 +82,8 @@ class Measurements:
     conversion: dict[str, dict[str, Any]] = field(default_factory=dict)  # mode → light type → numbers
     costs: dict[str, Any] = field(default_factory=dict)
     world: list[wd.WorldResult] = field(default_factory=list)
+    glossy: list[dict[str, Any]] = field(default_factory=list)  # per roughness (probes.py): cycles, eevee variants
+    volume: dict[str, Any] = field(default_factory=dict)  # probes.py's volume-probe scene: EEVEE per variant
     shadows: dict[str, Any] = field(default_factory=dict)  # label → region → numbers (shadows.py)
 
 
@@ -242,7 +245,7 @@ def shadow_jobs(s: Settings, work: Path, keyed: list) -> None:
     keyed.append(((sc.name, "cycles", CYCLES.name), bl.Job(str(glb), str(work / f"{sc.name}_c"), CYCLES.engine,
                                                            s.resolution, s.shadow_spp, seeds, punctual=False,
                                                            extras=sh.extras(sc)), digest))
-    for label, light in sh.JITTER.items():
+    for label, light in [*sh.JITTER.items(), *((k, sh.SWEEP[k]) for k in s.shadow_sweep)]:
         keyed.append(((sc.name, f"eevee_{label}", EEVEE.name),
                       bl.Job(str(glb), str(work / f"{sc.name}_{label}"), EEVEE.engine, s.resolution, s.shadow_spp,
                              (s.seed,), punctual=False, extras=sh.extras(sc, light)), digest))
@@ -270,6 +273,71 @@ def world_jobs(ctx: Any, s: Settings, work: Path, keyed: list) -> list[wd.WorldS
                                                            (s.seed,), work / f"{ws.name}_{v}", v), digest))
         out.append(ws)
     return out
+
+
+def probe_jobs(ctx: Any, s: Settings, work: Path, keyed: list) -> tuple[list[pr.GlossyScene], pr.VolumeScene | None]:
+    """Append the glossy spheres' (Cycles, EEVEE per variant) and the volume-probe scene's (EEVEE per variant) jobs."""
+    envs = {e.name: e for e in ctx.environments()[0]} if (s.glossy_probe or s.volume_probe) else {}
+    glossy: list[pr.GlossyScene] = []
+    volume = None
+    exrs: dict[str, tuple[Path, str]] = {}
+
+    def texture(env: Any) -> tuple[Path, str]:
+        if env.name not in exrs:
+            tex, digest = wd.texture(env)
+            exr = work / f"probe_{env.name}.exr"
+            wd.write_exr(exr, tex)
+            exrs[env.name] = (exr, digest)
+        return exrs[env.name]
+
+    if s.glossy_probe in envs:
+        exr, digest = texture(envs[s.glossy_probe])
+        seeds = tuple(s.seed * 1000 + k for k in range(s.glossy_passes))
+        for r in s.glossy_roughness:
+            gs = pr.GlossyScene(envs[s.glossy_probe], s.world_view, float(r))
+            keyed.append(((gs.name, "cycles", CYCLES.name), pr.job(pr.glossy_desc(gs, exr), CYCLES, s.resolution,
+                                                                   s.glossy_spp, seeds, work / f"{gs.name}_c"), digest))
+            for v in s.glossy_variants:
+                keyed.append(((gs.name, v, EEVEE.name), pr.job(pr.glossy_desc(gs, exr, v), EEVEE, s.resolution,
+                                                               s.glossy_eevee_samples, (s.seed,),
+                                                               work / f"{gs.name}_{v}"), digest))
+            glossy.append(gs)
+    if s.volume_probe in envs:
+        volume = pr.VolumeScene(envs[s.volume_probe])
+        exr, digest = texture(volume.env)
+        for v in s.volume_variants:
+            keyed.append(((volume.name, v, EEVEE.name), pr.job(pr.volume_desc(volume, exr, v), EEVEE, s.resolution,
+                                                               s.volume_eevee_samples, (s.seed,),
+                                                               work / f"{volume.name}_{v}"), digest))
+    return glossy, volume
+
+
+def judge_probes(s: Settings, results: dict, glossy: list[pr.GlossyScene], volume: pr.VolumeScene | None
+                 ) -> tuple[list[dict[str, Any]], dict[str, Any]]:
+    out = []
+    for gs in glossy:
+        t = pr.truth("glossy", gs.env, s.resolution, s.glossy_truth_spp, s.passes, s.seed, gs.roughness, gs.view)
+        mine = {v: r["frames"] for (n, v, _), r in results.items() if n == gs.name}
+        mask = pr.sphere_mask(s.resolution, list(mine.values()))
+        row: dict[str, Any] = {"probe": gs.env.name, "roughness": gs.roughness, "alpha": pr.alpha(gs.roughness),
+                               "truth": {"spp": t.spp, "passes": t.passes}, "eevee": {}}
+        if "cycles" in mine:
+            row["cycles"] = pr.cycles_numbers(mine["cycles"], t, mask, POWER_SCALE)
+        for v in s.glossy_variants:
+            if v in mine:
+                row["eevee"][v] = pr.eevee_numbers(mine[v][0, ..., :3].astype(np.float64), t, mask)
+        out.append(row)
+    vol: dict[str, Any] = {}
+    if volume is not None:
+        t = pr.truth("volume", volume.env, s.resolution, s.volume_truth_spp, s.passes, s.seed)
+        mine = {v: r["frames"] for (n, v, _), r in results.items() if n == volume.name}
+        film = pr.film_mask(s.resolution, list(mine.values()))
+        on_sphere = pr.sphere_pixels(s.resolution, pr.VOLUME_VIEW, pr.VOLUME_ORTHO)
+        vol = {"probe": volume.env.name, "truth": {"spp": t.spp, "passes": t.passes, "depth": pr.VOLUME_DEPTH},
+               "variants": {v: {"plane": pr.eevee_numbers(f[0, ..., :3].astype(np.float64), t, film & ~on_sphere),
+                                "sphere": pr.eevee_numbers(f[0, ..., :3].astype(np.float64), t, film & on_sphere)}
+                            for v, f in mine.items()}}
+    return out, vol
 
 
 def compute(ctx: Any, s: Settings) -> Measurements:
@@ -300,6 +368,7 @@ def compute(ctx: Any, s: Settings) -> Measurements:
                                                                  1, s.conversion_spp), digest))
         world_scenes = world_jobs(ctx, s, work, keyed)
         shadow_jobs(s, work, keyed)
+        glossy, volume = probe_jobs(ctx, s, work, keyed)
         res, costs = render_all([(j, dg) for _, j, dg in keyed], version, work)
     results = {k: r for (k, _, _), r in zip(keyed, res, strict=True)}
     frame_s = {e: [t for (n, m, eng), r in results.items() if eng == e for t in r["frame_s"]]
@@ -321,5 +390,8 @@ def compute(ctx: Any, s: Settings) -> Measurements:
     if frames:
         ts = truth_settings(s)
         m.shadows = sh.judge_shadow(sh.scene(s.resolution), frames, ts.shadow_spp, ts.passes, ts.seed)
+    t2 = time.perf_counter()
+    m.glossy, m.volume = judge_probes(s, results, glossy, volume)
+    m.costs["probes_judge_s"] = time.perf_counter() - t2
     m.costs["total_s"] = time.perf_counter() - t0
     return m

@@ -65,7 +65,76 @@ def world_cycles_rows(m: Measurements) -> list[list[Any]]:
             for w in m.world if w.cycles]
 
 
-SHADOW_LABEL = {"cycles": "Cycles", "eevee_jitter_off": "EEVEE, jitter off", "eevee_jitter_on": "EEVEE, jitter on"}
+SHADOW_LABEL = {"cycles": "Cycles", "eevee_jitter_off": "EEVEE, jitter off (filter radius 1)",
+                "eevee_jitter_on": "EEVEE, jitter on (overblur 10 %)",
+                "eevee_filter_0": "EEVEE, jitter off, filter radius 0",
+                "eevee_filter_3": "EEVEE, jitter off, filter radius 3",
+                "eevee_overblur_0": "EEVEE, jitter on, overblur 0 %",
+                "eevee_overblur_40": "EEVEE, jitter on, overblur 40 %"}
+GLOSSY_TEXT = {"world": "world probe", "sphere_probe": "Sphere light probe (r 2.5 m, default parallax)"}
+VOLUME_TEXT = {"world": "no probe object (world probe, horizon scan)", "volume": "irradiance volume, baked"}
+
+
+def glossy_rows(m: Measurements) -> list[list[Any]]:
+    rows = []
+    for g in m.glossy:
+        cy = g.get("cycles")
+        if cy:
+            rows.append([g["probe"], f"{g['roughness']:g}", f"{g['alpha']:.4g}",
+                         f"Cycles ({cy['frames']} × {m.settings.glossy_spp} spp)",
+                         f"{100 * cy['judgement'].fraction_accepted:.2f}", cy["judgement"].n_pixels, "–", "–", "–",
+                         ratio(*cy["energy"])])
+        for v, e in g["eevee"].items():
+            rows.append([g["probe"], f"{g['roughness']:g}", f"{g['alpha']:.4g}",
+                         f"EEVEE, {GLOSSY_TEXT.get(v, v)} ({m.settings.glossy_eevee_samples} samples)",
+                         f"{100 * e['accepted']:.2f}", e["pixels"], in_pct(e["rel_mean"]), in_pct(e["noise_floor"]),
+                         f"{100 * e['bias']:+.2f}", ratio(*e["energy"])])
+    return rows
+
+
+def glossy_cycles_rows(m: Measurements) -> list[list[Any]]:
+    return [[g["probe"], f"{g['roughness']:g}", g["cycles"]["judgement"].n_pixels,
+             f"{100 * g['cycles']['judgement'].fraction_accepted:.2f}",
+             f"{100 * g['cycles']['mirrored'].fraction_accepted:.2f}", ratio(*g["cycles"]["energy"]),
+             f"{g['cycles']['bias']:.3f}", f"{g['cycles']['bias_power']:.3f}", f"{g['cycles']['bias_limit']:.3f}"]
+            for g in m.glossy if g.get("cycles")]
+
+
+def volume_rows(m: Measurements) -> list[list[Any]]:
+    return [[m.volume["probe"], VOLUME_TEXT.get(v, v), region, e["pixels"], f"{100 * e['accepted']:.2f}",
+             in_pct(e["rel_mean"]), in_pct(e["noise_floor"]), f"{100 * e['bias']:+.2f}", ratio(*e["energy"])]
+            for v, regs in m.volume.get("variants", {}).items() for region, e in regs.items()]
+
+
+def sweep_finding(m: Measurements) -> list[str]:
+    """One line: the penumbra's energy and the umbra's leak over EEVEE's filter radius and overblur."""
+    rows = [(k, m.shadows[k]) for k in ("eevee_filter_0", "eevee_jitter_off", "eevee_filter_3", "eevee_overblur_0",
+                                          "eevee_jitter_on", "eevee_overblur_40") if k in m.shadows]
+    if not any(k.startswith(("eevee_filter", "eevee_overblur")) for k, _ in rows):
+        return []
+    return ["EEVEE's shadow filter radius and overblur (penumbra Blender / truth, umbra leak % of lit): " + "; ".join(
+        f"{SHADOW_LABEL[k].removeprefix('EEVEE, ')}: {r['penumbra']['ratio']:.4f}, "
+        f"{100 * r.get('umbra', {}).get('leak_of_lit', 0.0):.2f} %" for k, r in rows if "penumbra" in r)]
+
+
+def probe_findings(m: Measurements) -> list[str]:
+    out = sweep_finding(m)
+    for v in {v for g in m.glossy for v in g["eevee"]}:
+        out.append(f"EEVEE's reflections ({GLOSSY_TEXT.get(v, v)}) of a white GGX sphere under "
+                   f"{m.glossy[0]['probe']} against Mitsuba, by roughness: " + "; ".join(
+                       f"r {g['roughness']:g}: mean |E − T|/T {in_pct(g['eevee'][v]['rel_mean'])} %, bias "
+                       f"{100 * g['eevee'][v]['bias']:+.2f} %, {100 * g['eevee'][v]['accepted']:.1f} % of pixels "
+                       f"accepted" for g in m.glossy if v in g["eevee"]))
+    cy = [g for g in m.glossy if g.get("cycles")]
+    if cy:
+        out.append("Cycles over Mitsuba on the white GGX sphere (one BSDF), energy ratio by roughness: " + "; ".join(
+            f"r {g['roughness']:g}: {ratio(*g['cycles']['energy'])} "
+            f"({100 * g['cycles']['judgement'].fraction_accepted:.2f} % accepted)" for g in cy))
+    for v, regs in m.volume.get("variants", {}).items():
+        out.append(f"EEVEE, Lambertian sphere on a plane under {m.volume['probe']}, {VOLUME_TEXT.get(v, v)}: "
+                   + "; ".join(f"{k}: {100 * e['accepted']:.1f} % accepted, mean |E − T|/T {in_pct(e['rel_mean'])} %, "
+                               f"bias {100 * e['bias']:+.2f} %" for k, e in regs.items()))
+    return out
 
 
 def shadow_rows(m: Measurements) -> list[list[Any]]:
@@ -151,7 +220,7 @@ def findings(m: Measurements) -> list[str]:
             out.append(f"EEVEE ({j.samples} TAA samples, {j.precision} film) on {j.scene}: "
                        f"{j.judgements[ref].fraction_accepted:.1%} of pixels within uncertainty of {ref}, energy "
                        f"{ratio(*j.energy[ref])}")
-    out += world_findings(m) + shadow_findings(m)
+    out += world_findings(m) + shadow_findings(m) + probe_findings(m)
     for mode, lights in m.conversion.items():
         out.append(f"glTF importer, mode {mode}: " + "; ".join(
             f"{v['gltf_intensity']:g} {v['gltf_unit']} → {t} {v['blender_energy']:.6g} {v['blender_unit']}, "
@@ -190,7 +259,7 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
             "(reference.pathtrace). The error columns are R&H's measure |Y(E′) − Y(E)| / Φ_Y over the sphere's pixels "
             "(mean, max; % of Φ), E the footprint-averaged quadrature, E′ = π × the pixel for Blender and the "
             "technique's irradiance averaged over the same footprint nodes for the suite's techniques."],
-            tables=[Table(["probe", "method", "TAA samples (count)", "mean error of Φ (%)", "max error of Φ (%)",
+            tables=[Table(["probe", "method", "TAA samples (count)", "mean error / Φ (%)", "max error / Φ (%)",
                            "energy / truth (–)"], world_rows(m), caption=f"Blender {m.version}"),
                     Table(["probe", "frames (count)", "spp (count)", "accepted (%)", "pixels (px)", "max |z| (–)",
                            "energy ratio (–)", "× 1.01 accepted (%)", "mirrored accepted (%)", "max |mean z| (–)",
@@ -203,8 +272,34 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
             "through bpy, direct light only. Regions from the truth's visibility of the light (lit, penumbra, "
             "umbra); |Blender − truth| as % of the lit plane's mean radiance."],
             tables=[Table(["renderer", "pixel set", "pixels (px)", "accepted (%)", "Blender / truth (–)",
-                           "mean |Blender − truth| of lit (%)"], shadow_rows(m), caption=f"Blender {m.version}")]))
-    return out + [cost]
+                           "mean |Blender − truth| / lit mean (%)"], shadow_rows(m), caption=f"Blender {m.version}")]))
+    return out + probe_sections(m) + [cost]
+
+
+def probe_sections(m: Measurements) -> list[Section]:
+    out: list[Section] = []
+    if m.glossy:
+        out.append(Section("Glossy spheres over roughness (bpy-built)", [
+            "The world-lit sphere with a white GGX microfacet mirror: Blender's Glossy BSDF, distribution GGX (single "
+            "scattering), α = roughness²; Mitsuba the suite's glTF BSDF at metallic 1 (F = 1, height-correlated "
+            "Smith, as Cycles 5.0's). Columns: the fraction of pixels within the combined uncertainty (EEVEE: the "
+            "truth's passes and its half-float rounding), the mean of |Blender − truth| / truth, the bias "
+            "mean(Blender − truth) / mean(truth), the energy ratio."],
+            tables=[Table(["probe", "roughness (–)", "α (–)", "renderer", "accepted (%)", "pixels (px)",
+                           "mean |rel. error| (%)", "truth's noise alone (%)", "bias (%)", "energy ratio (–)"],
+                          glossy_rows(m),
+                          caption=f"Blender {m.version}"),
+                    Table(["probe", "roughness (–)", "pixels (px)", "accepted (%)", "mirrored accepted (%)",
+                           "energy ratio (–)", "max |mean z| (–)", "× 1.01 max |mean z| (–)", "4/√N (–)"],
+                          glossy_cycles_rows(m), caption="Cycles against Mitsuba, per pixel")]))
+    if m.volume:
+        out.append(Section("Volume probe: a Lambertian sphere on a plane (bpy-built)", [
+            "Sphere and square of albedo 0.5 lit only by the probe; Mitsuba's path tracer with every bounce is the "
+            "truth. EEVEE without a probe object and with a baked irradiance volume (L1 SH per cell)."],
+            tables=[Table(["probe", "method", "pixel set", "pixels (px)", "accepted (%)", "mean |rel. error| (%)",
+                           "truth's noise alone (%)", "bias (%)", "energy ratio (–)"], volume_rows(m),
+                          caption=f"Blender {m.version}")]))
+    return out
 
 
 def data(m: Measurements) -> dict:
@@ -216,7 +311,34 @@ def data(m: Measurements) -> dict:
                 "judgements": {k: pj.to_json() for k, pj in j.judgements.items()}} for j in m.scenes},
             "world": {w.probe: world_data(w) for w in m.world}, "soft_shadows": {
                 label: {region: shadow_region_data(r) for region, r in regs.items()}
-                for label, regs in m.shadows.items()}}
+                for label, regs in m.shadows.items()},
+            "glossy": [glossy_data(g) for g in m.glossy], "volume": volume_data(m.volume)}
+
+
+def _eevee_data(e: dict) -> dict:
+    return {"pixels": e["pixels"], "accepted": Measured(e["accepted"], unit="%", better="higher").to_json(),
+            "rel_mean": Measured(e["rel_mean"], unit="%", stat="mean").to_json(),
+            "noise_floor": Measured(e["noise_floor"], unit="%", stat="mean").to_json(),
+            "bias": Measured(e["bias"], unit="%", stat="mean").to_json(), "energy": Measured(*e["energy"]).to_json()}
+
+
+def glossy_data(g: dict) -> dict:
+    out: dict[str, Any] = {"probe": g["probe"], "roughness": g["roughness"], "alpha": g["alpha"],
+                           "truth": g["truth"], "eevee": {v: _eevee_data(e) for v, e in g["eevee"].items()}}
+    cy = g.get("cycles")
+    if cy:
+        out["cycles"] = {"frames": cy["frames"], "energy": Measured(*cy["energy"]).to_json(),
+                         "bias": Measured(cy["bias"], perturbed=cy["bias_power"], perturbation="Cycles × 1.01",
+                                          stat="max").to_json(), "bias_limit": cy["bias_limit"],
+                         **{k: cy[k].to_json() for k in ("judgement", "power", "mirrored")}}
+    return out
+
+
+def volume_data(v: dict) -> dict:
+    if not v:
+        return {}
+    return {"probe": v["probe"], "truth": v["truth"],
+            "variants": {k: {r: _eevee_data(e) for r, e in regs.items()} for k, regs in v["variants"].items()}}
 
 
 def shadow_region_data(r: dict) -> dict:

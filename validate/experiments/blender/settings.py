@@ -15,6 +15,10 @@ llvmpipe (18–72 s in a process whose Mesa shader cache is cold): one probe wit
 ≈ 60 s, three times the experiment's share of the cold report. The default run therefore adds nothing.
 EEVEE's ``world_eevee_samples``: 1 / 4 / 16 TAA samples gave R&H's mean 3.425 / 3.432 / 3.433 % and max 8.768 /
 8.607 / 8.665 % of Φ on grace_probe (docs/experiments/blender.md): 4.
+The probe scenes (:mod:`.probes`, ``VALIDATE_EEVEE=1`` only): measured cold on the loaded 2-core machine, the glossy
+spheres' Cycles frames 1.6–3.0 s each (8 × 32 spp per roughness), EEVEE's 2–33 s each, the irradiance volume's bake
+8 s, the Mitsuba truths (the glTF BSDF, 8 × 256 spp per roughness; the volume scene 8 × 128 spp) 16 s together;
+``--quick`` with everything opt-in: 300 s cold (docs/experiments/blender.md).
 """
 
 from __future__ import annotations
@@ -49,6 +53,19 @@ class Settings:
     world_variants: tuple[str, ...] = ()  # EEVEE's world settings (world.VARIANTS); empty: no EEVEE
     soft_shadows: bool = False  # shadows.py: the sphere light and occluder, Cycles and EEVEE (jitter off / on)
     shadow_spp: int = 16  # Cycles samples per frame (``passes`` frames); EEVEE: taa_render_samples
+    shadow_sweep: tuple[str, ...] = ()  # shadows.SWEEP: EEVEE's filter radius / overblur beyond the jitter rows
+    # bpy-built probe scenes (experiments/blender/probes.py); empty probe: not rendered
+    glossy_probe: str = ""
+    glossy_roughness: tuple[float, ...] = (0.1, 0.3, 0.6)
+    glossy_variants: tuple[str, ...] = ("world",)  # EEVEE: probes.GLOSSY_VARIANTS
+    glossy_passes: int = 8  # Cycles frames (seeds): 4 × 64 spp (3 dof) failed the bias test at r 0.1 / 0.3 (docs)
+    glossy_spp: int = 32
+    glossy_truth_spp: int = 256  # Mitsuba (the glTF BSDF at metallic 1), ``passes`` passes
+    glossy_eevee_samples: int = 4
+    volume_probe: str = ""
+    volume_variants: tuple[str, ...] = ("world", "volume")  # EEVEE: probes.VOLUME_VARIANTS
+    volume_truth_spp: int = 128
+    volume_eevee_samples: int = 4
 
 
 _ON = os.environ.get("VALIDATE_EEVEE") == "1"
@@ -59,6 +76,10 @@ QUICK = Settings(scene_set="quick", passes=8, spp=8, furnace_spp=16, eevee_scene
                  scenes=("furnace_dielectric_r0.5", "furnace_metal_r0.5", "lambert_directional", "point_plane",
                          "point_sphere", "spot_plane"),
                  world_probes=WORLD_PROBES[:1] if _ON else (), world_variants=("default",) if _ON else (),
-                 soft_shadows=_ON)
+                 soft_shadows=_ON, shadow_sweep=("filter_0", "filter_3") if _ON else (),
+                 glossy_probe=WORLD_PROBES[0] if _ON else "", volume_probe=WORLD_PROBES[0] if _ON else "")
 FULL = Settings(eevee_scenes=_EEVEE, world_probes=WORLD_PROBES if _ON else (),
-                world_variants=WORLD_VARIANTS if _ON else (), soft_shadows=_ON)
+                world_variants=WORLD_VARIANTS if _ON else (), soft_shadows=_ON,
+                shadow_sweep=("filter_0", "filter_3", "overblur_0", "overblur_40") if _ON else (),
+                glossy_probe=WORLD_PROBES[0] if _ON else "", glossy_variants=("world", "sphere_probe"),
+                volume_probe=WORLD_PROBES[0] if _ON else "")

@@ -29,6 +29,13 @@ from ...reference.render_reference import render_reference
 from ...scenes import render_shadow_scenes as rss
 
 JITTER = {"jitter_off": {"use_shadow_jitter": False}, "jitter_on": {"use_shadow_jitter": True}}
+# EEVEE's other soft-shadow settings (Blender 5.0: ``Light.shadow_filter_radius``, PCF, default 1 — the jitter_off
+# row; ``Light.shadow_jitter_overblur``, the manual's "Overblur", % , default 10, active with jitter — the jitter_on
+# row): swept beyond the defaults (settings ``shadow_sweep``)
+SWEEP = {"filter_0": {"use_shadow_jitter": False, "shadow_filter_radius": 0.0},
+         "filter_3": {"use_shadow_jitter": False, "shadow_filter_radius": 3.0},
+         "overblur_0": {"use_shadow_jitter": True, "shadow_jitter_overblur": 0.0},
+         "overblur_40": {"use_shadow_jitter": True, "shadow_jitter_overblur": 40.0}}
 
 
 def scene(resolution: int) -> rss.ShadowScene:
@@ -89,4 +96,4 @@ def judge_shadow(sc: rss.ShadowScene, frames: dict[str, np.ndarray], spp: int, p
     return out
 
 
-__all__ = ["JITTER", "scene", "extras", "judge_shadow", "bl"]
+__all__ = ["JITTER", "SWEEP", "scene", "extras", "judge_shadow", "bl"]

@@ -143,10 +143,58 @@ def _env_world(path: str, attrs: dict) -> object:
     return w
 
 
+def _glossy(roughness: float, distribution: str) -> object:
+    """Cycles' and EEVEE's Glossy BSDF, white (F = 1: the node applies no Fresnel), α = roughness²."""
+    import bpy
+
+    mat = bpy.data.materials.new("validate_glossy")
+    mat.use_nodes = True
+    nt = mat.node_tree
+    nt.nodes.clear()
+    g = nt.nodes.new("ShaderNodeBsdfGlossy")
+    g.distribution = distribution  # "GGX": single scattering ("MULTI_GGX" adds the multiple-scattering lobe)
+    g.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    g.inputs["Roughness"].default_value = roughness
+    g.inputs["Anisotropy"].default_value = 0.0
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    nt.links.new(g.outputs[0], out.inputs["Surface"])
+    return mat
+
+
+def _material(spec: dict, albedo: float) -> object:
+    if spec.get("type") == "glossy":
+        return _glossy(float(spec["roughness"]), str(spec.get("distribution", "GGX")))
+    return _lambert(albedo)
+
+
+def _probes(scene: object, probes: list, sphere: object) -> None:
+    """EEVEE light-probe objects: ``{"type": "SPHERE", "location", "radius" (influence), "hide_sphere"}``
+    (captured at render) or ``{"type": "VOLUME", "location", "scale", "resolution", "samples"}`` baked now
+    (``lightprobe_cache_bake``)."""
+    import bpy
+
+    for p in probes:
+        bpy.ops.object.lightprobe_add(type=p["type"], location=p.get("location", (0.0, 0.0, 0.0)))
+        o = bpy.context.active_object
+        if p["type"] == "SPHERE":
+            o.data.influence_distance = float(p.get("radius", 2.5))
+            sphere.hide_probe_sphere = bool(p.get("hide_sphere", True))  # type: ignore[attr-defined]
+        elif p["type"] == "VOLUME":
+            o.scale = tuple(p["scale"])
+            o.data.resolution_x, o.data.resolution_y, o.data.resolution_z = (int(v) for v in p["resolution"])
+            o.data.bake_samples = int(p.get("samples", 256))
+            if scene.render.engine != "CYCLES":  # type: ignore[attr-defined]
+                r = bpy.ops.object.lightprobe_cache_bake(subset="ALL")
+                if "FINISHED" not in r:
+                    raise RuntimeError(f"lightprobe_cache_bake returned {sorted(r)}")
+
+
 def build(job: dict) -> object:
     """A bpy-built scene (``job["scene"]``); kind ``world_sphere``: a smooth UV sphere of radius 1 at the origin,
-    Lambertian of ``albedo``, lit only by the equirectangular world ``env_exr`` (Blender's own mapping), seen by an
-    orthographic camera of ``ortho_scale`` with the 4 × 4 ``camera`` matrix (row-major, Blender world)."""
+    Lambertian of ``albedo`` (or ``bsdf`` = {"type": "glossy", "roughness", "distribution"}), lit only by the
+    equirectangular world ``env_exr`` (Blender's own mapping), seen by an orthographic camera of ``ortho_scale`` with
+    the 4 × 4 ``camera`` matrix (row-major, Blender world); ``plane`` [z, size, albedo]: a Lambertian square below
+    it; ``probes``: EEVEE light-probe objects (:func:`_probes`, added after the render settings)."""
     import bpy
     from mathutils import Matrix
 
@@ -159,7 +207,12 @@ def build(job: dict) -> object:
     obj = bpy.context.active_object
     for poly in obj.data.polygons:
         poly.use_smooth = True
-    obj.data.materials.append(_lambert(float(sc["albedo"])))
+    obj.data.materials.append(_material(sc.get("bsdf") or {}, float(sc["albedo"])))
+    if sc.get("plane"):
+        z, size, albedo = (float(v) for v in sc["plane"])
+        bpy.ops.mesh.primitive_plane_add(size=size, location=(0.0, 0.0, z))
+        bpy.context.active_object.data.materials.append(_lambert(albedo))
+        bpy.context.view_layer.objects.active = obj
     cd = bpy.data.cameras.new("validate_camera")
     cd.type = "ORTHO"
     cd.ortho_scale = float(sc["ortho_scale"])
@@ -179,6 +232,8 @@ def run_job(job: dict) -> dict:
     if job.get("scene"):
         scene = build(job)
         _settings(scene, job)
+        if job["scene"].get("probes"):
+            _probes(scene, job["scene"]["probes"], bpy.data.objects["Sphere"])
         return _render(job, scene, [], [], t0, scene.camera)  # type: ignore[attr-defined]
     bpy.ops.wm.read_factory_settings(use_empty=True)
     bpy.ops.import_scene.gltf(filepath=job["glb"], export_import_convert_lighting_mode=job["lighting_mode"])

@@ -1,0 +1,131 @@
+"""The ``blender`` experiment's bpy-built probe scenes (validate/experiments/blender/probes.py): the glossy spheres'
+one BSDF in Cycles and Mitsuba, the descriptions the worker builds, the soft-shadow sweep's Blender names, and that
+all of it is opt-in. The render test needs Blender and runs under ``-m slow``."""
+
+from __future__ import annotations
+
+import importlib
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from validate.local_models.render import blender as bl
+
+probes = importlib.import_module("validate.experiments.blender.probes")
+world = importlib.import_module("validate.experiments.blender.world")
+settings_mod = importlib.import_module("validate.experiments.blender.settings")
+shadows = importlib.import_module("validate.experiments.blender.shadows")
+compute_mod = importlib.import_module("validate.experiments.blender.compute")
+claims_mod = importlib.import_module("validate.experiments.blender.claims")
+VERSION, WHY = bl.available()
+
+
+def test_probe_scenes_are_opt_in() -> None:
+    """Without VALIDATE_EEVEE=1 the settings render no probe scene and no sweep (the default run unchanged)."""
+    on = os.environ.get("VALIDATE_EEVEE") == "1"
+    for s in (settings_mod.QUICK, settings_mod.FULL):
+        assert bool(s.glossy_probe) == on and bool(s.volume_probe) == on and bool(s.shadow_sweep) == on
+
+
+def test_glossy_description_is_cycles_single_scattering_ggx() -> None:
+    gs = probes.GlossyScene(None, (15.0, 0.0), 0.3)  # the environment enters the job by its texture file
+    d = probes.glossy_desc(gs, Path("/x.exr"))
+    assert d["bsdf"] == {"type": "glossy", "roughness": 0.3, "distribution": "GGX"} and "probes" not in d
+    assert d["camera"] == world.camera_matrix((15.0, 0.0)) and d["ortho_scale"] == world.ORTHO_SCALE
+    [p] = probes.glossy_desc(gs, Path("/x.exr"), "sphere_probe")["probes"]
+    assert p["type"] == "SPHERE" and p["hide_sphere"]
+    assert probes.alpha(0.3) == pytest.approx(0.09) and probes.alpha(0.6) == pytest.approx(0.36)
+
+
+def test_volume_description_bakes_only_in_its_variant() -> None:
+    vs = probes.VolumeScene(None)
+    assert "probes" not in probes.volume_desc(vs, Path("/x.exr"))
+    [p] = probes.volume_desc(vs, Path("/x.exr"), "volume")["probes"]
+    assert p["type"] == "VOLUME" and p["resolution"] == list(probes.VOLUME_RESOLUTION)
+    # the probe's box (half extents × scale) holds the sphere and the plane beneath it
+    assert all(s >= 1.0 for s in p["scale"]) and p["scale"][2] >= abs(probes.PLANE[0])
+
+
+def test_the_lambertian_world_job_keeps_its_description() -> None:
+    """The world-lit sphere's job gains no key (its cache entries stay valid)."""
+    class Env:
+        name = "e"
+
+    from validate.local_models.render.blender_cycles import ENGINE
+
+    j = world.job(world.WorldScene(Env(), (15.0, 0.0)), Path("/x.exr"), ENGINE, 64, 32, (0,), Path("/o"))
+    assert set(j.scene) == {"kind", "segments", "rings", "albedo", "ortho_scale", "camera", "filter_px", "world",
+                            "eevee", "env_exr"}
+
+
+def test_shadow_sweep_names_blender_5s_light_settings() -> None:
+    """Blender 5.0: ``shadow_filter_radius`` (PCF, default 1) and ``shadow_jitter_overblur`` (%, default 10)."""
+    assert set(shadows.SWEEP) >= {"filter_0", "filter_3", "overblur_0", "overblur_40"}
+    for label, light in shadows.SWEEP.items():
+        assert set(light) <= {"use_shadow_jitter", "shadow_filter_radius", "shadow_jitter_overblur"}
+        assert light["use_shadow_jitter"] == label.startswith("overblur")
+    assert set(settings_mod.FULL.shadow_sweep) <= set(shadows.SWEEP)
+
+
+def _lambda(a2: float, mu: float) -> float:
+    t2 = (1.0 - mu * mu) / (mu * mu)
+    return 0.5 * (math.sqrt(1.0 + a2 * t2) - 1.0)
+
+
+def test_the_truths_bsdf_is_cycles_glossy_ggx() -> None:
+    """Mitsuba's glTF BSDF at baseColor 1, metallic 1 evaluates Cycles' single-scattering GGX with F = 1:
+    D(h) G₂ / (4 μ_i μ_o) · μ_o, G₂ = 1/(1 + Λ_i + Λ_o) (height-correlated), α = roughness²; Mitsuba's separable
+    G₁G₁ (roughconductor) differs by 0.47 % at α = 0.36 and these angles, far beyond the tolerance."""
+    pytest.importorskip("mitsuba")
+    import drjit as dr
+    import mitsuba as mi
+
+    from validate.reference.gltf_bsdf import bsdf_dict
+
+    r, th_i, th_o, dphi = 0.6, 1.1, 0.9, 2.5
+    a = probes.alpha(r)
+    bsdf = mi.load_dict(bsdf_dict((1.0, 1.0, 1.0), 1.0, r))
+    wi = [math.sin(th_i), 0.0, math.cos(th_i)]
+    wo = [math.sin(th_o) * math.cos(dphi), math.sin(th_o) * math.sin(dphi), math.cos(th_o)]
+    si = dr.zeros(mi.SurfaceInteraction3f)
+    si.wi = mi.Vector3f(*wi)
+    got = float(np.array(bsdf.eval(mi.BSDFContext(), si, mi.Vector3f(*wo))).ravel()[0])
+    h = np.add(wi, wo)
+    h /= np.linalg.norm(h)
+    a2 = a * a
+    d = a2 / (math.pi * (h[2] ** 2 * (a2 - 1.0) + 1.0) ** 2)
+    mi_, mo = wi[2], wo[2]
+    li, lo = _lambda(a2, mi_), _lambda(a2, mo)
+    cycles = d / (1.0 + li + lo) / (4.0 * mi_ * mo) * mo
+    separable = d / ((1.0 + li) * (1.0 + lo)) / (4.0 * mi_ * mo) * mo
+    assert got == pytest.approx(cycles, rel=1e-4)
+    assert abs(separable / cycles - 1.0) > 1e-3  # measured 0.47 % here: 47 × the tolerance
+
+
+@pytest.mark.skipif(VERSION is None, reason=f"Blender not installed ({WHY}): {bl.FIX}")
+@pytest.mark.slow
+def test_cycles_agrees_with_mitsuba_on_a_glossy_sphere(tmp_path, monkeypatch) -> None:
+    """Roughness 0.6 under grace_probe: Cycles and Mitsuba agree per pixel; a mirrored frame and a 1 % scale fail.
+    (At 0.1 and 0.3 the bias test fails: Cycles reads ≈ 0.3 % darker under a textured world; docs/experiments/
+    blender.md.)"""
+    from validate.scenes.probes import load_probes
+
+    monkeypatch.setenv("VALIDATE_CACHE", str(tmp_path / "cache"))
+    envs, _ = load_probes(Path(__file__).resolve().parents[3] / "shared" / "probes", [], "auto", True,
+                          only_stems={"grace_probe"})
+    if not envs:
+        pytest.skip("shared probe grace_probe not found")
+
+    class Ctx:
+        def environments(self):
+            return envs, []
+
+    s = settings_mod.Settings(scene_set="quick", kinds=(), scenes=("none",), glossy_probe="grace_probe",
+                              glossy_roughness=(0.6,), glossy_variants=())
+    m = compute_mod.compute(Ctx(), s)
+    cs = claims_mod.claims(m)
+    assert [c.id.rsplit(".", 1)[1] for c in cs] == ["agrees_with_mitsuba", "unbiased_against_mitsuba"]
+    assert all(c.passed and c.power.fails for c in cs), [(c.measured, c.power) for c in cs]
