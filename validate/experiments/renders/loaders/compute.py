@@ -6,7 +6,9 @@ without an environment (the Lambertian sphere under a KHR
 directional light, a point light over the plane and beside the sphere, a spot light over the plane) through
 three.js's ``GLTFLoader`` and Filament's ``gltfio`` — an environment costs three's PMREM ~14 s per map on
 SwiftShader's 2 cores (measured), so the furnace, the hemisphere light and the authored glTF scenes (whose truth is
-traced from the files, minutes cold) are the full run's. Full: every exported scene each engine supports.
+traced from the files, minutes cold) are the extended run's. Full: the same engines and scenes, judged against the
+full run's references (cached by the parent); with ``VALIDATE_EXTENDED=1`` (:data:`..settings.EXTENDED`) Babylon.js
+too and every exported scene each engine supports.
 Power: the judged image × 1.02 (a light 2 % off) through the same judge (:func:`validate.judge.folder.judge_against`),
 and, for Filament's orthographic scenes, gltfio's own orthographic projection (the page's correction off).
 """
@@ -26,6 +28,7 @@ from ....judge.images import read_engine_image
 from ....local_models.render import babylon_gltf, filament_gltf, three_gltf
 from ....metrics.pixel_z import MIN_ACCEPTED, PixelJudgement
 from ....scenes.manifest import export_scenes, load_manifest, manifest_scenes
+from ..settings import EXTENDED
 
 # loader engine → the hand-built engine of the parent (the same product, fed the suite's own scene JSON)
 ENGINES = {"three_gltf": (three_gltf.ENGINE, "three"), "filament_gltf": (filament_gltf.ENGINE, "filament"),
@@ -98,12 +101,12 @@ def _measure(work: Path, s: Any, parent: Any, quick: bool) -> LoaderMeasurements
     export_scenes(scenes_dir, "quick" if quick else "full", s.resolution)
     doc = load_manifest(scenes_dir)
     export_s = time.perf_counter() - t0
-    names = _scene_names(doc, quick)
+    names = _scene_names(doc, quick or not EXTENDED)
     out = LoaderMeasurements([], {}, {}, [], export_s, quick=quick)
     items = dict((e["name"], item) for e, item in manifest_scenes(doc, scenes_dir / "manifest.json"))
     ts = truth_settings(doc)
     for name, (engine, hand) in ENGINES.items():
-        if quick and name in FULL_ONLY:
+        if (quick or not EXTENDED) and name in FULL_ONLY:
             continue
         why = engine.unavailable()
         if why is not None:
