@@ -72,6 +72,9 @@ environment variables:
   VALIDATE_CACHE    reference cache folder (default ~/.cache/validate; 'off' disables)
   VALIDATE_REFERENCE  folder of published tables (default: the package's own copy, validate/data)
   VALIDATE_NODE     the Node.js used by the engines experiment (a missing path turns the engines off)
+  VALIDATE_EXTENDED =1: the full run's heavy extras (the IBL sampler's whole sweep, the Sample Viewer at its
+                    larger IBL sizes, Babylon.js and every exported scene through the loaders; minutes more)
+  VALIDATE_EEVEE    =1: the blender experiment renders EEVEE and the bpy-built scenes too (minutes more)
 """
 
 

@@ -84,7 +84,7 @@ def khronos_sections(m: KhronosMeasurements, ctx: Context) -> list[Section]:
                               pct(r["max"])] for r in m.sweep["rows"]],
                             f"The sweep on {m.sweep['environment']}: one knob changed at a time around 1024 samples, "
                             f"faces {FACE}², lodBias 0 (the tool's defaults but the face). Quick runs a minimal sweep; "
-                            "--full the whole."))
+                            "a full run with VALIDATE_EXTENDED=1 the whole."))
     if m.specular:
         keys = sorted({k for d in m.specular.values() for k in d}, key=lambda k: m.specular[next(iter(m.specular))]
                       .get(k, {}).get("alpha", 0.0))
