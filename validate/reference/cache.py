@@ -22,7 +22,6 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import json
-import os
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -30,18 +29,10 @@ import numpy as np
 
 from ..atomic import atomic_path
 from ..backend import init
+from ..setup.paths import array_digest as array_digest  # re-exported: the keys of every reference use it
+from ..setup.paths import cache_dir
 
 REFERENCE_VERSION = 3
-
-
-def cache_dir() -> Path | None:
-    env = os.environ.get("VALIDATE_CACHE")
-    if env == "off":
-        return None
-    if env:
-        return Path(env)
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "validate"
 
 
 def key_of(parts: dict) -> str:
@@ -51,11 +42,6 @@ def key_of(parts: dict) -> str:
     full = dict(parts, _versions=[mi.__version__, dr.__version__, init().variant, REFERENCE_VERSION])
     blob = json.dumps(full, sort_keys=True, default=str).encode()
     return hashlib.sha256(blob).hexdigest()[:40]
-
-
-def array_digest(a: np.ndarray) -> str:
-    a = np.ascontiguousarray(a)
-    return hashlib.sha256(a.tobytes() + str(a.shape).encode() + str(a.dtype).encode()).hexdigest()[:24]
 
 
 @contextlib.contextmanager

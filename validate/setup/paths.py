@@ -10,6 +10,9 @@
   made with the system's Python 3.11 (the only Python the bpy wheels are built for); it holds numpy < 2, which is
   why it is never the suite's own environment. The Blender engines run its interpreter as a child process.
 
+The suite's cache (``cache_dir()``): ``$VALIDATE_CACHE`` if set (``off`` disables it), else
+``$XDG_CACHE_HOME/validate`` (``~/.cache/validate``); :func:`array_digest` is the content hash its keys use.
+
 Nothing here installs anything (:mod:`validate.setup.install` does); it only says where things are.
 """
 
@@ -20,10 +23,30 @@ import json
 import os
 import shutil
 from pathlib import Path
+from typing import Any
 
 ENGINE_LOCK = Path(__file__).resolve().parent / "engines"  # package.json + package-lock.json, shipped
 BLENDER_BPY = "bpy==5.0.1"  # Blender 5.0.1 as a Python module: ≈1 GB installed, CPython 3.11 wheels only
 BLENDER_PYTHON = "python3.11"  # the interpreter the bpy wheel needs (looked up on PATH)
+
+
+def cache_dir() -> Path | None:
+    """The cache folder (module docstring), or None when ``VALIDATE_CACHE=off``."""
+    env = os.environ.get("VALIDATE_CACHE")
+    if env == "off":
+        return None
+    if env:
+        return Path(env)
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "validate"
+
+
+def array_digest(a: Any) -> str:
+    """SHA-256 of an array's bytes, shape and dtype (24 hex digits): the content part of a cache key."""
+    import numpy as np
+
+    a = np.ascontiguousarray(a)
+    return hashlib.sha256(a.tobytes() + str(a.shape).encode() + str(a.dtype).encode()).hexdigest()[:24]
 
 
 def home() -> Path:
