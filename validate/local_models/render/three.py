@@ -31,7 +31,8 @@ from __future__ import annotations
 
 from .hosted import LTC_CLIPPED_SPHERE, BrowserEngine
 
-PAGE = dict(page="three.html", entry="renderThree", package="three", scripts=("three_render.mjs", "three_shadows.mjs"))
+PAGE = dict(page="three.html", entry="renderThree", package="three",
+            scripts=("three_render.mjs", "three_shadows.mjs", "three_target.mjs"))
 SUPPORTS = ("furnace", "directional", "point", "spot", "hemisphere", "environment", "rect", "shadows")
 
 ENGINE = BrowserEngine(

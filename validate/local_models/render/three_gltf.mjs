@@ -9,6 +9,7 @@ import * as THREE from 'three';
 import {GLTFLoader} from 'three/addons/loaders/GLTFLoader.js';
 import {EXRLoader} from 'three/addons/loaders/EXRLoader.js';
 import {f32ToB64} from './common.mjs';
+import {renderFloat} from './three_target.mjs';
 
 export const version = THREE.REVISION;
 let renderer = null;
@@ -62,17 +63,7 @@ export async function renderGltf(d) {
   const materials = [];
   scene.traverse((o) => { if (o.isMesh) materials.push({type: o.material.type, specularIntensity: o.material.specularIntensity,
                                                         ior: o.material.ior}); });
-  const target = new THREE.WebGLRenderTarget(width, height, {type: THREE.FloatType, format: THREE.RGBAFormat,
-    colorSpace: THREE.LinearSRGBColorSpace, depthBuffer: true, minFilter: THREE.NearestFilter, magFilter: THREE.NearestFilter});
-  r.setRenderTarget(target);
-  r.setClearColor(0x000000, 0); r.clear();
-  const t0 = performance.now();
-  r.render(scene, cam);
-  const out = new Float32Array(width * height * 4);
-  r.readRenderTargetPixels(target, 0, 0, width, height, out);
-  const frame_ms = performance.now() - t0;
-  r.setRenderTarget(null);
-  target.dispose();
+  const {out, frame_ms} = renderFloat(r, scene, cam, width, height);
   scene.traverse((o) => { if (o.isMesh) { o.geometry.dispose(); for (const v of Object.values(o.material)) if (v && v.isTexture) v.dispose(); o.material.dispose(); } });
   return {data: f32ToB64(out), frame_ms, env_ms, version, info: {lights, materials}};
 }

@@ -6,6 +6,7 @@
 // render target, NoToneMapping, LinearSRGBColorSpace; read back with readRenderTargetPixels (row 0 = bottom).
 import * as THREE from 'three';
 import {f32ToB64, environmentTexels} from './common.mjs';
+import {renderFloat} from './three_target.mjs';
 import {addShadows} from './three_shadows.mjs';  // (e) shadows
 import {RectAreaLightUniformsLib} from '/node_modules/three/examples/jsm/lights/RectAreaLightUniformsLib.js';
 
@@ -120,17 +121,8 @@ export async function renderThree(d) {
   const e = d.camera.half_extent;
   const cam = new THREE.OrthographicCamera(-e, e, e, -e, 0.1, 100);
   cam.position.set(...d.camera.position); cam.up.set(...d.camera.up); cam.lookAt(...d.camera.target);
-  const target = new THREE.WebGLRenderTarget(width, height, {type: THREE.FloatType, format: THREE.RGBAFormat,
-    colorSpace: THREE.LinearSRGBColorSpace, depthBuffer: true, minFilter: THREE.NearestFilter, magFilter: THREE.NearestFilter});
-  r.setRenderTarget(target);
-  r.setClearColor(0x000000, 0); r.clear();
-  const t0 = performance.now();
-  r.render(scene, cam);
-  const out = new Float32Array(width * height * 4);
-  r.readRenderTargetPixels(target, 0, 0, width, height, out);
-  const frame_ms = performance.now() - t0;
-  r.setRenderTarget(null);
-  target.dispose(); mesh.material.dispose();  // the geometry stays cached (geometryCache)
+  const {out, frame_ms} = renderFloat(r, scene, cam, width, height);
+  mesh.material.dispose();  // the geometry stays cached (geometryCache)
   const shadowInfo = shadows ? shadows.finish() : {};
   return {data: f32ToB64(out), frame_ms, prefilter_ms: pmrem_ms, version, info: {light_power_lm: powers, ...shadowInfo}};
 }
