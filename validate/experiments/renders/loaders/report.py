@@ -94,7 +94,8 @@ def data(pm: LoaderMeasurements) -> dict[str, Any]:
     for ls in pm.scenes:
         scenes.setdefault(ls.scene, {})[ls.engine] = {
             "judged_by": ls.judged_by, "passed": ls.loader_passed, "hand_built_engine": ls.hand,
-            "loader": None if ls.loader is None else ls.loader.to_json(),
+            # under "judgements" (keyed by the reference, as the parent's): ``validate compare`` reads it there
+            "judgements": {} if ls.loader is None else {ls.judged_by: ls.loader.to_json()},
             "hand_built": None if ls.hand_judgement is None else ls.hand_judgement.to_json(),
             "agree": agree(ls), "power": ls.power, "diagnoses": ls.diagnoses}
     return {"loaders": {"scenes": scenes, "skipped": pm.skipped, "missing": pm.missing,
