@@ -1,5 +1,7 @@
 """Shared fixtures: the Mitsuba variant, an isolated reference cache, and the data folders.
 
+* The process settings of ``python -m validate`` (:func:`validate.run.process.tune`: memory, BLAS and OpenMP
+  threads) apply to the test processes too.
 * ``backend`` (session, autouse): :func:`validate.backend.init` once, so every test runs with the
   variant active (``llvm_ad_rgb`` here) and ``mi.*`` types usable.
 * ``VALIDATE_CACHE`` points at a per-session temporary folder unless the user set it, so tests never
@@ -24,6 +26,10 @@ import pytest
 REPO = Path(__file__).resolve().parents[1]
 if str(REPO) not in sys.path:  # so a bare `pytest` (not `python -m pytest`) finds the package
     sys.path.insert(0, str(REPO))
+
+from validate.run.process import tune  # noqa: E402
+
+tune()  # the run's process settings (validate.run.process), before the libraries below load
 
 from validate.backend import Backend, init  # noqa: E402
 from validate.scenes.environment import Environment  # noqa: E402
