@@ -145,6 +145,11 @@ def test_cycles_agrees_with_mitsuba_under_a_probe(tmp_path, monkeypatch) -> None
     cs = claims_mod.claims(m)
     assert [c.id.rsplit(".", 1)[1] for c in cs] == ["agrees_with_mitsuba", "unbiased_against_mitsuba"]
     assert all(c.passed and c.power.fails for c in cs), [(c.measured, c.power) for c in cs]
+    # each renderer over the quadrature, in the measured-value schema (Cycles 0.99945 ± 0.00014 at 128 × 64 spp)
+    quad = importlib.import_module("validate.experiments.blender.report").data(m)["world"]["grace_probe"][
+        "energy_over_quadrature"]
+    assert set(quad) == {"mitsuba", "cycles"}
+    assert all(abs(v["value"] - 1) < 5e-3 and 0 < v["uncertainty"] < 2e-3 for v in quad.values()), quad
 
 
 def test_run_blender_quick_without_blender_writes_not_installed(tmp_path, monkeypatch) -> None:

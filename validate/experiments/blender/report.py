@@ -180,6 +180,10 @@ def world_findings(m: Measurements) -> list[str]:
         if w.cycles:
             out.append(f"Cycles against Mitsuba on the sphere lit by {w.probe}, the truth mirrored left–right (a frame "
                        f"swapped): {w.cycles['mirrored'].fraction_accepted:.1%} of pixels accepted")
+        if w.quadrature:
+            out.append(f"Energy over the footprint-averaged quadrature of Mitsuba's radiance on the sphere lit by "
+                       f"{w.probe}: " + "; ".join(f"{'Cycles' if k == 'cycles' else 'Mitsuba'} {ratio(*v)}"
+                                                  for k, v in w.quadrature.items()))
     return out
 
 
@@ -358,6 +362,7 @@ def _rh(e: dict) -> dict:
 def world_data(w: Any) -> dict:
     out: dict[str, Any] = {"view": list(w.view), "flux_luminance": w.flux_luminance, "truth": w.mitsuba,
                            "techniques": {k: _rh(e) for k, e in w.techniques.items()},
+                           "energy_over_quadrature": {k: Measured(*v).to_json() for k, v in w.quadrature.items()},
                            "eevee": {v: {"samples": r["samples"], "rh": _rh(r["rh"]), "frame_s": r["frame_s"],
                                          "energy": Measured(*r["energy"]).to_json()} for v, r in w.eevee.items()}}
     if w.cycles:

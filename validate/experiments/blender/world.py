@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import hashlib
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -201,6 +201,9 @@ class WorldResult:
     eevee: dict  # variant → {"samples", "rh", "energy", "frame_s"}
     techniques: dict  # technique → rh
     mitsuba: dict  # spp, passes
+    # mean over the judged pixels of each renderer over the footprint-averaged quadrature (± from its standard error
+    # and the quadrature's): "mitsuba" on the footprint mask, "cycles" on Cycles' interior mask
+    quadrature: dict = field(default_factory=dict)
 
 
 def energy(img: np.ndarray, se: np.ndarray, tm: np.ndarray, ts: np.ndarray) -> tuple[float, float]:
@@ -230,6 +233,7 @@ def judge_world(ws: WorldScene, render: pathtrace.SphereRender, cycles: np.ndarr
     out = WorldResult(env.name, ws.view, float(0.2126 * flux[0] + 0.7152 * flux[1] + 0.0722 * flux[2]), {}, {},
                       {name: rh_errors(e_ref, e, flux, u_ref) for name, e in technique_sphere(env, render).items()},
                       {"spp": render.spp_per_pass, "passes": render.passes})
+    out.quadrature["mitsuba"] = energy(render.mean[m], render.stderr[m], q[m], uq[m])
     if cycles is not None:
         f = cycles.astype(np.float64)
         img, cov = f[..., :3].mean(axis=0), f[..., 3].min(axis=0)
@@ -247,6 +251,7 @@ def judge_world(ws: WorldScene, render: pathtrace.SphereRender, cycles: np.ndarr
             "mirrored": judge(img, render.mean[:, ::-1], sig[:, ::-1], dof, mask & mask[:, ::-1], 0.0, text),
             "energy": energy(img[mask], se[mask], render.mean[mask], render.stderr[mask]),
             "rh": rh_errors(e_ref, np.pi * img[m], flux, u_ref)}
+        out.quadrature["cycles"] = energy(img[mask], se[mask], q[mask], uq[mask])
     for variant, (samples, frames, frame_s) in eevee.items():
         img = frames[0, ..., :3].astype(np.float64)
         uh = np.pi * half_sigma(img[m])
