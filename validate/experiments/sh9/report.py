@@ -44,7 +44,7 @@ def _save_png(path: Path, fig: Any, margins: dict[str, float] | None = None) -> 
                 and ax.xaxis.get_label_position() != "top":
             ax.set_title(ax.get_title(), fontsize=ax.title.get_fontsize(), y=1.0)
     with plots.FIGURE_LOCK, atomic_path(path, suffix=".png") as tmp:
-        fig.savefig(tmp, format="png", dpi=plots.FIG_DPI)
+        fig.savefig(tmp, format="png", dpi=plots.FIG_DPI, pil_kwargs={"compress_level": plots.PNG_COMPRESS_LEVEL})
 
 
 def environment_figures(name: str, r: dict[str, Any], ctx: Context) -> list[Figure]:

@@ -77,7 +77,7 @@ def _figure(m: Measurements, ctx: Context, name: str) -> Figure:
     ax.set_title(f"{name}: error over normals, worst light")
     with plots.FIGURE_LOCK:
         fig.tight_layout()
-        fig.savefig(path, dpi=90)
+        fig.savefig(path, dpi=90, pil_kwargs={"compress_level": plots.PNG_COMPRESS_LEVEL})
     return Figure(rel, f"{name}: |E′ − E| / Φ over normals for the certificate's worst light (a unit-flux delta)")
 
 
