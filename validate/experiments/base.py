@@ -316,7 +316,10 @@ class Context:
                 # 1.07 M and 6.0 s serially. Workers keep glibc's defaults, as this process does.
                 environ = {k: v for k, v in dask.config.get("distributed.nanny.pre-spawn-environ", {}).items()
                            if not k.endswith("_NUM_THREADS") and k != "MALLOC_TRIM_THRESHOLD_"}
-                with dask.config.set({"distributed.nanny.pre-spawn-environ": environ}):
+                # and no statistical profiler in the workers (a thread sampling every task's stack every 10 ms,
+                # for a dashboard this run does not serve)
+                with dask.config.set({"distributed.nanny.pre-spawn-environ": environ,
+                                      "distributed.worker.profile.enabled": False}):
                     cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True,
                                            memory_limit=0, dashboard_address=None, silence_logs=logging.CRITICAL,
                                            # no dashboard, and its HTTP server (health routes) on a free port:

