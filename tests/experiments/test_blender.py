@@ -122,26 +122,12 @@ def test_soft_shadow_extras_follow_the_importers_frame() -> None:
 
 @needs_blender
 @pytest.mark.slow
-def test_cycles_agrees_with_mitsuba_under_a_probe(tmp_path, monkeypatch) -> None:
+def test_cycles_agrees_with_mitsuba_under_a_probe(grace_context) -> None:
     """The bpy-built world-lit sphere: Cycles and Mitsuba agree per pixel; a 1 % scale and a mirrored frame fail."""
-    from pathlib import Path
-
-    from validate.scenes.probes import load_probes
-
-    monkeypatch.setenv("VALIDATE_CACHE", str(tmp_path / "cache"))
-    envs, _ = load_probes(Path(__file__).resolve().parents[3] / "shared" / "probes", [], "auto", True,
-                          only_stems={"grace_probe"})
-    if not envs:
-        pytest.skip("shared probe grace_probe not found")
-
-    class Ctx:
-        def environments(self):
-            return envs, []
-
     # the experiment's own world settings (64², Cycles 8 × 32 spp, Mitsuba 8 × 256 spp): at 32² and 16 / 64 spp the
     # 1 % scale stays inside the bias test's 4/√N (measured: |mean z| 0.041 against 0.157)
     s = settings_mod.Settings(scene_set="quick", kinds=(), scenes=("none",), world_probes=("grace_probe",))
-    m = compute_mod.compute(Ctx(), s)
+    m = compute_mod.compute(grace_context, s)
     cs = claims_mod.claims(m)
     assert [c.id.rsplit(".", 1)[1] for c in cs] == ["agrees_with_mitsuba", "unbiased_against_mitsuba"]
     assert all(c.passed and c.power.fails for c in cs), [(c.measured, c.power) for c in cs]

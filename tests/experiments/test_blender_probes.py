@@ -107,25 +107,13 @@ def test_the_truths_bsdf_is_cycles_glossy_ggx() -> None:
 
 @pytest.mark.skipif(VERSION is None, reason=f"Blender not installed ({WHY}): {bl.FIX}")
 @pytest.mark.slow
-def test_cycles_agrees_with_mitsuba_on_a_glossy_sphere(tmp_path, monkeypatch) -> None:
+def test_cycles_agrees_with_mitsuba_on_a_glossy_sphere(grace_context) -> None:
     """Roughness 0.6 under grace_probe: Cycles and Mitsuba agree per pixel; a mirrored frame and a 1 % scale fail.
     (At 0.1 and 0.3 the bias test fails: Cycles reads ≈ 0.3 % darker under a textured world; docs/experiments/
     blender.md.)"""
-    from validate.scenes.probes import load_probes
-
-    monkeypatch.setenv("VALIDATE_CACHE", str(tmp_path / "cache"))
-    envs, _ = load_probes(Path(__file__).resolve().parents[3] / "shared" / "probes", [], "auto", True,
-                          only_stems={"grace_probe"})
-    if not envs:
-        pytest.skip("shared probe grace_probe not found")
-
-    class Ctx:
-        def environments(self):
-            return envs, []
-
     s = settings_mod.Settings(scene_set="quick", kinds=(), scenes=("none",), glossy_probe="grace_probe",
                               glossy_roughness=(0.6,), glossy_variants=())
-    m = compute_mod.compute(Ctx(), s)
+    m = compute_mod.compute(grace_context, s)
     cs = claims_mod.claims(m)
     assert [c.id.rsplit(".", 1)[1] for c in cs] == ["agrees_with_mitsuba", "unbiased_against_mitsuba"]
     assert all(c.passed and c.power.fails for c in cs), [(c.measured, c.power) for c in cs]

@@ -32,6 +32,25 @@ BIAS_SOURCE = ("two unbiased estimators of one pixel differ by zero on average: 
                "cross-check's bias test)")
 
 
+MIRRORED = "the truth mirrored left–right (a swapped frame)"
+
+
+def _agreement(cid: str, description: str, accepted: float, power: str, power_accepted: float) -> Claim:
+    """≥ :data:`MIN_ACCEPTED` of the judged pixels accepted (:data:`SOURCE`); its power check ``power``."""
+    c = Claim(id=cid, description=description, metric="fraction of pixels accepted", threshold=MIN_ACCEPTED,
+              measured=accepted, uncertainty=0.0, comparison=">", unit="%", source=SOURCE)
+    return c.with_power(power, power_accepted)
+
+
+def _unbiased(cid: str, what: str, n_pixels: int, cy: dict) -> Claim:
+    """max over channels of |mean z| within the 4/√N bound (:data:`BIAS_SOURCE`); power: Cycles × POWER_SCALE."""
+    c = Claim(id=cid, description=f"Cycles against Mitsuba on {what}: no bias, max over channels of |mean z| over "
+                                  f"{n_pixels} px within {pathtrace.BIAS_SIGMAS:g}/√N",
+              metric="max |mean z| (–)", threshold=cy["bias_limit"], measured=cy["bias"], uncertainty=0.0,
+              comparison="<", unit="", source=BIAS_SOURCE)
+    return c.with_power(f"Cycles × {POWER_SCALE:g}", cy["bias_power"])
+
+
 def claims(m: Measurements) -> list[Claim]:
     out = []
     for j in m.scenes:
@@ -39,30 +58,21 @@ def claims(m: Measurements) -> list[Claim]:
         if j.engine != "blender_cycles" or ref is None:
             continue
         pj, pw = j.judgements[ref], j.power[ref]
-        c = Claim(id=f"blender.cycles.{j.scene}.agrees_with_mitsuba",
-                  description=f"Cycles ({j.frames} × {j.samples} spp) and Mitsuba agree per pixel on {j.scene} "
-                              f"(reference {ref}; {j.judgements[ref].n_pixels} px judged)",
-                  metric="fraction of pixels accepted", threshold=MIN_ACCEPTED, measured=pj.fraction_accepted,
-                  uncertainty=0.0, comparison=">", unit="%", source=SOURCE)
-        out.append(c.with_power(f"Cycles × {POWER_SCALE:g}", pw.fraction_accepted))
+        out.append(_agreement(f"blender.cycles.{j.scene}.agrees_with_mitsuba",
+                              f"Cycles ({j.frames} × {j.samples} spp) and Mitsuba agree per pixel on {j.scene} "
+                              f"(reference {ref}; {pj.n_pixels} px judged)", pj.fraction_accepted,
+                              f"Cycles × {POWER_SCALE:g}", pw.fraction_accepted))
     for w in m.world:
         if not w.cycles:
             continue
         pj = w.cycles["judgement"]
-        c = Claim(id=f"blender.cycles.world_{w.probe}.agrees_with_mitsuba",
-                  description=f"Cycles ({w.cycles['frames']} × {m.settings.world_spp} spp) and Mitsuba "
+        out.append(_agreement(f"blender.cycles.world_{w.probe}.agrees_with_mitsuba",
+                              f"Cycles ({w.cycles['frames']} × {m.settings.world_spp} spp) and Mitsuba "
                               f"({w.mitsuba['passes']} × {w.mitsuba['spp']} spp) agree per pixel on a white "
                               f"Lambertian sphere lit only by {w.probe} (bpy-built scene; {pj.n_pixels} px judged)",
-                  metric="fraction of pixels accepted", threshold=MIN_ACCEPTED, measured=pj.fraction_accepted,
-                  uncertainty=0.0, comparison=">", unit="%", source=SOURCE)
-        out.append(c.with_power("the truth mirrored left–right (a swapped frame)",
-                                w.cycles["mirrored"].fraction_accepted))
-        c = Claim(id=f"blender.cycles.world_{w.probe}.unbiased_against_mitsuba",
-                  description=f"Cycles against Mitsuba on the sphere lit by {w.probe}: no bias, max over channels of "
-                              f"|mean z| over {pj.n_pixels} px within {pathtrace.BIAS_SIGMAS:g}/√N",
-                  metric="max |mean z| (–)", threshold=w.cycles["bias_limit"], measured=w.cycles["bias"],
-                  uncertainty=0.0, comparison="<", unit="", source=BIAS_SOURCE)
-        out.append(c.with_power(f"Cycles × {POWER_SCALE:g}", w.cycles["bias_power"]))
+                              pj.fraction_accepted, MIRRORED, w.cycles["mirrored"].fraction_accepted))
+        out.append(_unbiased(f"blender.cycles.world_{w.probe}.unbiased_against_mitsuba",
+                             f"the sphere lit by {w.probe}", pj.n_pixels, w.cycles))
     for g in m.glossy:
         cy = g.get("cycles")
         if not cy:
@@ -70,17 +80,11 @@ def claims(m: Measurements) -> list[Claim]:
         pj, r = cy["judgement"], g["roughness"]
         what = (f"a white GGX sphere (roughness {r:g}, α = {g['alpha']:g}: Cycles' Glossy BSDF GGX single scattering, "
                 f"Mitsuba the glTF BSDF at metallic 1 — one BSDF) lit only by {g['probe']}")
-        c = Claim(id=f"blender.cycles.glossy_{g['probe']}_r{r:g}.agrees_with_mitsuba",
-                  description=f"Cycles ({cy['frames']} × {m.settings.glossy_spp} spp) and Mitsuba "
+        out.append(_agreement(f"blender.cycles.glossy_{g['probe']}_r{r:g}.agrees_with_mitsuba",
+                              f"Cycles ({cy['frames']} × {m.settings.glossy_spp} spp) and Mitsuba "
                               f"({g['truth']['passes']} × {g['truth']['spp']} spp) agree per pixel on {what} "
                               f"(bpy-built scene; {pj.n_pixels} px judged)",
-                  metric="fraction of pixels accepted", threshold=MIN_ACCEPTED, measured=pj.fraction_accepted,
-                  uncertainty=0.0, comparison=">", unit="%", source=SOURCE)
-        out.append(c.with_power("the truth mirrored left–right (a swapped frame)", cy["mirrored"].fraction_accepted))
-        c = Claim(id=f"blender.cycles.glossy_{g['probe']}_r{r:g}.unbiased_against_mitsuba",
-                  description=f"Cycles against Mitsuba on {what}: no bias, max over channels of |mean z| over "
-                              f"{pj.n_pixels} px within {pathtrace.BIAS_SIGMAS:g}/√N",
-                  metric="max |mean z| (–)", threshold=cy["bias_limit"], measured=cy["bias"],
-                  uncertainty=0.0, comparison="<", unit="", source=BIAS_SOURCE)
-        out.append(c.with_power(f"Cycles × {POWER_SCALE:g}", cy["bias_power"]))
+                              pj.fraction_accepted, MIRRORED, cy["mirrored"].fraction_accepted))
+        out.append(_unbiased(f"blender.cycles.glossy_{g['probe']}_r{r:g}.unbiased_against_mitsuba", what,
+                             pj.n_pixels, cy))
     return out
