@@ -50,6 +50,6 @@ ENGINE = BrowserEngine(
                                               "casts: filament_shadows.mjs)"},
     facts={"report": REPORT_NOTE},
     page="filament.html", entry="renderFilament", package="filament",
-    scripts=("filament_render.mjs", "filament_shadows.mjs"))
+    scripts=("filament_render.mjs", "filament_shadows.mjs", "filament_frames.mjs"))
 
 __all__ = ["ENGINE", "NO_IBL"]

@@ -2,13 +2,14 @@
 // gltfio's AssetLoader reads the .glb (ubershader materials, its KHR_lights_punctual lights as gltfio converts them,
 // the glTF camera: asset.getCameraEntities()), the entities go into the scene unchanged. Nothing is converted by hand.
 // The one thing a user must choose is the exposure (gltfio's camera keeps Filament's default f/16, 1/125 s, ISO 100:
-// e ≈ 2.6e-5); it is picked from Filament's own frames so the 8-bit canvas fills its range (FILL_LSB), as the hand-built
-// page does (filament_render.mjs): e = ISO/100 at f/1, 1.2 s. Post-processing off (no tone mapping, dithering,
+// e ≈ 2.6e-5); it is picked from Filament's own frames so the 8-bit canvas fills its range (filament_frames.mjs), as
+// the hand-built page does (filament_render.mjs): e = ISO/100 at f/1, 1.2 s. Post-processing off (no tone mapping, dithering,
 // FXAA): the canvas holds e × radiance in RGBA8 (linear), read with the context's gl.readPixels (row 0 = bottom).
 // Shadows as a user turns them on: every light of the asset casts, every renderable casts and receives.
+import {exposeAndRead, maxColour} from './filament_frames.mjs';  // frames, readback, auto exposure
+
 export let version = '';
 let engine = null, renderer = null, swapChain = null, canvas = null, gl = null, loader = null;
-const FILL_LSB = 250;
 
 export async function initFilament() {
   await new Promise((res) => Filament.init([], res));
@@ -27,19 +28,6 @@ function getEngine(w, h) {
   canvas.width = w; canvas.height = h;
   return engine;
 }
-
-const frame = () => new Promise((r) => requestAnimationFrame(r));
-async function draw(view, eng, frames) {
-  let drawn = 0;
-  for (let k = 0; k < 200 && drawn < frames; k++) {
-    await frame();
-    if (renderer.beginFrame(swapChain)) { renderer.renderView(view); renderer.endFrame(); drawn++; }
-    eng.execute();
-  }
-  return drawn;
-}
-function readback(w, h) { const px = new Uint8Array(w * h * 4); gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px); return px; }
-function maxColour(px) { let m = 0; for (let i = 0; i < px.length; i++) if ((i & 3) !== 3 && px[i] > m) m = px[i]; return m; }
 
 export async function renderGltf(d) {
   const {width, height} = d.image;
@@ -78,19 +66,7 @@ export async function renderGltf(d) {
     lights.push({intensity: lm.getIntensity(i), falloff: lm.getFalloff(i)});
   }
   const t0 = performance.now();
-  let exposure = 0.125, px = null, drawn = 0;
-  const setExposure = (e) => cam.setExposure(1.0, 1.2, 100.0 * e);
-  for (let k = 0; k < 8; k++) {
-    setExposure(exposure); drawn += await draw(view, eng, 2);
-    px = readback(width, height);
-    const m = maxColour(px);
-    if (m >= 255) { exposure /= 8; continue; }
-    if (m === 0) throw new Error('filament: black image');
-    exposure *= FILL_LSB / m;
-    setExposure(exposure); drawn += await draw(view, eng, 2);
-    px = readback(width, height);
-    break;
-  }
+  const {exposure, px, drawn} = await exposeAndRead({renderer, swapChain, gl}, cam, view, eng, width, height);
   const frame_ms = performance.now() - t0;
   const projection = JSON.stringify(cam.getProjectionMatrix());
   scene.removeEntities(asset.getEntities()); loader.destroyAsset(asset);

@@ -10,12 +10,13 @@
 // angles; Filament's attenuation saturate(cd·scale + offset)² is KHR's reference formula, with cos θ_i, cos θ_o
 // from its fast::cos (FLightManager::setSpotLightCone). Camera: orthographic; exposure e (pre-exposed lights:
 // output = e × radiance) picked from Filament's own frames so the image fills the 8-bit range (renderFilament),
-// set as ISO (setExposure below). Post-processing off (no tone mapping, dithering, FXAA): the colour pass writes
+// set as ISO (filament_frames.mjs). Post-processing off (no tone mapping, dithering, FXAA): the colour pass writes
 // e × radiance straight into the canvas's RGBA8 (linear, no OETF: the swap chain is not sRGB; measured: at e = 1
 // the directional sphere's peak ρE/π = 0.955 read 242–243 of 255), read back with the context's gl.readPixels
 // (Filament's JS Renderer has no readPixels). Row 0 = bottom. (e) Shadow scenes: filament_shadows.mjs (the lights
 // cast, the receiver's glTF bounds padded by RECEIVER_PAD_M).
 import {addShadows, applyShadowOptions} from './filament_shadows.mjs';  // (e) shadows
+import {exposeAndRead, maxColour} from './filament_frames.mjs';  // frames, readback, auto exposure
 
 export let version = '';
 let engine = null, renderer = null, swapChain = null, canvas = null, gl = null, loader = null;
@@ -134,36 +135,6 @@ function addLight(eng, scene, l, shadow) {
 }
 const LM$Type = (n) => Filament.LightManager$Type[n];
 
-const frame = () => new Promise((r) => requestAnimationFrame(r));
-
-// Filament's exposure (Exposure.cpp; Lagarde & de Rousiers 2014, "Moving Frostbite to PBR", §4.6):
-// e = 1/(1.2·2^EV100), EV100 = log2(N²/t · 100/S); with N = 1, t = 1.2 s: e = S/100, so ISO S = 100·e. (Measured:
-// Camera.setExposureDirect(x) of this build sets S = 100/x, i.e. e = 1/x, and the image scales as 1/x; it is not used.)
-function setExposure(cam, e) { cam.setExposure(1.0, 1.2, 100.0 * e); }
-
-async function draw(view, eng, frames) {
-  let drawn = 0;
-  for (let k = 0; k < 200 && drawn < frames; k++) {
-    await frame();
-    if (renderer.beginFrame(swapChain)) { renderer.renderView(view); renderer.endFrame(); drawn++; }
-    eng.execute();
-  }
-  return drawn;
-}
-
-function readback(width, height) {
-  const px = new Uint8Array(width * height * 4);
-  gl.readPixels(0, 0, width, height, gl.RGBA, gl.UNSIGNED_BYTE, px);
-  return px;
-}
-
-function maxColour(px) { let m = 0; for (let i = 0; i < px.length; i++) if ((i & 3) !== 3 && px[i] > m) m = px[i]; return m; }
-
-// Auto exposure from Filament's own frames (no reference involved): start at e = 1/8 (radiance 8 → full scale),
-// divide by 8 while the brightest channel saturates, then scale e so that it reads FILL_LSB (the image fills the
-// 8-bit range, the quantisation step relative to the peak is smallest).
-const FILL_LSB = 250;
-
 export async function renderFilament(d) {
   const {width, height} = d.image;
   const opts = d.options || {};
@@ -187,21 +158,8 @@ export async function renderFilament(d) {
   const lights = d.lights.map((l) => addLight(eng, scene, l, d.shadow));
   const shadows = d.shadow ? await addShadows(eng, scene, view, loader, asset, d.shadow, glb) : null;  // (e)
   const t0 = performance.now();
-  let exposure = opts.exposure || 0.125, px = null, drawn = 0;
-  for (let k = 0; k < 8; k++) {
-    setExposure(cam, exposure);
-    drawn += await draw(view, eng, 2);
-    px = readback(width, height);
-    const m = maxColour(px);
-    if (opts.exposure) break;
-    if (m >= 255) { exposure /= 8; continue; }
-    if (m === 0) throw new Error('filament: black image');
-    exposure *= FILL_LSB / m;
-    setExposure(cam, exposure);
-    drawn += await draw(view, eng, 2);
-    px = readback(width, height);
-    break;
-  }
+  const {exposure, px, drawn} = await exposeAndRead({renderer, swapChain, gl}, cam, view, eng, width, height,
+                                                  opts.exposure);
   const frame_ms = performance.now() - t0;
   const camInfo = {aperture: cam.getAperture(), shutter: cam.getShutterSpeed(), iso: cam.getSensitivity()};
   const shadowInfo = shadows ? {...shadows.finish(), shadow_options: shadowOptionsApplied} : {};
