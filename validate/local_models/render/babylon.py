@@ -42,7 +42,7 @@ from __future__ import annotations
 from .hosted import LTC_CLIPPED_SPHERE, BrowserEngine
 
 PAGE = dict(page="babylon.html", entry="renderBabylon", package="@babylonjs/core",
-            scripts=("babylon_render.mjs", "babylon_shadows.mjs", "babylon_cdf.mjs"))
+            scripts=("babylon_render.mjs", "babylon_shadows.mjs", "babylon_cdf.mjs", "babylon_scene.mjs"))
 SUPPORTS = ("furnace", "directional", "point", "spot", "hemisphere", "environment", "rect", "shadows")
 RECT_LTC_LABEL = ("Babylon's RectAreaLight shader with Heitz's tables (Babylon's own areaLightsLTC.bin is not "
                   "obtainable offline)")

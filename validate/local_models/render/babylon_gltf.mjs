@@ -9,6 +9,7 @@ import '@babylonjs/loaders/glTF/index.js';
 import {ExrLoaderGlobalConfiguration} from '@babylonjs/core/Materials/Textures/Loaders/EXR/exrLoader.configuration.js';
 import * as fflate from '/node_modules/three/examples/jsm/libs/fflate.module.js';
 import {f32ToB64} from './common.mjs';
+import {linearScene} from './babylon_scene.mjs';
 
 // Babylon's EXR decoder loads fflate (ZIP) as a script from ExrLoaderGlobalConfiguration.FFLATEUrl, by default
 // https://unpkg.com/fflate@0.8.2 — unreachable offline (measured: EXRCubeTexture's onError, no message). The page
@@ -47,13 +48,7 @@ export async function renderGltf(d) {
   const eng = getEngine();
   const {width, height} = d.image;
   const opts = d.options || {};
-  const scene = new BABYLON.Scene(eng);
-  scene.useRightHandedSystem = true;
-  scene.imageProcessingConfiguration.applyByPostProcess = true;
-  scene.imageProcessingConfiguration.toneMappingEnabled = false;
-  scene.imageProcessingConfiguration.exposure = 1.0;
-  scene.imageProcessingConfiguration.contrast = 1.0;
-  scene.clearColor = new BABYLON.Color4(0, 0, 0, 0);
+  const scene = linearScene(eng);  // linear output (babylon_scene.mjs)
   const t0 = performance.now();
   if (d.environment) {
     const tex = await environment(scene, d.environment, opts.cubeSize || 128);

@@ -162,16 +162,7 @@ export async function renderBabylon(d) {
   const eng = getEngine();
   const {width, height} = d.image;
   const opts = d.options || {};
-  const scene = new BABYLON.Scene(eng);
-  scene.useRightHandedSystem = true;
-  // Linear output: with image processing "applied by a post process" the PBR shader skips its own tone mapping
-  // and its final toGammaSpace (measured: without this the target held radiance^(1/2.2)); no post process is
-  // attached to the render target, so nothing applies it.
-  scene.imageProcessingConfiguration.applyByPostProcess = true;
-  scene.imageProcessingConfiguration.toneMappingEnabled = false;
-  scene.imageProcessingConfiguration.exposure = 1.0;
-  scene.imageProcessingConfiguration.contrast = 1.0;
-  scene.clearColor = new BABYLON.Color4(0, 0, 0, 0);
+  const scene = linearScene(eng);  // linear output (babylon_scene.mjs)
   let prefilter_ms = 0;
   if (d.environment) {
     const e = await environment(scene, d.environment, opts.cubeSize || 128, opts);
@@ -212,4 +203,5 @@ export async function renderBabylon(d) {
 }
 import {f32ToB64} from './common.mjs';
 import {addShadows} from './babylon_shadows.mjs';  // (e) shadows
+import {linearScene} from './babylon_scene.mjs';
 import {cdfCubeTexture, cdfInfo, cdfKey} from './babylon_cdf.mjs';  // (b) CDF irradiance
