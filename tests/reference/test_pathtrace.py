@@ -157,7 +157,7 @@ def test_zero_standard_error_gives_infinite_z_without_warnings() -> None:
     r = 8
     mean = np.ones((r, r, 3))
     render = pathtrace.SphereRender(mean, np.zeros_like(mean), np.zeros_like(mean), pathtrace.footprint_mask(r),
-                                    16, 4, 0, {})
+                                    16, 4, 0, {}, images=np.stack([mean] * 4))
     expected = np.where(pathtrace.footprint_mask(r)[..., None], 1.0, np.nan) * np.ones(3)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
@@ -214,7 +214,9 @@ def test_relative_difference_ignores_near_zero_denominators() -> None:
     mean = np.where(mask[..., None], 1.02, 0.0) * np.ones(3)
     i, j = np.argwhere(mask)[0]
     expected[i, j], mean[i, j] = 1e-25, 1e-5
-    render = pathtrace.SphereRender(mean, np.full_like(mean, 0.01), np.zeros_like(mean), mask, 16, 4, 0, {})
+    step = np.array([-1.5, -0.5, 0.5, 1.5])[:, None, None, None] * 0.02 / np.std([-1.5, -0.5, 0.5, 1.5], ddof=1)
+    render = pathtrace.SphereRender(mean, np.full_like(mean, 0.01), np.zeros_like(mean), mask, 16, 4, 0, {},
+                                    images=mean[None] + step)
     cc = pathtrace.compare(render, expected, np.zeros_like(expected))
     assert abs(cc.max_rel_diff - 0.02) < 1e-9
     assert cc.rel_masked_fraction == 1.0 / int(mask.sum())

@@ -276,7 +276,8 @@ def world_jobs(ctx: Any, s: Settings, work: Path, keyed: list) -> list[wd.WorldS
 
 
 def probe_jobs(ctx: Any, s: Settings, work: Path, keyed: list) -> tuple[list[pr.GlossyScene], pr.VolumeScene | None]:
-    """Append the glossy spheres' (Cycles, EEVEE per variant) and the volume-probe scene's (EEVEE per variant) jobs."""
+    """Append the glossy spheres' (Cycles, EEVEE per variant) and the volume-probe scene's (EEVEE per variant, Cycles)
+    jobs."""
     envs = {e.name: e for e in ctx.environments()[0]} if (s.glossy_probe or s.volume_probe) else {}
     glossy: list[pr.GlossyScene] = []
     volume = None
@@ -309,6 +310,11 @@ def probe_jobs(ctx: Any, s: Settings, work: Path, keyed: list) -> tuple[list[pr.
             keyed.append(((volume.name, v, EEVEE.name), pr.job(pr.volume_desc(volume, exr, v), EEVEE, s.resolution,
                                                                s.volume_eevee_samples, (s.seed,),
                                                                work / f"{volume.name}_{v}"), digest))
+        if s.volume_cycles:
+            seeds = tuple(s.seed * 1000 + k for k in range(s.passes))
+            keyed.append(((volume.name, "cycles", CYCLES.name), pr.job(pr.volume_desc(volume, exr, "cycles"), CYCLES,
+                                                                       s.resolution, s.volume_spp, seeds,
+                                                                       work / f"{volume.name}_c"), digest))
     return glossy, volume
 
 
@@ -333,10 +339,13 @@ def judge_probes(s: Settings, results: dict, glossy: list[pr.GlossyScene], volum
         mine = {v: r["frames"] for (n, v, _), r in results.items() if n == volume.name}
         film = pr.film_mask(s.resolution, list(mine.values()))
         on_sphere = pr.sphere_pixels(s.resolution, pr.VOLUME_VIEW, pr.VOLUME_ORTHO)
+        cy = mine.pop("cycles", None)
         vol = {"probe": volume.env.name, "truth": {"spp": t.spp, "passes": t.passes, "depth": pr.VOLUME_DEPTH},
                "variants": {v: {"plane": pr.eevee_numbers(f[0, ..., :3].astype(np.float64), t, film & ~on_sphere),
                                 "sphere": pr.eevee_numbers(f[0, ..., :3].astype(np.float64), t, film & on_sphere)}
                             for v, f in mine.items()}}
+        if cy is not None:
+            vol["cycles"] = pr.cycles_numbers(cy, t, film, POWER_SCALE)
     return out, vol
 
 

@@ -18,7 +18,8 @@ EEVEE reflects the world through its world sphere probe (the world captured into
 ``World.probe_resolution``, filtered per roughness), and with a Sphere light-probe object (variant ``sphere_probe``:
 ``lightprobe_add(type='SPHERE')`` at the sphere's centre, influence radius :data:`SPHERE_PROBE_RADIUS`, the sphere
 hidden from it, so it captures the world alone; EEVEE captures sphere probes at render) through that probe's
-capture and its parallax (the default: a sphere of the influence radius around the probe).
+capture and its parallax (the default: a sphere of the influence radius around the probe; variant
+``sphere_probe_far``: a custom parallax sphere of radius :data:`FAR_PARALLAX`, as near infinity as the world).
 
 **Volume probe** (:class:`VolumeScene`): a Lambertian sphere (albedo :data:`VOLUME_ALBEDO`) resting above a
 Lambertian square (the same albedo) at y = −1, lit only by the probe, seen from 30° above the horizon by an
@@ -27,7 +28,9 @@ every bounce (``max_depth`` :data:`VOLUME_DEPTH`). EEVEE renders it without a pr
 world probe, no occlusion of the sky by the sphere but its horizon scan) and with an irradiance volume (variant
 ``volume``: ``lightprobe_add(type='VOLUME')`` over the scene, :data:`VOLUME_RESOLUTION` cells, baked headless by
 ``lightprobe_cache_bake`` before the frame; EEVEE stores L1 spherical harmonics per cell). Findings only: Blender's
-manual gives no bound for either.
+manual gives no bound for either. Cycles renders the same description (variant ``cycles``: Lambert in both, its
+bounces set to Mitsuba's path length, max_bounces = diffuse_bounces = max_depth − 2), a second truth judged as the
+glossy spheres' (:func:`cycles_numbers`).
 """
 
 from __future__ import annotations
@@ -48,8 +51,11 @@ from ...stats import mean_and_stderr, mean_z_bound
 from . import world as wd
 
 ROUGHNESS = (0.1, 0.3, 0.6)
-GLOSSY_VARIANTS = ("world", "sphere_probe")
+GLOSSY_VARIANTS = ("world", "sphere_probe", "sphere_probe_far")
 SPHERE_PROBE_RADIUS = 2.5  # Blender's default influence distance (m)
+# ``sphere_probe_far``'s custom parallax sphere (m): Blender 5.0 has no infinite parallax; at radius D a reflected
+# ray leaving the unit sphere turns by at most asin(1/D) ≈ 0.006°, a fifteenth of half a texel of the world (0.088°)
+FAR_PARALLAX = 1.0e4
 VOLUME_VARIANTS = ("world", "volume")
 VOLUME_ALBEDO = 0.5
 VOLUME_DEPTH = 8  # Mitsuba's path length: albedo 0.5 leaves < 0.5⁷ ≈ 0.8 % of a pixel to longer paths at worst
@@ -93,9 +99,11 @@ def glossy_desc(gs: GlossyScene, exr: Path, variant: str = "world") -> dict[str,
             "ortho_scale": wd.ORTHO_SCALE, "camera": wd.camera_matrix(gs.view), "filter_px": 1.0, "world": {},
             "eevee": {}, "env_exr": str(exr), "bsdf": {"type": "glossy", "roughness": float(gs.roughness),
                                                        "distribution": "GGX"}}
-    if variant == "sphere_probe":
+    if variant in ("sphere_probe", "sphere_probe_far"):
         desc["probes"] = [{"type": "SPHERE", "location": [0.0, 0.0, 0.0], "radius": SPHERE_PROBE_RADIUS,
                            "hide_sphere": True}]
+    if variant == "sphere_probe_far":
+        desc["probes"][0]["parallax"] = FAR_PARALLAX
     return desc
 
 
@@ -103,6 +111,8 @@ def volume_desc(vs: VolumeScene, exr: Path, variant: str = "world") -> dict[str,
     desc = {"kind": "world_sphere", "segments": wd.SEGMENTS, "rings": wd.RINGS, "albedo": VOLUME_ALBEDO,
             "ortho_scale": VOLUME_ORTHO, "camera": wd.camera_matrix(VOLUME_VIEW), "filter_px": 1.0, "world": {},
             "eevee": {}, "env_exr": str(exr), "plane": [PLANE[0], PLANE[1], VOLUME_ALBEDO]}
+    if variant == "cycles":  # Cycles' bounces = Mitsuba's max_depth − 2 (max_depth 2 is direct light, bounces 0)
+        desc["cycles"] = {"max_bounces": VOLUME_DEPTH - 2, "diffuse_bounces": VOLUME_DEPTH - 2}
     if variant == "volume":
         desc["probes"] = [{"type": "VOLUME", "location": [0.0, 0.0, 0.0], "scale": list(VOLUME_SCALE),
                            "resolution": list(VOLUME_RESOLUTION), "samples": VOLUME_SAMPLES}]
@@ -161,6 +171,7 @@ class Truth:
     stderr: np.ndarray
     passes: int
     spp: int
+    images: np.ndarray  # (P, R, R, 3) the passes (the bias test's cross-fitted z)
 
 
 def truth(kind: str, env: Environment, resolution: int, spp: int, passes: int, seed: int,
@@ -183,7 +194,7 @@ def truth(kind: str, env: Environment, resolution: int, spp: int, passes: int, s
              {"albedo": VOLUME_ALBEDO, "depth": VOLUME_DEPTH, "plane": list(PLANE), "ortho": VOLUME_ORTHO}}
     images = cached("blender_probe_truth", parts, compute)["passes"]
     mean, stderr = mean_and_stderr(images, axis=0)
-    return Truth(mean, stderr, passes, spp)
+    return Truth(mean, stderr, passes, spp, images)
 
 
 # ---------------------------------------------------------------- judgements
@@ -206,7 +217,7 @@ def eevee_numbers(img: np.ndarray, t: Truth, mask: np.ndarray) -> dict[str, Any]
 
 def cycles_numbers(frames: np.ndarray, t: Truth, mask: np.ndarray, power_scale: float) -> dict[str, Any]:
     """Cycles' passes against Mitsuba's on ``mask``: :mod:`.world`'s claims' numbers (acceptance, the truth mirrored
-    left–right, the bias test and each with Cycles × ``power_scale``)."""
+    left–right and flipped upside down, the bias test and each with Cycles × ``power_scale``)."""
     f = frames.astype(np.float64)
     img = f[..., :3].mean(axis=0)
     se = f[..., :3].std(axis=0, ddof=1) / math.sqrt(len(f))
@@ -216,8 +227,9 @@ def cycles_numbers(frames: np.ndarray, t: Truth, mask: np.ndarray, power_scale: 
     return {"frames": len(f), "judgement": judge(img, t.mean, sig, dof, mask, 0.0, text),
             "power": judge(img * power_scale, t.mean, sig, dof, mask, 0.0, text),
             "mirrored": judge(img, t.mean[:, ::-1], sig[:, ::-1], dof, mask & mask[:, ::-1], 0.0, text),
-            "bias": wd.mean_z(img, t.mean, sig, dof, mask),
-            "bias_power": wd.mean_z(img * power_scale, t.mean, sig, dof, mask),
+            "flipped": judge(img, t.mean[::-1], sig[::-1], dof, mask & mask[::-1], 0.0, text),
+            "bias": wd.bias(f[..., :3], t.images, mask),
+            "bias_power": wd.bias(f[..., :3], t.images, mask, power_scale),
             "bias_limit": mean_z_bound(int(mask.sum()), pathtrace.BIAS_SIGMAS),
             "energy": wd.energy(img[mask], se[mask], t.mean[mask], t.stderr[mask])}
 

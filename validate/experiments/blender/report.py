@@ -71,7 +71,8 @@ SHADOW_LABEL = {"cycles": "Cycles", "eevee_jitter_off": "EEVEE, jitter off (filt
                 "eevee_filter_3": "EEVEE, jitter off, filter radius 3",
                 "eevee_overblur_0": "EEVEE, jitter on, overblur 0 %",
                 "eevee_overblur_40": "EEVEE, jitter on, overblur 40 %"}
-GLOSSY_TEXT = {"world": "world probe", "sphere_probe": "Sphere light probe (r 2.5 m, default parallax)"}
+GLOSSY_TEXT = {"world": "world probe", "sphere_probe": "Sphere light probe (r 2.5 m, default parallax)",
+               "sphere_probe_far": "Sphere light probe (r 2.5 m, parallax sphere 10 km)"}
 VOLUME_TEXT = {"world": "no probe object (world probe, horizon scan)", "volume": "irradiance volume, baked"}
 
 
@@ -92,12 +93,19 @@ def glossy_rows(m: Measurements) -> list[list[Any]]:
     return rows
 
 
+def _cycles_cells(cy: dict, swapped: str = "mirrored") -> list[Any]:
+    return [cy["judgement"].n_pixels, f"{100 * cy['judgement'].fraction_accepted:.2f}",
+            f"{100 * cy[swapped].fraction_accepted:.2f}", ratio(*cy["energy"]), f"{cy['bias']:.3f}",
+            f"{cy['bias_power']:.3f}", f"{cy['bias_limit']:.3f}"]
+
+
 def glossy_cycles_rows(m: Measurements) -> list[list[Any]]:
-    return [[g["probe"], f"{g['roughness']:g}", g["cycles"]["judgement"].n_pixels,
-             f"{100 * g['cycles']['judgement'].fraction_accepted:.2f}",
-             f"{100 * g['cycles']['mirrored'].fraction_accepted:.2f}", ratio(*g["cycles"]["energy"]),
-             f"{g['cycles']['bias']:.3f}", f"{g['cycles']['bias_power']:.3f}", f"{g['cycles']['bias_limit']:.3f}"]
+    rows = [[g["probe"], f"glossy, roughness {g['roughness']:g}", *_cycles_cells(g["cycles"])]
             for g in m.glossy if g.get("cycles")]
+    if m.volume.get("cycles"):
+        rows.append([m.volume["probe"], f"sphere on a plane, Lambert, {m.volume['truth']['depth'] - 2} bounces "
+                     "(power: the truth flipped upside down)", *_cycles_cells(m.volume["cycles"], "flipped")])
+    return rows
 
 
 def volume_rows(m: Measurements) -> list[list[Any]]:
@@ -266,8 +274,8 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
             tables=[Table(["probe", "method", "TAA samples (count)", "mean error / Φ (%)", "max error / Φ (%)",
                            "energy / truth (–)"], world_rows(m), caption=f"Blender {m.version}"),
                     Table(["probe", "frames (count)", "spp (count)", "accepted (%)", "pixels (px)", "max |z| (–)",
-                           "energy ratio (–)", "× 1.01 accepted (%)", "mirrored accepted (%)", "max |mean z| (–)",
-                           "× 1.01 max |mean z| (–)", "4/√N (–)"],
+                           "energy ratio (–)", "× 1.01 accepted (%)", "mirrored accepted (%)", "max |mean z̃| / sd (–)",
+                           "× 1.01 max |mean z̃| / sd (–)", "4/√N (–)"],
                           world_cycles_rows(m), caption="Cycles against Mitsuba, per pixel")]))
     if m.shadows:
         out.append(Section("Soft shadows: a sphere light and an occluder over the plane", [
@@ -293,9 +301,10 @@ def probe_sections(m: Measurements) -> list[Section]:
                            "mean |rel. error| (%)", "truth's noise alone (%)", "bias (%)", "energy ratio (–)"],
                           glossy_rows(m),
                           caption=f"Blender {m.version}"),
-                    Table(["probe", "roughness (–)", "pixels (px)", "accepted (%)", "mirrored accepted (%)",
-                           "energy ratio (–)", "max |mean z| (–)", "× 1.01 max |mean z| (–)", "4/√N (–)"],
-                          glossy_cycles_rows(m), caption="Cycles against Mitsuba, per pixel")]))
+                    Table(["probe", "scene", "pixels (px)", "accepted (%)", "mirrored (flipped) accepted (%)",
+                           "energy ratio (–)", "max |mean z̃| / sd (–)", "× 1.01 max |mean z̃| / sd (–)", "4/√N (–)"],
+                          glossy_cycles_rows(m), caption="Cycles against Mitsuba, per pixel (the glossy spheres and "
+                                                         "the volume probe's scene)")]))
     if m.volume:
         out.append(Section("Volume probe: a Lambertian sphere on a plane (bpy-built)", [
             "Sphere and square of albedo 0.5 lit only by the probe; Mitsuba's path tracer with every bounce is the "
@@ -326,23 +335,29 @@ def _eevee_data(e: dict) -> dict:
             "bias": Measured(e["bias"], unit="%", stat="mean").to_json(), "energy": Measured(*e["energy"]).to_json()}
 
 
+def _cycles_data(cy: dict) -> dict:
+    return {"frames": cy["frames"], "energy": Measured(*cy["energy"]).to_json(),
+            "bias": Measured(cy["bias"], perturbed=cy["bias_power"], perturbation="Cycles × 1.01",
+                             stat="max").to_json(), "bias_limit": cy["bias_limit"],
+            **{k: cy[k].to_json() for k in ("judgement", "power", "mirrored", "flipped")}}
+
+
 def glossy_data(g: dict) -> dict:
     out: dict[str, Any] = {"probe": g["probe"], "roughness": g["roughness"], "alpha": g["alpha"],
                            "truth": g["truth"], "eevee": {v: _eevee_data(e) for v, e in g["eevee"].items()}}
-    cy = g.get("cycles")
-    if cy:
-        out["cycles"] = {"frames": cy["frames"], "energy": Measured(*cy["energy"]).to_json(),
-                         "bias": Measured(cy["bias"], perturbed=cy["bias_power"], perturbation="Cycles × 1.01",
-                                          stat="max").to_json(), "bias_limit": cy["bias_limit"],
-                         **{k: cy[k].to_json() for k in ("judgement", "power", "mirrored")}}
+    if g.get("cycles"):
+        out["cycles"] = _cycles_data(g["cycles"])
     return out
 
 
 def volume_data(v: dict) -> dict:
     if not v:
         return {}
-    return {"probe": v["probe"], "truth": v["truth"],
-            "variants": {k: {r: _eevee_data(e) for r, e in regs.items()} for k, regs in v["variants"].items()}}
+    out = {"probe": v["probe"], "truth": v["truth"],
+           "variants": {k: {r: _eevee_data(e) for r, e in regs.items()} for k, regs in v["variants"].items()}}
+    if v.get("cycles"):
+        out["cycles"] = _cycles_data(v["cycles"])
+    return out
 
 
 def shadow_region_data(r: dict) -> dict:

@@ -58,12 +58,14 @@ class Settings:
     glossy_probe: str = ""
     glossy_roughness: tuple[float, ...] = (0.1, 0.3, 0.6)
     glossy_variants: tuple[str, ...] = ("world",)  # EEVEE: probes.GLOSSY_VARIANTS
-    glossy_passes: int = 8  # Cycles frames (seeds): 4 × 64 spp (3 dof) failed the bias test at r 0.1 / 0.3 (docs)
+    glossy_passes: int = 8  # Cycles frames (seeds): two halves of 4 for the bias test's cross-fitted z
     glossy_spp: int = 32
     glossy_truth_spp: int = 256  # Mitsuba (the glTF BSDF at metallic 1), ``passes`` passes
     glossy_eevee_samples: int = 4
     volume_probe: str = ""
     volume_variants: tuple[str, ...] = ("world", "volume")  # EEVEE: probes.VOLUME_VARIANTS
+    volume_cycles: bool = True  # Cycles as a second truth of the volume scene (bounces as Mitsuba's max_depth)
+    volume_spp: int = 32  # Cycles samples per frame, ``passes`` frames
     volume_truth_spp: int = 128
     volume_eevee_samples: int = 4
 
@@ -81,5 +83,6 @@ QUICK = Settings(scene_set="quick", passes=8, spp=8, furnace_spp=16, eevee_scene
 FULL = Settings(eevee_scenes=_EEVEE, world_probes=WORLD_PROBES if _ON else (),
                 world_variants=WORLD_VARIANTS if _ON else (), soft_shadows=_ON,
                 shadow_sweep=("filter_0", "filter_3", "overblur_0", "overblur_40") if _ON else (),
-                glossy_probe=WORLD_PROBES[0] if _ON else "", glossy_variants=("world", "sphere_probe"),
+                glossy_probe=WORLD_PROBES[0] if _ON else "",
+                glossy_variants=("world", "sphere_probe", "sphere_probe_far"),
                 volume_probe=WORLD_PROBES[0] if _ON else "")

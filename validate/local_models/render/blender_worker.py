@@ -91,6 +91,9 @@ def _settings(scene: object, job: dict) -> None:
             r.filter_size = float(built["filter_px"])
     for k, v in built.get("eevee", {}).items():
         setattr(scene.eevee, k, v)  # type: ignore[attr-defined]
+    if job["engine"] == "CYCLES":
+        for k, v in built.get("cycles", {}).items():
+            setattr(scene.cycles, k, v)  # type: ignore[attr-defined]
 
 
 def _world(scene: object, rgb: list | None) -> None:
@@ -168,8 +171,9 @@ def _material(spec: dict, albedo: float) -> object:
 
 
 def _probes(scene: object, probes: list, sphere: object) -> None:
-    """EEVEE light-probe objects: ``{"type": "SPHERE", "location", "radius" (influence), "hide_sphere"}``
-    (captured at render) or ``{"type": "VOLUME", "location", "scale", "resolution", "samples"}`` baked now
+    """EEVEE light-probe objects: ``{"type": "SPHERE", "location", "radius" (influence), "hide_sphere",
+    "parallax"}`` (captured at render; ``parallax``: a custom spherical parallax volume of that radius) or
+    ``{"type": "VOLUME", "location", "scale", "resolution", "samples"}`` baked now
     (``lightprobe_cache_bake``)."""
     import bpy
 
@@ -179,6 +183,10 @@ def _probes(scene: object, probes: list, sphere: object) -> None:
         if p["type"] == "SPHERE":
             o.data.influence_distance = float(p.get("radius", 2.5))
             sphere.hide_probe_sphere = bool(p.get("hide_sphere", True))  # type: ignore[attr-defined]
+            if "parallax" in p:
+                o.data.use_custom_parallax = True
+                o.data.parallax_type = "ELIPSOID"
+                o.data.parallax_distance = float(p["parallax"])
         elif p["type"] == "VOLUME":
             o.scale = tuple(p["scale"])
             o.data.resolution_x, o.data.resolution_y, o.data.resolution_z = (int(v) for v in p["resolution"])
@@ -194,7 +202,8 @@ def build(job: dict) -> object:
     Lambertian of ``albedo`` (or ``bsdf`` = {"type": "glossy", "roughness", "distribution"}), lit only by the
     equirectangular world ``env_exr`` (Blender's own mapping), seen by an orthographic camera of ``ortho_scale`` with
     the 4 × 4 ``camera`` matrix (row-major, Blender world); ``plane`` [z, size, albedo]: a Lambertian square below
-    it; ``probes``: EEVEE light-probe objects (:func:`_probes`, added after the render settings)."""
+    it; ``cycles``: Cycles settings (e.g. bounces; :func:`_settings`); ``probes``: EEVEE light-probe objects
+    (:func:`_probes`, added after the render settings)."""
     import bpy
     from mathutils import Matrix
 
