@@ -74,7 +74,7 @@ environment variables:
   VALIDATE_NODE     the Node.js used by the engines experiment (a missing path turns the engines off)
   VALIDATE_EXTENDED =1: the full run's heavy extras (the IBL sampler's whole sweep, the Sample Viewer at its
                     larger IBL sizes, Babylon.js and every exported scene through the loaders; minutes more)
-  VALIDATE_EEVEE    =1: the blender experiment renders EEVEE and the bpy-built scenes too (minutes more)
+  VALIDATE_EEVEE    =1: the blender experiment renders the bpy-built scenes and EEVEE's furnace too (minutes more)
 """
 
 

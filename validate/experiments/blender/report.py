@@ -229,7 +229,8 @@ def findings(m: Measurements) -> list[str]:
                            f"{a['mean_abs_diff_of_peak']:.2%} of the peak, Blender / truth = {a['mean_ratio']:.4f}")
         if j.engine == "blender_eevee":
             ref = ROW_REFERENCE[j.kind]
-            out.append(f"EEVEE ({j.samples} TAA samples, {j.precision} film) on {j.scene}: "
+            plural = "s" if j.samples != 1 else ""
+            out.append(f"EEVEE ({j.samples} TAA sample{plural}, {j.precision} film) on {j.scene}: "
                        f"{j.judgements[ref].fraction_accepted:.1%} of pixels within uncertainty of {ref}, energy "
                        f"{ratio(*j.energy[ref])}")
     out += world_findings(m) + shadow_findings(m) + probe_findings(m)

@@ -4,8 +4,9 @@ The same scene files and importer as :mod:`.blender_cycles`; ``taa_render_sample
 accumulates jittered rasterisations), film filter 0.01 px. Precision: EEVEE's film accumulates in half floats —
 measured: every value of its float32 EXR is a binary16 number (0.55078125 where the truth is 0.551166) — so a reader
 adds the half-float rounding (relative 2⁻¹¹, uniform: σ = ulp/√12) to the uncertainty. Cost on the 2-core machine:
-the first frame of a process compiles EEVEE's shaders on llvmpipe (measured 18 s), later frames seconds each; so
-EEVEE renders only where the settings ask for it (``blender`` experiment: ``eevee_scenes``).
+the first frame of a process compiles EEVEE's shaders on llvmpipe (25 s at 16 samples with Mesa's shader cache
+cold; 1.8 s at 1 sample with it warm), later frames seconds each; so EEVEE renders only where the settings ask for
+it (``blender`` experiment: ``eevee_scenes``, two scenes at 1 sample in every run).
 Blender's manual bounds nothing per pixel for EEVEE ("less precise than Cycles"): its results are findings.
 Beyond the .glb scenes the ``blender`` experiment renders through bpy a Lambertian sphere lit only by a probe (the
 world light probe: L1 spherical harmonics plus the sun extracted above ``World.sun_threshold``) and a sphere light
