@@ -72,12 +72,30 @@ def test_the_lambertian_world_job_keeps_its_description() -> None:
 
 
 def test_shadow_sweep_names_blender_5s_light_settings() -> None:
-    """Blender 5.0: ``shadow_filter_radius`` (PCF, default 1) and ``shadow_jitter_overblur`` (%, default 10)."""
-    assert set(shadows.SWEEP) >= {"filter_0", "filter_3", "overblur_0", "overblur_40"}
+    """Blender 5.0: ``shadow_filter_radius`` (PCF, default 1) and ``shadow_jitter_overblur`` (%, default 10) on the
+    light; ``light_threshold`` (default 0.01) on the scene's EEVEE settings."""
+    assert set(shadows.SWEEP) >= {"filter_0", "filter_3", "overblur_0", "overblur_40", "threshold_low"}
     for label, light in shadows.SWEEP.items():
         assert set(light) <= {"use_shadow_jitter", "shadow_filter_radius", "shadow_jitter_overblur"}
-        assert light["use_shadow_jitter"] == label.startswith("overblur")
+        assert light["use_shadow_jitter"] == (not label.startswith("filter"))
+    assert shadows.SCENE == {"threshold_low": {"light_threshold": 1.0e-4}}
     assert set(settings_mod.FULL.shadow_sweep) <= set(shadows.SWEEP)
+    sc = shadows.scene(16)
+    assert "eevee" not in shadows.extras(sc, shadows.eevee_light("jitter_on"))  # the cached jobs keep their keys
+    assert shadows.extras(sc, shadows.eevee_light("threshold_low"), shadows.SCENE["threshold_low"])["eevee"] == {
+        "light_threshold": 1.0e-4}
+
+
+def test_the_disc_light_is_an_area_disc_of_the_spots_intensity() -> None:
+    """The disc's radiance I/(π r²) is an AREA light of power π I (P = π A L); the sphere keeps its radius."""
+    disc, sphere = shadows.disc_scene(16), shadows.scene(16)
+    ex = shadows.extras(disc)
+    assert ex["area_disc"] == {"radius": disc.light_size, "power": pytest.approx(math.pi * disc.light.intensity)}
+    assert "light_radius" not in ex and shadows.extras(sphere)["light_radius"] == sphere.light_size
+    c, n, r, radiance = disc.emitter_disc()
+    assert np.pi * (np.pi * r * r) * radiance == pytest.approx(ex["area_disc"]["power"])
+    assert n @ (np.asarray(disc.light.target) - c) > 0  # it faces the plane
+    assert disc.key() != sphere.key() and disc.name != sphere.name
 
 
 def _lambda(a2: float, mu: float) -> float:

@@ -241,3 +241,27 @@ def test_filament_pcf_shadows_against_the_path_tracer(which: str) -> None:
         assert umbra.id.endswith(".umbra")
     else:
         assert r.leak[0] == 1.0 and r.umbra_mean[0] > 0.99 and umbra.id.endswith(".umbra.regression")
+
+
+def test_the_disc_lights_truth_meets_its_closed_form(tmp_path, monkeypatch) -> None:
+    """The disc light's Mitsuba truth (``disk`` + ``area``, the blender experiment's soft shadows) on the lit pixels
+    against the quadrature of E = L ∫ cos θ_p cos θ_l / d² dA over the disc (400² polar nodes): within 5·10⁻⁴
+    (measured 1.00002 ± 0.00008 at 32², 8 × 64 spp); the disc turned away or its radiance taken for I would fail."""
+    from validate.reference.render_reference import render_reference
+
+    monkeypatch.setenv("VALIDATE_CACHE", str(tmp_path))
+    sc = rss.disc_shadow_scene(SMALL)
+    ref = render_reference(sc, 64, PASSES, 0)
+    lit = rss.regions(sc)["lit"]
+    c, n, r, radiance = sc.emitter_disc()
+    k = 400
+    rho, phi = np.meshgrid(np.sqrt((np.arange(k) + 0.5) / k), 2 * np.pi * (np.arange(k) + 0.5) / k, indexing="ij")
+    u, v = rss._frame(n)
+    a, b = rho.reshape(-1, 1) * np.cos(phi.reshape(-1, 1)), rho.reshape(-1, 1) * np.sin(phi.reshape(-1, 1))
+    q = c + r * (a * u + b * v)
+    d = q[None] - sc.surface_points()[lit][:, None]
+    t = np.linalg.norm(d, axis=-1)
+    cos_p, cos_l = np.clip(d[..., 2] / t, 0, None), np.clip(-(d @ n) / t, 0, None)
+    e = radiance * (cos_p * cos_l / t**2).sum(1) * np.pi * r * r / len(q)
+    ratio = ref.mean[lit].mean(-1) / (float(np.mean(sc.material.base_color)) * e / np.pi)
+    assert lit.sum() > 50 and abs(ratio.mean() - 1.0) < 5e-4, (lit.sum(), ratio.mean())

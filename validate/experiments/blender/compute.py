@@ -233,22 +233,27 @@ def conversion(items: dict[str, SetScene], results: dict[tuple[str, str, str], d
 
 
 def shadow_jobs(s: Settings, work: Path, keyed: list) -> None:
-    """Append the soft-shadow scene's jobs to ``keyed``: Cycles (``passes`` frames), EEVEE per jitter setting."""
+    """Append the soft-shadow scenes' jobs to ``keyed``: the sphere light's (Cycles, ``passes`` frames; EEVEE per
+    jitter setting and sweep point) and, with ``shadow_disc``, the disc light's (Cycles; EEVEE jitter off and on)."""
     if not s.soft_shadows:
         return
-    sc = sh.scene(s.resolution)
-    data = glb_bytes(sc)
-    glb = work / f"{sc.name}.glb"
-    glb.write_bytes(data)
-    digest = hashlib.sha256(data).hexdigest()
     seeds = tuple(s.seed * 1000 + k for k in range(s.passes))
-    keyed.append(((sc.name, "cycles", CYCLES.name), bl.Job(str(glb), str(work / f"{sc.name}_c"), CYCLES.engine,
-                                                           s.resolution, s.shadow_spp, seeds, punctual=False,
-                                                           extras=sh.extras(sc)), digest))
-    for label, light in [*sh.JITTER.items(), *((k, sh.SWEEP[k]) for k in s.shadow_sweep)]:
-        keyed.append(((sc.name, f"eevee_{label}", EEVEE.name),
-                      bl.Job(str(glb), str(work / f"{sc.name}_{label}"), EEVEE.engine, s.resolution, s.shadow_spp,
-                             (s.seed,), punctual=False, extras=sh.extras(sc, light)), digest))
+    scenes = [(sh.scene(s.resolution), [*sh.JITTER, *s.shadow_sweep])]
+    if s.shadow_disc:
+        scenes.append((sh.disc_scene(s.resolution), list(sh.DISC_LABELS)))
+    for sc, eevee in scenes:
+        data = glb_bytes(sc)
+        glb = work / f"{sc.name}.glb"
+        glb.write_bytes(data)
+        digest = hashlib.sha256(data).hexdigest()
+        keyed.append(((sc.name, "cycles", CYCLES.name), bl.Job(str(glb), str(work / f"{sc.name}_c"), CYCLES.engine,
+                                                               s.resolution, s.shadow_spp, seeds, punctual=False,
+                                                               extras=sh.extras(sc)), digest))
+        for label in eevee:
+            ex = sh.extras(sc, sh.eevee_light(label), sh.SCENE.get(label))
+            keyed.append(((sc.name, f"eevee_{label}", EEVEE.name),
+                          bl.Job(str(glb), str(work / f"{sc.name}_{label}"), EEVEE.engine, s.resolution,
+                                 s.shadow_spp, (s.seed,), punctual=False, extras=ex), digest))
 
 
 def world_jobs(ctx: Any, s: Settings, work: Path, keyed: list) -> list[wd.WorldScene]:
@@ -395,10 +400,12 @@ def compute(ctx: Any, s: Settings) -> Measurements:
               if n == ws.name and e == EEVEE.name}
         m.world.append(wd.judge_world(ws, truth, None if cyc is None else cyc["frames"], ee, POWER_SCALE))
     m.costs["world_judge_s"] = time.perf_counter() - t1
-    frames = {e: r["frames"] for (n, e, _), r in results.items() if n == sh.scene(s.resolution).name}
-    if frames:
-        ts = truth_settings(s)
-        m.shadows = sh.judge_shadow(sh.scene(s.resolution), frames, ts.shadow_spp, ts.passes, ts.seed)
+    ts = truth_settings(s)
+    for sc, prefix in ((sh.scene(s.resolution), ""), (sh.disc_scene(s.resolution), sh.DISC)):
+        frames = {e: r["frames"] for (n, e, _), r in results.items() if n == sc.name}
+        if frames:
+            judged = sh.judge_shadow(sc, frames, ts.shadow_spp, ts.passes, ts.seed)
+            m.shadows.update({prefix + label: regions for label, regions in judged.items()})
     t2 = time.perf_counter()
     m.glossy, m.volume = judge_probes(s, results, glossy, volume)
     m.costs["probes_judge_s"] = time.perf_counter() - t2

@@ -8,6 +8,7 @@ from ...stats import Measured
 from ..base import NotRun, Section, Table
 from .claims import AGREEING
 from .compute import Judged, Measurements
+from .shadows import DISC
 
 # the reference each kind's table row shows first: where they must agree, else the closed form (furnace)
 ROW_REFERENCE = {**AGREEING, "spot": "blender", "furnace": "energy"}
@@ -70,7 +71,11 @@ SHADOW_LABEL = {"cycles": "Cycles", "eevee_jitter_off": "EEVEE, jitter off (filt
                 "eevee_filter_0": "EEVEE, jitter off, filter radius 0",
                 "eevee_filter_3": "EEVEE, jitter off, filter radius 3",
                 "eevee_overblur_0": "EEVEE, jitter on, overblur 0 %",
-                "eevee_overblur_40": "EEVEE, jitter on, overblur 40 %"}
+                "eevee_overblur_40": "EEVEE, jitter on, overblur 40 %",
+                "eevee_threshold_low": "EEVEE, jitter on, light threshold 10⁻⁴",
+                "disc_cycles": "Cycles, disc light", "disc_eevee_jitter_off": "EEVEE, disc light, jitter off",
+                "disc_eevee_jitter_on": "EEVEE, disc light, jitter on",
+                "disc_eevee_threshold_low": "EEVEE, disc light, jitter on, light threshold 10⁻⁴"}
 GLOSSY_TEXT = {"world": "world probe", "sphere_probe": "Sphere light probe (r 2.5 m, default parallax)",
                "sphere_probe_far": "Sphere light probe (r 2.5 m, parallax sphere 10 km)"}
 VOLUME_TEXT = {"world": "no probe object (world probe, horizon scan)", "volume": "irradiance volume, baked"}
@@ -117,7 +122,8 @@ def volume_rows(m: Measurements) -> list[list[Any]]:
 def sweep_finding(m: Measurements) -> list[str]:
     """One line: the penumbra's energy and the umbra's leak over EEVEE's filter radius and overblur."""
     rows = [(k, m.shadows[k]) for k in ("eevee_filter_0", "eevee_jitter_off", "eevee_filter_3", "eevee_overblur_0",
-                                          "eevee_jitter_on", "eevee_overblur_40") if k in m.shadows]
+                                          "eevee_jitter_on", "eevee_overblur_40", "eevee_threshold_low")
+            if k in m.shadows]
     if not any(k.startswith(("eevee_filter", "eevee_overblur")) for k, _ in rows):
         return []
     return ["EEVEE's shadow filter radius and overblur (penumbra Blender / truth, umbra leak % of lit): " + "; ".join(
@@ -161,7 +167,8 @@ def shadow_findings(m: Measurements) -> list[str]:
         parts = [f"{k} {100 * r['fraction_accepted']:.1f} % accepted"
                  + ("" if r["ratio"] is None else f" (Blender / truth {r['ratio']:.4f})") for k, r in reg.items()]
         leak = reg.get("umbra", {}).get("leak_of_lit")
-        out.append(f"soft shadow (sphere light r = 0.15 m, plate occluder), {SHADOW_LABEL.get(label, label)}, "
+        light = "disc light" if label.startswith(DISC) else "sphere light"
+        out.append(f"soft shadow ({light} r = 0.15 m, plate occluder), {SHADOW_LABEL.get(label, label)}, "
                    f"{m.settings.shadow_spp} samples: " + "; ".join(parts)
                    + ("" if leak is None else f"; light in the umbra {100 * leak:.2f} % of the lit plane's mean"))
     return out
@@ -279,11 +286,13 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
                            "× 1.01 max |mean z̃| / sd (–)", "4/√N (–)"],
                           world_cycles_rows(m), caption="Cycles against Mitsuba, per pixel")]))
     if m.shadows:
-        out.append(Section("Soft shadows: a sphere light and an occluder over the plane", [
+        out.append(Section("Soft shadows: a sphere light or a disc light and an occluder over the plane", [
             "The renders experiment's shadow_spot with the reference's light: a uniform sphere emitter of radius "
             "0.15 m (Blender: the imported spot given that radius, soft falloff off), the plate occluder added "
-            "through bpy, direct light only. Regions from the truth's visibility of the light (lit, penumbra, "
-            "umbra); |Blender − truth| as % of the lit plane's mean radiance."],
+            "through bpy, direct light only. The disc rows: the light a one-sided Lambertian disc of the same radius "
+            "facing along the spot, radiance I/(π r²) (Mitsuba disk emitter; Blender an AREA light of shape DISK, "
+            "power π I). Regions from the truth's visibility of the light (lit, penumbra, umbra); |Blender − truth| "
+            "as % of the lit plane's mean radiance."],
             tables=[Table(["renderer", "pixel set", "pixels (px)", "accepted (%)", "Blender / truth (–)",
                            "mean |Blender − truth| / lit mean (%)"], shadow_rows(m), caption=f"Blender {m.version}")]))
     return out + probe_sections(m) + [cost]

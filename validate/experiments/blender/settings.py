@@ -63,6 +63,7 @@ class Settings:
     soft_shadows: bool = False  # shadows.py: the sphere light and occluder, Cycles and EEVEE (jitter off / on)
     shadow_spp: int = 16  # Cycles samples per frame (``passes`` frames); EEVEE: taa_render_samples
     shadow_sweep: tuple[str, ...] = ()  # shadows.SWEEP: EEVEE's filter radius / overblur beyond the jitter rows
+    shadow_disc: bool = True  # with soft_shadows: the disc light too (Cycles; EEVEE jitter off and on)
     # bpy-built probe scenes (experiments/blender/probes.py); empty probe: not rendered
     glossy_probe: str = ""
     glossy_roughness: tuple[float, ...] = (0.1, 0.3, 0.6)
@@ -87,11 +88,11 @@ QUICK = Settings(scene_set="quick", passes=8, spp=8, furnace_spp=16, eevee_scene
                  scenes=("furnace_dielectric_r0.5", "furnace_metal_r0.5", "lambert_directional", "point_plane",
                          "point_sphere", "spot_plane"),
                  world_probes=WORLD_PROBES[:1] if _ON else (), world_variants=("default",) if _ON else (),
-                 soft_shadows=_ON, shadow_sweep=("filter_0", "filter_3") if _ON else (),
+                 soft_shadows=_ON, shadow_sweep=("filter_0", "filter_3", "threshold_low") if _ON else (),
                  glossy_probe=WORLD_PROBES[0] if _ON else "", volume_probe=WORLD_PROBES[0] if _ON else "")
 FULL = Settings(eevee_scenes=_EEVEE, world_probes=WORLD_PROBES if _ON else (),
                 world_variants=WORLD_VARIANTS if _ON else (), soft_shadows=_ON,
-                shadow_sweep=("filter_0", "filter_3", "overblur_0", "overblur_40") if _ON else (),
+                shadow_sweep=("filter_0", "filter_3", "overblur_0", "overblur_40", "threshold_low") if _ON else (),
                 glossy_probe=WORLD_PROBES[0] if _ON else "",
                 glossy_variants=("world", "sphere_probe", "sphere_probe_far"),
                 volume_probe=WORLD_PROBES[0] if _ON else "")

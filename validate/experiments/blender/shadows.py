@@ -1,4 +1,4 @@
-"""Soft shadows: a sphere light and a box occluder over the Lambertian plane, Blender against Mitsuba.
+"""Soft shadows: a sphere light or a disc light and a box occluder over the Lambertian plane, Blender against Mitsuba.
 
 The scene is the renders experiment's ``shadow_spot`` (:mod:`validate.scenes.render_shadow_scenes`): the plane, a
 plate occluder out of the camera's view, and the reference's light — a Mitsuba ``sphere`` area emitter of radius
@@ -8,6 +8,11 @@ adds what glTF cannot carry (``blender_worker._extras``): the occluder (carried 
 by the importer's (x, y, z) ↦ (x, −z, y)), the light's radius with soft falloff off (a uniform sphere emitter of the
 same intensity), direct light only in Cycles (max_bounces 0). EEVEE renders it with its virtual shadow maps, per-light
 jitter on and off (``Light.use_shadow_jitter``; off, EEVEE fakes the penumbra by shadow-map ray tracing).
+
+The disc (:func:`disc_scene`, labels prefixed :data:`DISC`): the same scene with the light a one-sided Lambertian disc
+of the same radius facing along the spot, radiance I/(π r²) (Mitsuba ``disk`` + ``area``; Blender the imported spot
+re-typed as an AREA light of shape DISK; Mitsuba's disc checked against the closed-form quadrature of a disc over the
+plane to 2·10⁻⁵).
 
 Read per region of the truth's visibility (:func:`~validate.scenes.render_shadow_scenes.regions`: lit, penumbra,
 umbra): the fraction of pixels within the combined uncertainty, the mean radiance over the truth's (penumbra), and
@@ -35,19 +40,47 @@ JITTER = {"jitter_off": {"use_shadow_jitter": False}, "jitter_on": {"use_shadow_
 SWEEP = {"filter_0": {"use_shadow_jitter": False, "shadow_filter_radius": 0.0},
          "filter_3": {"use_shadow_jitter": False, "shadow_filter_radius": 3.0},
          "overblur_0": {"use_shadow_jitter": True, "shadow_jitter_overblur": 0.0},
-         "overblur_40": {"use_shadow_jitter": True, "shadow_jitter_overblur": 40.0}}
+         "overblur_40": {"use_shadow_jitter": True, "shadow_jitter_overblur": 40.0},
+         "threshold_low": {"use_shadow_jitter": True}}
+# EEVEE scene settings of a label (``SceneEEVEE``): ``light_threshold`` (default 0.01, "Minimum light intensity for a
+# light to contribute to the lighting") cuts each light off at a distance set by its power and fades it before that.
+# Measured, an AREA disc 1 m over a plane (0.89 W), EEVEE over the closed form: 0 at the default, 0.9994 at 10⁻⁴.
+# 0 itself is degenerate here: the soft-shadow scene's sphere light renders black and the disc lights its umbra.
+SCENE = {"threshold_low": {"light_threshold": 1.0e-4}}
+DISC_LABELS = ("jitter_off", "jitter_on", "threshold_low")  # the disc light's EEVEE rows
+
+
+DISC = "disc_"  # the label prefix of the disc light's renders (m.shadows: "disc_cycles", "disc_eevee_jitter_on", …)
 
 
 def scene(resolution: int) -> rss.ShadowScene:
     return rss.spot_shadow_scene(resolution)
 
 
-def extras(sc: rss.ShadowScene, light: dict[str, Any] | None = None) -> dict[str, Any]:
-    """The worker's extras for ``sc``: the occluder in Blender's frame, the light's radius, direct light only."""
+def disc_scene(resolution: int) -> rss.DiscShadowScene:
+    return rss.disc_shadow_scene(resolution)
+
+
+def eevee_light(label: str) -> dict[str, Any]:
+    """bpy Light attributes of an EEVEE row (:data:`JITTER` or :data:`SWEEP`)."""
+    return JITTER.get(label) or SWEEP[label]
+
+
+def extras(sc: rss.ShadowScene, light: dict[str, Any] | None = None, eevee: dict[str, Any] | None = None
+           ) -> dict[str, Any]:
+    """The worker's extras for ``sc``: the occluder in Blender's frame, the light (a sphere of the reference's radius,
+    or for :class:`~validate.scenes.render_shadow_scenes.DiscShadowScene` an AREA disc of power π I: Blender's area
+    light of power P emits radiance P/(π A), and the disc's is I/(π r²)), direct light only."""
     cx, cy, cz = sc.occluder.center
     sx, sy, sz = sc.occluder.size
-    return {"boxes": [[[cx, -cz, cy], [sx, sz, sy]]], "light_radius": sc.light_size, "direct_only": True,
-            "light": dict(light or {})}
+    out: dict[str, Any] = {"boxes": [[[cx, -cz, cy], [sx, sz, sy]]], "direct_only": True, "light": dict(light or {})}
+    if eevee:
+        out["eevee"] = dict(eevee)
+    if isinstance(sc, rss.DiscShadowScene):
+        out["area_disc"] = {"radius": sc.light_size, "power": math.pi * sc.light.intensity}
+    else:
+        out["light_radius"] = sc.light_size
+    return out
 
 
 def region_numbers(img: np.ndarray, se: np.ndarray, ref: Any, sc: rss.ShadowScene, cov: np.ndarray
@@ -96,4 +129,5 @@ def judge_shadow(sc: rss.ShadowScene, frames: dict[str, np.ndarray], spp: int, p
     return out
 
 
-__all__ = ["JITTER", "SWEEP", "scene", "extras", "judge_shadow", "bl"]
+__all__ = ["JITTER", "SWEEP", "SCENE", "DISC", "DISC_LABELS", "scene", "disc_scene", "eevee_light", "extras",
+           "judge_shadow", "bl"]

@@ -268,18 +268,30 @@ def run_job(job: dict) -> dict:
 def _extras(scene: object, lights: list, ex: dict) -> None:
     """What the .glb cannot carry, added after import: ``boxes`` ([[centre], [size]] in Blender's frame; black
     Lambert, never seen), ``light_radius`` (every light a sphere of that radius, soft falloff off: a uniform sphere
-    emitter), ``light`` (bpy Light attributes, e.g. use_shadow_jitter), ``direct_only`` (Cycles max_bounces 0)."""
+    emitter), ``area_disc`` ({"radius", "power"}: every light an AREA light of shape DISK, spread 180°), ``light``
+    (bpy Light attributes, e.g. use_shadow_jitter), ``eevee`` (SceneEEVEE attributes, e.g. light_threshold),
+    ``direct_only`` (Cycles max_bounces 0)."""
     import bpy
 
     for centre, size in ex.get("boxes", []):
         bpy.ops.mesh.primitive_cube_add(size=2.0, location=centre, scale=[0.5 * v for v in size])
         bpy.context.active_object.data.materials.append(_lambert(0.0))
     for o in lights:
-        if "light_radius" in ex:
+        if "area_disc" in ex:  # the light re-typed as a one-sided disc emitter along its −Z (the spot's direction)
+            o.data.type = "AREA"
+            area = bpy.data.lights[o.data.name]  # re-fetched: the wrapper refines to AreaLight
+            area.shape = "DISK"
+            area.size = 2.0 * float(ex["area_disc"]["radius"])
+            area.energy = float(ex["area_disc"]["power"])
+            area.spread = math.pi
+        elif "light_radius" in ex:
             o.data.shadow_soft_size = float(ex["light_radius"])
             o.data.use_soft_falloff = False
         for k, v in ex.get("light", {}).items():
             setattr(o.data, k, v)
+    if scene.render.engine != "CYCLES":  # type: ignore[attr-defined]
+        for k, v in ex.get("eevee", {}).items():
+            setattr(scene.eevee, k, v)  # type: ignore[attr-defined]
     if ex.get("direct_only") and scene.render.engine == "CYCLES":  # type: ignore[attr-defined]
         scene.cycles.max_bounces = 0  # type: ignore[attr-defined]
 
