@@ -75,6 +75,7 @@ LIGHT_DISTANCE = 5.0
 ORTHO_HALF = 2.5
 SHADOW_NEAR, SHADOW_FAR = 0.5, 10.0
 VISIBILITY_SAMPLES = 16  # per axis of the light disc (16² cos-weighted samples per pixel)
+DISC_NODES = 64  # per axis of the disc emitter's irradiance quadrature (64² equal-area nodes)
 
 
 @dataclass(frozen=True)
@@ -219,9 +220,12 @@ def shadow_scenes(resolution: int = 64) -> list[ShadowScene]:
 
 def unshadowed_radiance(scene: ShadowScene) -> np.ndarray:
     """(R, R) radiance ρ E(p)/π of the Lambertian plane without the occluder: E = E_sun cos θ (directional) or
-    I cos θ/d² (spot; its cone's falloff is 1 on the view — checked), the engines' and the reference's alike."""
+    I cos θ/d² (spot; its cone's falloff is 1 on the view — checked), the engines' and the reference's alike; for
+    :class:`DiscShadowScene` the disc's E by quadrature (:func:`_disc_irradiance`)."""
     p = scene.surface_points()
     li, rho = scene.light, float(np.mean(scene.material.base_color))
+    if isinstance(scene, DiscShadowScene):
+        return rho * _disc_irradiance(scene, p.reshape(-1, 3)).reshape(p.shape[:2]) / np.pi
     if isinstance(li, DirectionalLight):
         return np.full(p.shape[:2], rho * li.intensity * max(-li.unit_direction()[2], 0.0) / np.pi)
     v = np.asarray(li.position) - p
@@ -229,6 +233,21 @@ def unshadowed_radiance(scene: ShadowScene) -> np.ndarray:
     if np.any(li.falloff((-v / d[..., None]) @ li.unit_direction()) < 1.0):
         raise ValidateError(f"{scene.name}: part of the view lies outside the spot's inner cone")
     return rho * li.intensity * (v[..., 2] / d) / d**2 / np.pi
+
+
+def _disc_irradiance(scene: DiscShadowScene, p: np.ndarray, n: int = DISC_NODES) -> np.ndarray:
+    """(N,) E(p) = L ∫ cos θ_p cos θ_l / d² dA over the disc emitter, n² equal-area nodes (upward plane normal)."""
+    c, normal, r, radiance = scene.emitter_disc()
+    u, v = _frame(normal)
+    disc = _disc_samples(n)
+    q = c + r * (disc[:, :1] * u + disc[:, 1:] * v)
+    out = np.empty(len(p))
+    for k in range(0, len(p), 256):
+        d = q[None] - p[k:k + 256, None]
+        t = np.linalg.norm(d, axis=-1)
+        cos_p, cos_l = np.clip(d[..., 2] / t, 0.0, None), np.clip(-(d @ normal) / t, 0.0, None)
+        out[k:k + 256] = (cos_p * cos_l / t**2).sum(axis=1)
+    return radiance * out * np.pi * r * r / len(q)
 
 
 def _disc_samples(n: int) -> np.ndarray:

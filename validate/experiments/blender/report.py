@@ -155,9 +155,12 @@ def shadow_rows(m: Measurements) -> list[list[Any]]:
     rows = []
     for label, regions in m.shadows.items():
         for region, r in regions.items():
+            width = (f"{r['width_px']:.0f} / {r['truth_width_px']:.0f} ± {r['truth_width_sd']:.1f}"
+                     if "width_px" in r else "–")
             rows.append([SHADOW_LABEL.get(label, label), region, r["pixels"], f"{100 * r['fraction_accepted']:.1f}",
                          "–" if r["ratio"] is None else f"{r['ratio']:.4f}",
-                         "–" if r["mean_abs_diff_of_lit"] is None else f"{100 * r['mean_abs_diff_of_lit']:.2f}"])
+                         "–" if r["mean_abs_diff_of_lit"] is None else f"{100 * r['mean_abs_diff_of_lit']:.2f}",
+                         width])
     return rows
 
 
@@ -294,7 +297,8 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
             "power π I). Regions from the truth's visibility of the light (lit, penumbra, umbra); |Blender − truth| "
             "as % of the lit plane's mean radiance."],
             tables=[Table(["renderer", "pixel set", "pixels (px)", "accepted (%)", "Blender / truth (–)",
-                           "mean |Blender − truth| / lit mean (%)"], shadow_rows(m), caption=f"Blender {m.version}")]))
+                           "mean |Blender − truth| / lit mean (%)", "10–90 % width: Blender / truth (px)"],
+                          shadow_rows(m), caption=f"Blender {m.version}")]))
     return out + probe_sections(m) + [cost]
 
 
@@ -376,6 +380,9 @@ def shadow_region_data(r: dict) -> dict:
     for k in ("ratio", "mean_abs_diff_of_lit", "leak_of_lit"):
         if r.get(k) is not None:
             out[k] = Measured(r[k], unit="" if k == "ratio" else "%").to_json()
+    if "width_px" in r:
+        out["width_px"] = Measured(r["width_px"], unit="px").to_json()
+        out["truth_width_px"] = Measured(r["truth_width_px"], r["truth_width_sd"], unit="px").to_json()
     return out
 
 

@@ -32,6 +32,7 @@ from ...local_models.render import blender as bl
 from ...metrics.pixel_z import interior_mask, judge
 from ...reference.render_reference import render_reference
 from ...scenes import render_shadow_scenes as rss
+from ..renders.shadows.compute import WIDTH_DRAWS, shadow_factor, transition_px
 
 JITTER = {"jitter_off": {"use_shadow_jitter": False}, "jitter_on": {"use_shadow_jitter": True}}
 # EEVEE's other soft-shadow settings (Blender 5.0: ``Light.shadow_filter_radius``, PCF, default 1 — the jitter_off
@@ -83,9 +84,23 @@ def extras(sc: rss.ShadowScene, light: dict[str, Any] | None = None, eevee: dict
     return out
 
 
-def region_numbers(img: np.ndarray, se: np.ndarray, ref: Any, sc: rss.ShadowScene, cov: np.ndarray
+def widths(img: np.ndarray, ref: Any, sc: rss.ShadowScene, mask: np.ndarray, seed: int) -> dict[str, float]:
+    """The penumbra's 10–90 % width in pixels (the renders experiment's measure, :func:`~validate.experiments.renders.
+    shadows.compute.transition_px`, of the shadow factor s = radiance / ρE/π, E unshadowed) for Blender and for the
+    truth, the truth's ± its s.d. over parametric redraws of its noise (the renders experiment's ``truth_width``)."""
+    unshadowed = rss.unshadowed_radiance(sc)
+    s = shadow_factor(ref.mean, unshadowed)
+    se = np.sqrt((ref.stderr**2).sum(axis=-1)) / 3.0 / unshadowed
+    rng = np.random.default_rng(seed)
+    draws = [transition_px(s + se * rng.standard_normal(s.shape), mask) for _ in range(WIDTH_DRAWS)]
+    return {"width_px": transition_px(shadow_factor(img, unshadowed), mask), "truth_width_px": transition_px(s, mask),
+            "truth_width_sd": float(np.std(draws, ddof=1))}
+
+
+def region_numbers(img: np.ndarray, se: np.ndarray, ref: Any, sc: rss.ShadowScene, cov: np.ndarray, seed: int = 0
                    ) -> dict[str, Any]:
-    """Per region: fraction accepted, pixels, Blender / truth mean; the umbra's leak as a fraction of the lit mean."""
+    """Per region: fraction accepted, pixels, Blender / truth mean; the umbra's leak as a fraction of the lit mean; the
+    penumbra's 10–90 % width (:func:`widths`) over the judged pixels."""
     tm, ts = ref.mean, ref.stderr
     hit = sc.hit_mask()
     base = interior_mask(hit, cov)
@@ -110,6 +125,8 @@ def region_numbers(img: np.ndarray, se: np.ndarray, ref: Any, sc: rss.ShadowScen
             r["mean_abs_diff_of_lit"] = float(np.abs(img - tm)[m].mean() / lit_mean)
             if name == "umbra":
                 r["leak_of_lit"] = float(img[m].mean() / lit_mean)
+    if "penumbra" in out:
+        out["penumbra"].update(widths(img, ref, sc, base, seed))
     return out
 
 
@@ -125,7 +142,7 @@ def judge_shadow(sc: rss.ShadowScene, frames: dict[str, np.ndarray], spp: int, p
             se = f[..., :3].std(axis=0, ddof=1) / math.sqrt(len(f))
         else:
             se = np.spacing(np.abs(img).astype(np.float16)).astype(np.float64) / math.sqrt(12.0)
-        out[label] = region_numbers(img, se, ref, sc, cov)
+        out[label] = region_numbers(img, se, ref, sc, cov, seed)
     return out
 
 
