@@ -14,7 +14,8 @@ of Φ" is a statement about SH9, not about EEVEE's L1 probe, and Blender's manua
 The glossy spheres over roughness (:mod:`.probes`): Cycles against Mitsuba under the same two claims per roughness
 (Cycles' Glossy BSDF, GGX single scattering, and the suite's glTF BSDF at metallic 1 are one BSDF); EEVEE's sphere
 probes and its irradiance volume are findings; Cycles on the volume probe's scene (a sphere on a plane, Lambert,
-every bounce up to Mitsuba's path length) is judged under the same two claims.
+every bounce up to Mitsuba's path length) is judged under the same two claims; Cycles on the soft-shadow scenes (a
+sphere light and a disc light past an occluder) under the agreement claim, power the truth mirrored left–right.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from ...metrics.pixel_z import MIN_ACCEPTED
 from ...reference import pathtrace
 from ..base import Claim
 from . import probes as pr
+from . import shadows as sh
 from .compute import POWER_SCALE, Measurements
 
 AGREEING = {"directional": "mitsuba", "point": "mitsuba"}
@@ -93,6 +95,14 @@ def claims(m: Measurements) -> list[Claim]:
                               pj.fraction_accepted, MIRRORED, cy["mirrored"].fraction_accepted))
         out.append(_unbiased(f"blender.cycles.glossy_{g['probe']}_r{r:g}.unbiased_against_mitsuba", what,
                              pj.n_pixels, cy))
+    for label, light in (("cycles", "sphere"), (f"{sh.DISC}cycles", "disc")):
+        a = m.shadows.get(label, {}).get("all")
+        if a:
+            out.append(_agreement(f"blender.cycles.shadow_{light}_light.agrees_with_mitsuba",
+                                  f"Cycles ({m.settings.passes} × {m.settings.shadow_spp} spp) and Mitsuba agree per "
+                                  f"pixel on the plane lit by a {light} light (r = 0.15 m) past a plate occluder, "
+                                  f"direct light only ({a['pixels']} px judged: lit, penumbra and umbra; the plane's "
+                                  "seam judged apart)", a["fraction_accepted"], MIRRORED, a["mirrored_accepted"]))
     cy = m.volume.get("cycles")
     if cy:
         pj, probe, truth = cy["judgement"], m.volume["probe"], m.volume["truth"]

@@ -49,7 +49,7 @@ from . import shadows as sh
 from . import world as wd
 from .settings import Settings
 
-POWER_SCALE = 1.01  # the power check: Blender's image 1 % brighter
+POWER_SCALE = sh.POWER_SCALE  # the power check: Blender's image 1 % brighter
 TERMINATOR_COS = 0.01  # the sun-lit sphere's pixels with |n·l| < this are judged apart (report: the finding)
 SEAM = "pixels whose centre lies on the plane's shared triangle edge (row + column = R − 1)"
 CONVERSION_SCENES = ("lambert_directional", "point_plane")
@@ -161,8 +161,7 @@ def apart_mask(it: SetScene, tm: np.ndarray) -> tuple[np.ndarray, str]:
     """(R, R) pixels judged apart (module docstring: the seam, a lit sphere's terminator band) and what they are."""
     r = it.scene.resolution
     if it.scene.geometry == "plane":
-        i, j = np.indices((r, r))
-        return i + j == r - 1, SEAM
+        return sh.seam_mask(r), SEAM
     if it.scene.geometry == "sphere" and it.kind in ("directional", "point"):
         [li] = it.scene.lights
         p = it.scene.surface_points()  # unit sphere: n = p

@@ -78,6 +78,7 @@ SHADOW_LABEL = {"cycles": "Cycles", "eevee_jitter_off": "EEVEE, jitter off (filt
                 "disc_eevee_threshold_low": "EEVEE, disc light, jitter on, light threshold 10⁻⁴"}
 GLOSSY_TEXT = {"world": "world probe", "sphere_probe": "Sphere light probe (r 2.5 m, default parallax)",
                "sphere_probe_far": "Sphere light probe (r 2.5 m, parallax sphere 10 km)"}
+REGION_TEXT = {"all": "every judged pixel (the claim)"}
 VOLUME_TEXT = {"world": "no probe object (world probe, horizon scan)", "volume": "irradiance volume, baked"}
 
 
@@ -157,7 +158,8 @@ def shadow_rows(m: Measurements) -> list[list[Any]]:
         for region, r in regions.items():
             width = (f"{r['width_px']:.0f} / {r['truth_width_px']:.0f} ± {r['truth_width_sd']:.1f}"
                      if "width_px" in r else "–")
-            rows.append([SHADOW_LABEL.get(label, label), region, r["pixels"], f"{100 * r['fraction_accepted']:.1f}",
+            rows.append([SHADOW_LABEL.get(label, label), REGION_TEXT.get(region, region), r["pixels"],
+                         f"{100 * r['fraction_accepted']:.1f}",
                          "–" if r["ratio"] is None else f"{r['ratio']:.4f}",
                          "–" if r["mean_abs_diff_of_lit"] is None else f"{100 * r['mean_abs_diff_of_lit']:.2f}",
                          width])
