@@ -169,3 +169,28 @@ def test_bench_blender_tables() -> None:
     assert t["rows"][0][2] == 500.0 and t["rows"][2] == ["blender_cycles", 16, 100.0, 300.0, 200.0]
     [t] = bench.tables({"error": "Blender not installed"})
     assert t["rows"] == [["Blender not installed"]]
+
+
+def test_the_world_survey_renders_eevee_alone_on_every_other_probe(tmp_path) -> None:
+    """``world_survey``: EEVEE per survey variant on every probe of the run beyond ``world_probes``, no Cycles there;
+    the paper's probes keep Cycles and their variants. Only with VALIDATE_EEVEE=1 and VALIDATE_EXTENDED=1 (FULL)."""
+    import os
+
+    import numpy as np
+
+    from validate.scenes.environment import Environment
+
+    envs = [Environment(n, np.ones((8, 16, 3), np.float32)) for n in ("paper", "other")]
+
+    class Ctx:
+        def environments(self) -> tuple[list, list]:
+            return envs, []
+
+    s = settings_mod.Settings(world_probes=("paper",), world_variants=("default",), world_survey=("default", "no_sun"))
+    keyed: list = []
+    scenes = compute_mod.world_jobs(Ctx(), s, tmp_path, keyed)
+    assert [w.env.name for w in scenes] == ["paper", "other"]
+    wp, wo = (w.name for w in scenes)
+    assert [k[:2] for k, _, _ in keyed] == [(wp, "cycles"), (wp, "default"), (wo, "default"), (wo, "no_sun")]
+    on = os.environ.get("VALIDATE_EEVEE") == "1" and os.environ.get("VALIDATE_EXTENDED") == "1"
+    assert bool(settings_mod.FULL.world_survey) == on and not settings_mod.QUICK.world_survey

@@ -82,6 +82,7 @@ class Measurements:
     conversion: dict[str, dict[str, Any]] = field(default_factory=dict)  # mode → light type → numbers
     costs: dict[str, Any] = field(default_factory=dict)
     world: list[wd.WorldResult] = field(default_factory=list)
+    survey: list[wd.WorldResult] = field(default_factory=list)  # EEVEE alone on every other probe (world_survey)
     glossy: list[dict[str, Any]] = field(default_factory=list)  # per roughness (probes.py): cycles, eevee variants
     volume: dict[str, Any] = field(default_factory=dict)  # probes.py's volume-probe scene: EEVEE per variant
     shadows: dict[str, Any] = field(default_factory=dict)  # label → region → numbers (shadows.py)
@@ -256,23 +257,26 @@ def shadow_jobs(s: Settings, work: Path, keyed: list) -> None:
 
 
 def world_jobs(ctx: Any, s: Settings, work: Path, keyed: list) -> list[wd.WorldScene]:
-    """Append the world-lit spheres' jobs to ``keyed`` (Cycles, then EEVEE per variant); the scenes."""
-    if not s.world_probes:
+    """Append the world-lit spheres' jobs to ``keyed`` (Cycles, then EEVEE per variant; on the survey's probes EEVEE
+    per survey variant alone); the scenes."""
+    if not s.world_probes and not s.world_survey:
         return []
     envs = {e.name: e for e in ctx.environments()[0]}
+    survey = [n for n in envs if n not in s.world_probes] if s.world_survey else []
     out = []
-    for name in s.world_probes:
+    for name in [*s.world_probes, *survey]:
         if name not in envs:
             continue  # the probe is not in this run's probes (report: the world section names what ran)
+        surveyed = name in survey
         ws = wd.WorldScene(envs[name], s.world_view)
         tex, digest = wd.texture(ws.env)
         exr = work / f"{ws.name}.exr"
         wd.write_exr(exr, tex)
         seeds = tuple(s.seed * 1000 + k for k in range(s.passes))
-        if s.world_cycles:
+        if s.world_cycles and not surveyed:
             keyed.append(((ws.name, "cycles", CYCLES.name), wd.job(ws, exr, CYCLES, s.resolution, s.world_spp, seeds,
                                                                    work / f"{ws.name}_c"), digest))
-        for v in s.world_variants:
+        for v in s.world_survey if surveyed else s.world_variants:
             keyed.append(((ws.name, v, EEVEE.name), wd.job(ws, exr, EEVEE, s.resolution, s.world_eevee_samples,
                                                            (s.seed,), work / f"{ws.name}_{v}", v), digest))
         out.append(ws)
@@ -397,7 +401,8 @@ def compute(ctx: Any, s: Settings) -> Measurements:
         cyc = results.get((ws.name, "cycles", CYCLES.name))
         ee = {v: (s.world_eevee_samples, r["frames"], r["frame_s"]) for (n, v, e), r in results.items()
               if n == ws.name and e == EEVEE.name}
-        m.world.append(wd.judge_world(ws, truth, None if cyc is None else cyc["frames"], ee, POWER_SCALE))
+        judged = wd.judge_world(ws, truth, None if cyc is None else cyc["frames"], ee, POWER_SCALE)
+        (m.world if ws.env.name in s.world_probes else m.survey).append(judged)
     m.costs["world_judge_s"] = time.perf_counter() - t1
     ts = truth_settings(s)
     for sc, prefix in ((sh.scene(s.resolution), ""), (sh.disc_scene(s.resolution), sh.DISC)):

@@ -58,6 +58,41 @@ def world_rows(m: Measurements) -> list[list[Any]]:
     return rows
 
 
+def _pair(e: dict | None) -> str:
+    return "–" if e is None else f"{in_pct(e['mean'])} / {in_pct(e['max'])}"
+
+
+def survey_rows(m: Measurements) -> list[list[Any]]:
+    """One row per surveyed probe: R&H's mean / max (% of Φ_Y) of the suite's L1 and SH9 techniques and of EEVEE."""
+    return [[w.probe, _pair(w.techniques.get("sh1")), _pair(w.techniques.get("sh1_geomerics")),
+             _pair(w.techniques.get("sh9")), *(_pair(w.eevee[v]["rh"] if v in w.eevee else None)
+                                                 for v in m.settings.world_survey),
+             ratio(*w.eevee["default"]["energy"]) if "default" in w.eevee else "–"] for w in m.survey]
+
+
+def _within(e: dict) -> bool:
+    """R&H's bound for SH9: mean < 1 %, max < 5 % of Φ."""
+    return e["mean"] < 0.01 and e["max"] < 0.05
+
+
+def survey_findings(m: Measurements) -> list[str]:
+    done = [w for w in m.survey if "default" in w.eevee and "sh9" in w.techniques]
+    if not done:
+        return []
+    n = len(done)
+    eevee = sum(_within(w.eevee["default"]["rh"]) for w in done)
+    sh9 = sum(_within(w.techniques["sh9"]) for w in done)
+    worse = sum(w.eevee["default"]["rh"]["mean"] > w.techniques["sh1"]["mean"] for w in done if "sh1" in w.techniques)
+    out = [f"EEVEE's world lighting (defaults) on the {n} other shared probes: within R&H's 1 % / 5 % of Φ on {eevee} "
+           f"(sh9 on {sh9}); a mean above sh1's on {worse}"]
+    both = [w for w in done if "no_sun" in w.eevee]
+    if both:
+        helped = sum(w.eevee["default"]["rh"]["mean"] < w.eevee["no_sun"]["rh"]["mean"] for w in both)
+        out.append(f"EEVEE's sun extraction (sun_threshold 10 against 0) lowers the mean error on {helped} of "
+                   f"{len(both)} probes")
+    return out
+
+
 def world_cycles_rows(m: Measurements) -> list[list[Any]]:
     return [[w.probe, w.cycles["frames"], m.settings.world_spp, f"{100 * w.cycles['judgement'].fraction_accepted:.2f}",
              w.cycles["judgement"].n_pixels, f"{w.cycles['judgement'].max_abs_z:.3g}", ratio(*w.cycles["energy"]),
@@ -245,7 +280,7 @@ def findings(m: Measurements) -> list[str]:
             out.append(f"EEVEE ({j.samples} TAA sample{plural}, {j.precision} film) on {j.scene}: "
                        f"{j.judgements[ref].fraction_accepted:.1%} of pixels within uncertainty of {ref}, energy "
                        f"{ratio(*j.energy[ref])}")
-    out += world_findings(m) + shadow_findings(m) + probe_findings(m)
+    out += world_findings(m) + survey_findings(m) + shadow_findings(m) + probe_findings(m)
     for mode, lights in m.conversion.items():
         out.append(f"glTF importer, mode {mode}: " + "; ".join(
             f"{v['gltf_intensity']:g} {v['gltf_unit']} → {t} {v['blender_energy']:.6g} {v['blender_unit']}, "
@@ -301,6 +336,14 @@ def sections(m: Measurements, ctx: Any) -> list[Section]:
             tables=[Table(["renderer", "pixel set", "pixels (px)", "accepted (%)", "Blender / truth (–)",
                            "mean |Blender − truth| / lit mean (%)", "10–90 % width: Blender / truth (px)"],
                           shadow_rows(m), caption=f"Blender {m.version}")]))
+    if m.survey:
+        out.append(Section("EEVEE's world lighting on every other shared probe", [
+            "The world-lit Lambertian sphere above, EEVEE alone (no Cycles), on every probe of the run beyond the "
+            "paper's: R&H's measure mean / max (% of Φ_Y) of the suite's L1 and SH9 techniques and of EEVEE with "
+            "and without its sun extraction."],
+            tables=[Table(["probe", "sh1 (%)", "sh1_geomerics (%)", "sh9 (%)",
+                           *(f"EEVEE, {VARIANT_TEXT.get(v, v)} (%)" for v in m.settings.world_survey),
+                           "EEVEE energy / truth (–)"], survey_rows(m), caption=f"Blender {m.version}")]))
     return out + probe_sections(m) + [cost]
 
 
@@ -338,7 +381,8 @@ def data(m: Measurements) -> dict:
                 "precision": j.precision, "lights_imported": j.lights, "apart": j.apart,
                 "energy": {k: {"value": v, "uncertainty": u} for k, (v, u) in j.energy.items()},
                 "judgements": {k: pj.to_json() for k, pj in j.judgements.items()}} for j in m.scenes},
-            "world": {w.probe: world_data(w) for w in m.world}, "soft_shadows": {
+            "world": {w.probe: world_data(w) for w in m.world},
+            "world_survey": {w.probe: world_data(w) for w in m.survey}, "soft_shadows": {
                 label: {region: shadow_region_data(r) for region, r in regs.items()}
                 for label, regs in m.shadows.items()},
             "glossy": [glossy_data(g) for g in m.glossy], "volume": volume_data(m.volume)}

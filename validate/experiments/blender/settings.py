@@ -60,6 +60,7 @@ class Settings:
     world_truth_spp: int = 256  # Mitsuba's sphere (sh9's cross-check settings: 256 spp × 8 passes)
     world_eevee_samples: int = 4  # taa_render_samples: 1 → 4 → 16 moved R&H's mean by < 0.02 % of Φ (docs)
     world_variants: tuple[str, ...] = ()  # EEVEE's world settings (world.VARIANTS); empty: no EEVEE
+    world_survey: tuple[str, ...] = ()  # EEVEE alone (these variants) on every other probe of the run: the survey
     soft_shadows: bool = False  # shadows.py: the sphere light and occluder, Cycles and EEVEE (jitter off / on)
     shadow_spp: int = 16  # Cycles samples per frame (``passes`` frames); EEVEE: taa_render_samples
     shadow_sweep: tuple[str, ...] = ()  # shadows.SWEEP: EEVEE's filter radius / overblur beyond the jitter rows
@@ -81,6 +82,7 @@ class Settings:
 
 
 _ON = os.environ.get("VALIDATE_EEVEE") == "1"
+_EXTENDED = os.environ.get("VALIDATE_EXTENDED") == "1"  # the full run's heavy extras (python -m validate --help)
 _EEVEE = EEVEE_SCENES + EEVEE_EXTRA if _ON else EEVEE_SCENES
 WORLD_PROBES = ("grace_probe", "rnl_probe")  # the paper's probes (R&H 2001: Grace Cathedral, Eucalyptus Grove)
 WORLD_VARIANTS = ("default", "no_sun", "no_clamp", "no_sun_no_clamp")
@@ -92,6 +94,7 @@ QUICK = Settings(scene_set="quick", passes=8, spp=8, furnace_spp=16, eevee_scene
                  glossy_probe=WORLD_PROBES[0] if _ON else "", volume_probe=WORLD_PROBES[0] if _ON else "")
 FULL = Settings(eevee_scenes=_EEVEE, world_probes=WORLD_PROBES if _ON else (),
                 world_variants=WORLD_VARIANTS if _ON else (), soft_shadows=_ON,
+                world_survey=("default", "no_sun") if _ON and _EXTENDED else (),
                 shadow_sweep=("filter_0", "filter_3", "overblur_0", "overblur_40", "threshold_low") if _ON else (),
                 glossy_probe=WORLD_PROBES[0] if _ON else "",
                 glossy_variants=("world", "sphere_probe", "sphere_probe_far"),
