@@ -73,7 +73,8 @@ environment variables:
   VALIDATE_REFERENCE  folder of published tables (default: the package's own copy, validate/data)
   VALIDATE_NODE     the Node.js used by the engines experiment (a missing path turns the engines off)
   VALIDATE_EXTENDED =1: the full run's heavy extras (the IBL sampler's whole sweep, the Sample Viewer at its
-                    larger IBL sizes, Babylon.js and every exported scene through the loaders; minutes more)
+                    larger IBL sizes, Babylon.js and every exported scene through the loaders; with VALIDATE_EEVEE=1
+                    EEVEE's world lighting on every probe; minutes more)
   VALIDATE_EEVEE    =1: the blender experiment renders the bpy-built scenes and EEVEE's furnace too (minutes more)
 """
 
