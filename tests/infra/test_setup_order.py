@@ -44,3 +44,31 @@ def test_check_only_reports_missing_without_installing(monkeypatch: pytest.Monke
     lines: list[str] = []
     assert install.setup(check=True, log=lines.append) == 1
     assert lines == ["setup: MISSING x         x absent  [piece x]"]
+
+
+def test_a_failed_blender_install_leaves_no_half_made_venv(tmp_path, monkeypatch) -> None:
+    """pip failing after the venv was made (offline, no wheel): the venv is removed, so the check and the experiment
+    agree that Blender is absent, and one warning line names the step."""
+    import subprocess
+    from types import SimpleNamespace
+
+    from validate.setup import install, paths
+
+    monkeypatch.setenv("VALIDATE_HOME", str(tmp_path))
+    calls = []
+
+    def run(cmd, **kw):
+        calls.append(cmd)
+        if "venv" in cmd:
+            paths.blender_python().parent.mkdir(parents=True)
+            paths.blender_python().write_text("")
+            return SimpleNamespace(returncode=0, stderr="")
+        return SimpleNamespace(returncode=1, stderr="ERROR: No matching distribution found for bpy==5.0.1")
+
+    monkeypatch.setattr(subprocess, "run", run)
+    monkeypatch.setattr(install.shutil, "which", lambda name: f"/usr/bin/{name}")
+    log: list[str] = []
+    assert install.install_blender(log.append) is False
+    assert len(calls) == 2 and not paths.blender_venv().exists()
+    assert log == [f"setup: WARNING: {paths.blender_python()} -m pip … failed: ERROR: No matching distribution found "
+                   "for bpy==5.0.1"]

@@ -163,6 +163,7 @@ def install_blender(log: Callable[[str], None]) -> bool:
         if r.returncode != 0:
             why = (r.stderr.strip().splitlines() or [f"exit status {r.returncode}"])[-1]
             log(f"setup: WARNING: {' '.join(cmd[:3])} … failed: {why[:200]}")
+            shutil.rmtree(venv, ignore_errors=True)  # no half-made venv left behind: absent, as the check says
             return False
     return True
 
