@@ -336,7 +336,7 @@ def judge_probes(s: Settings, results: dict, glossy: list[pr.GlossyScene], volum
         row: dict[str, Any] = {"probe": gs.env.name, "roughness": gs.roughness, "alpha": pr.alpha(gs.roughness),
                                "truth": {"spp": t.spp, "passes": t.passes}, "eevee": {}}
         if "cycles" in mine:
-            row["cycles"] = pr.cycles_numbers(mine["cycles"], t, mask, POWER_SCALE)
+            row["cycles"] = wd.cycles_numbers(mine["cycles"], t, mask, POWER_SCALE)
         for v in s.glossy_variants:
             if v in mine:
                 row["eevee"][v] = pr.eevee_numbers(mine[v][0, ..., :3].astype(np.float64), t, mask)
@@ -353,7 +353,7 @@ def judge_probes(s: Settings, results: dict, glossy: list[pr.GlossyScene], volum
                                 "sphere": pr.eevee_numbers(f[0, ..., :3].astype(np.float64), t, film & on_sphere)}
                             for v, f in mine.items()}}
         if cy is not None:
-            vol["cycles"] = pr.cycles_numbers(cy, t, film, POWER_SCALE)
+            vol["cycles"] = wd.cycles_numbers(cy, t, film, POWER_SCALE)
     return out, vol
 
 

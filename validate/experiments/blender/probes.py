@@ -30,7 +30,7 @@ world probe, no occlusion of the sky by the sphere but its horizon scan) and wit
 ``lightprobe_cache_bake`` before the frame; EEVEE stores L1 spherical harmonics per cell). Findings only: Blender's
 manual gives no bound for either. Cycles renders the same description (variant ``cycles``: Lambert in both, its
 bounces set to Mitsuba's path length, max_bounces = diffuse_bounces = max_depth − 2), a second truth judged as the
-glossy spheres' (:func:`cycles_numbers`).
+glossy spheres' (:func:`.world.cycles_numbers`).
 """
 
 from __future__ import annotations
@@ -47,7 +47,7 @@ from ...metrics.pixel_z import interior_mask, judge
 from ...reference import pathtrace
 from ...reference.cache import cached
 from ...scenes.environment import Environment
-from ...stats import mean_and_stderr, mean_z_bound
+from ...stats import mean_and_stderr
 from . import world as wd
 
 ROUGHNESS = (0.1, 0.3, 0.6)
@@ -215,25 +215,6 @@ def eevee_numbers(img: np.ndarray, t: Truth, mask: np.ndarray) -> dict[str, Any]
             "bias": float((e - tm).mean() / tm.mean()), "energy": (r, u)}
 
 
-def cycles_numbers(frames: np.ndarray, t: Truth, mask: np.ndarray, power_scale: float) -> dict[str, Any]:
-    """Cycles' passes against Mitsuba's on ``mask``: :mod:`.world`'s claims' numbers (acceptance, the truth mirrored
-    left–right and flipped upside down, the bias test and each with Cycles × ``power_scale``)."""
-    f = frames.astype(np.float64)
-    img = f[..., :3].mean(axis=0)
-    se = f[..., :3].std(axis=0, ddof=1) / math.sqrt(len(f))
-    sig = np.sqrt(t.stderr**2 + se**2)
-    dof = t.passes - 1
-    text = "none (the UV sphere's normals within 10⁻⁴ rad of the sphere's)"
-    return {"frames": len(f), "judgement": judge(img, t.mean, sig, dof, mask, 0.0, text),
-            "power": judge(img * power_scale, t.mean, sig, dof, mask, 0.0, text),
-            "mirrored": judge(img, t.mean[:, ::-1], sig[:, ::-1], dof, mask & mask[:, ::-1], 0.0, text),
-            "flipped": judge(img, t.mean[::-1], sig[::-1], dof, mask & mask[::-1], 0.0, text),
-            "bias": wd.bias(f[..., :3], t.images, mask),
-            "bias_power": wd.bias(f[..., :3], t.images, mask, power_scale),
-            "bias_limit": mean_z_bound(int(mask.sum()), pathtrace.BIAS_SIGMAS),
-            "energy": wd.energy(img[mask], se[mask], t.mean[mask], t.stderr[mask])}
-
-
 def sphere_mask(resolution: int, frames: list[np.ndarray]) -> np.ndarray:
     """Pixels whose whole footprint lies on the sphere and every Blender frame covers."""
     cov = np.min([f[..., 3].min(axis=0) for f in frames], axis=0) if frames else np.ones((resolution, resolution))
@@ -253,5 +234,5 @@ def sphere_pixels(resolution: int, view: tuple[float, float], ortho_scale: float
 
 
 __all__ = ["ROUGHNESS", "GLOSSY_VARIANTS", "VOLUME_VARIANTS", "MODEL", "GlossyScene", "VolumeScene", "alpha",
-           "glossy_desc", "volume_desc", "job", "truth", "eevee_numbers", "cycles_numbers", "sphere_mask",
+           "glossy_desc", "volume_desc", "job", "truth", "eevee_numbers", "sphere_mask",
            "film_mask", "sphere_pixels", "Truth"]

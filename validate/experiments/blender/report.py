@@ -444,12 +444,7 @@ def world_data(w: Any) -> dict:
                            "eevee": {v: {"samples": r["samples"], "rh": _rh(r["rh"]), "frame_s": r["frame_s"],
                                          "energy": Measured(*r["energy"]).to_json()} for v, r in w.eevee.items()}}
     if w.cycles:
-        out["cycles"] = {"frames": w.cycles["frames"], "rh": _rh(w.cycles["rh"]),
-                         "bias": Measured(w.cycles["bias"], perturbed=w.cycles["bias_power"],
-                                          perturbation="Cycles × 1.01", stat="max").to_json(),
-                         "bias_limit": w.cycles["bias_limit"],
-                         "energy": Measured(*w.cycles["energy"]).to_json(),
-                         **{k: w.cycles[k].to_json() for k in ("judgement", "power", "mirrored")}}
+        out["cycles"] = {**_cycles_data(w.cycles), "rh": _rh(w.cycles["rh"])}
     return out
 
 

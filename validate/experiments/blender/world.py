@@ -27,6 +27,7 @@ import hashlib
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -223,6 +224,26 @@ def bias(frames: np.ndarray, truth: np.ndarray, mask: np.ndarray, scale: float =
     return float(np.abs(standardized_mean(z)).max())
 
 
+def cycles_numbers(frames: np.ndarray, truth: Any, mask: np.ndarray, power_scale: float) -> dict[str, Any]:
+    """Cycles' passes (F, R, R, 4) against Mitsuba's (``truth``: ``mean``, ``stderr``, ``passes``, ``images``) on
+    ``mask``: the claims' numbers — acceptance, the truth mirrored left–right and flipped upside down, the bias test
+    (:func:`bias`), each with Cycles × ``power_scale`` where it is the power check — and the energy ratio."""
+    f = frames.astype(np.float64)
+    img = f[..., :3].mean(axis=0)
+    se = f[..., :3].std(axis=0, ddof=1) / math.sqrt(len(f))
+    sig = np.sqrt(truth.stderr**2 + se**2)
+    dof = truth.passes - 1
+    text = "none (the UV sphere's normals within 10⁻⁴ rad of the sphere's)"
+    return {"frames": len(f), "judgement": judge(img, truth.mean, sig, dof, mask, 0.0, text),
+            "power": judge(img * power_scale, truth.mean, sig, dof, mask, 0.0, text),
+            "mirrored": judge(img, truth.mean[:, ::-1], sig[:, ::-1], dof, mask & mask[:, ::-1], 0.0, text),
+            "flipped": judge(img, truth.mean[::-1], sig[::-1], dof, mask & mask[::-1], 0.0, text),
+            "bias": bias(f[..., :3], truth.images, mask),
+            "bias_power": bias(f[..., :3], truth.images, mask, power_scale),
+            "bias_limit": mean_z_bound(int(mask.sum()), BIAS_SIGMAS),
+            "energy": energy(img[mask], se[mask], truth.mean[mask], truth.stderr[mask])}
+
+
 def judge_world(ws: WorldScene, render: pathtrace.SphereRender, cycles: np.ndarray | None,
                 eevee: dict[str, tuple[int, np.ndarray, list[float]]], power_scale: float) -> WorldResult:
     """``cycles``: (F, R, R, 4) frames; ``eevee``: variant → (samples, (1, R, R, 4) frames, frame seconds)."""
@@ -241,18 +262,8 @@ def judge_world(ws: WorldScene, render: pathtrace.SphereRender, cycles: np.ndarr
         img, cov = f[..., :3].mean(axis=0), f[..., 3].min(axis=0)
         se = f[..., :3].std(axis=0, ddof=1) / math.sqrt(len(f))
         mask = interior_mask(hit, cov)
-        sig = np.sqrt(render.stderr**2 + se**2)
-        dof = render.passes - 1
-        text = "none (the UV sphere's normals within 10⁻⁴ rad of the sphere's)"
-        out.cycles = {
-            "bias": bias(f[..., :3], render.images, mask),
-            "bias_power": bias(f[..., :3], render.images, mask, power_scale),
-            "bias_limit": mean_z_bound(int(mask.sum()), BIAS_SIGMAS),
-            "frames": len(f), "judgement": judge(img, render.mean, sig, dof, mask, 0.0, text),
-            "power": judge(img * power_scale, render.mean, sig, dof, mask, 0.0, text),
-            "mirrored": judge(img, render.mean[:, ::-1], sig[:, ::-1], dof, mask & mask[:, ::-1], 0.0, text),
-            "energy": energy(img[mask], se[mask], render.mean[mask], render.stderr[mask]),
-            "rh": rh_errors(e_ref, np.pi * img[m], flux, u_ref)}
+        out.cycles = {**cycles_numbers(cycles, render, mask, power_scale),
+                      "rh": rh_errors(e_ref, np.pi * img[m], flux, u_ref)}
         out.quadrature["cycles"] = energy(img[mask], se[mask], q[mask], uq[mask])
     for variant, (samples, frames, frame_s) in eevee.items():
         img = frames[0, ..., :3].astype(np.float64)
