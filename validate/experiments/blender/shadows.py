@@ -85,11 +85,11 @@ def extras(sc: rss.ShadowScene, light: dict[str, Any] | None = None, eevee: dict
     return out
 
 
-def widths(img: np.ndarray, ref: Any, sc: rss.ShadowScene, mask: np.ndarray, seed: int) -> dict[str, float]:
+def widths(img: np.ndarray, ref: Any, unshadowed: np.ndarray, mask: np.ndarray, seed: int) -> dict[str, float]:
     """The penumbra's 10–90 % width in pixels (the renders experiment's measure, :func:`~validate.experiments.renders.
     shadows.compute.transition_px`, of the shadow factor s = radiance / ρE/π, E unshadowed) for Blender and for the
-    truth, the truth's ± its s.d. over parametric redraws of its noise (the renders experiment's ``truth_width``)."""
-    unshadowed = rss.unshadowed_radiance(sc)
+    truth, the truth's ± its s.d. over parametric redraws of its noise (the renders experiment's ``truth_width``);
+    ``unshadowed``: ρE/π of the scene (:func:`~validate.scenes.render_shadow_scenes.unshadowed_radiance`)."""
     s = shadow_factor(ref.mean, unshadowed)
     se = np.sqrt((ref.stderr**2).sum(axis=-1)) / 3.0 / unshadowed
     rng = np.random.default_rng(seed)
@@ -105,8 +105,8 @@ def seam_mask(r: int) -> np.ndarray:
     return i + j == r - 1
 
 
-def region_numbers(img: np.ndarray, se: np.ndarray, ref: Any, sc: rss.ShadowScene, cov: np.ndarray, seed: int = 0
-                   ) -> dict[str, Any]:
+def region_numbers(img: np.ndarray, se: np.ndarray, ref: Any, sc: rss.ShadowScene, cov: np.ndarray,
+                   unshadowed: np.ndarray, seed: int = 0) -> dict[str, Any]:
     """Per region: fraction accepted, pixels, Blender / truth mean; the umbra's leak as a fraction of the lit mean; the
     penumbra's 10–90 % width (:func:`widths`) over the judged pixels."""
     tm, ts = ref.mean, ref.stderr
@@ -134,7 +134,7 @@ def region_numbers(img: np.ndarray, se: np.ndarray, ref: Any, sc: rss.ShadowScen
             if name == "umbra":
                 r["leak_of_lit"] = float(img[m].mean() / lit_mean)
     if "penumbra" in out:
-        out["penumbra"].update(widths(img, ref, sc, base, seed))
+        out["penumbra"].update(widths(img, ref, unshadowed, base, seed))
     return out
 
 
@@ -142,6 +142,7 @@ def judge_shadow(sc: rss.ShadowScene, frames: dict[str, np.ndarray], spp: int, p
                  ) -> dict[str, Any]:
     """``frames``: label → (F, R, R, 4) Blender frames (Cycles: F passes; EEVEE: one, half-float rounding)."""
     ref = render_reference(sc, spp, passes, seed)
+    unshadowed = rss.unshadowed_radiance(sc)  # once per scene: the disc's is a quadrature (≈ 2 s at 64²)
     out = {}
     for label, f in frames.items():
         f = f.astype(np.float64)
@@ -150,7 +151,7 @@ def judge_shadow(sc: rss.ShadowScene, frames: dict[str, np.ndarray], spp: int, p
             se = f[..., :3].std(axis=0, ddof=1) / math.sqrt(len(f))
         else:
             se = np.spacing(np.abs(img).astype(np.float16)).astype(np.float64) / math.sqrt(12.0)
-        out[label] = region_numbers(img, se, ref, sc, cov, seed)
+        out[label] = region_numbers(img, se, ref, sc, cov, unshadowed, seed)
         if len(f) > 1:  # Cycles: the claim's numbers over every judged pixel; the truth mirrored left–right (the
             # power check: the occluder's shadow falls on one side; mirrored, 12–13 % are accepted) and Cycles × 1.01
             # (a finding: 97.5 % (sphere) and 99.86 % (disc) accepted, too close to the rule for a power check)
